@@ -1,0 +1,28 @@
+#pragma once
+// Every knob of a render, parsed in one place (CLI and scene defaults) and read-only after.
+#include <cstdint>
+#include <string>
+
+namespace emlt {
+
+enum class MisHeuristic { Balance, Power };
+enum class DirectPointSet { Independent, Fibonacci };
+
+struct RenderSettings {
+  std::string integrator = "pt";
+  int spp = 16;
+  double time_limit_s = 0.0;  // > 0: render passes until the time is up (spp is then a cap)
+  uint64_t seed = 1;
+  int threads = 0;  // 0: all hardware threads
+  int width = 0, height = 0;  // 0: from the scene
+  int max_depth = -1;  // longest path in segments; -1 = unlimited (Russian roulette ends it)
+  int rr_depth = 5;  // Russian roulette starts after this many segments
+  MisHeuristic mis = MisHeuristic::Power;
+  int direct_samples = 1;  // light and BSDF samples per direct-lighting estimate
+  DirectPointSet direct_point_set = DirectPointSet::Independent;
+  bool progress = true;
+};
+
+inline const char* to_string(MisHeuristic h) { return h == MisHeuristic::Balance ? "balance" : "power"; }
+
+}  // namespace emlt

@@ -1,0 +1,58 @@
+#pragma once
+// Perspective camera: pinhole (aperture 0) or thin lens. Raster coordinates are pixels,
+// x in [0, width) to the right, y in [0, height) downwards. The importance function is
+// normalised so that a light-tracing splat of W_e * L * G / pdf at raster position r
+// estimates the same pixel values as camera rays (pbrt's convention): the image-plane
+// area at distance 1 and the lens area are both divided out.
+#include <optional>
+
+#include "emlt/scene/description.h"
+#include "emlt/scene/ray.h"
+
+namespace emlt {
+
+struct CameraDirectSample {
+  Vec3 lens_point{0.0f};  // point on the lens
+  Vec3 wi{0.0f};          // unit direction ref -> lens_point
+  float distance = 0.0f;
+  Vec2 raster{0.0f};
+  Rgb importance{0.0f};   // W_e(lens_point, -wi)
+  float pdf = 0.0f;       // solid angle density at ref
+};
+
+class Camera {
+ public:
+  explicit Camera(const CameraDesc& desc);
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  float aperture_radius() const { return aperture_radius_; }
+  bool is_pinhole() const { return aperture_radius_ <= 0.0f; }
+  const Vec3& position() const { return position_; }
+  const Vec3& forward() const { return forward_; }
+
+  // Primary ray through raster position `raster` using lens sample `u_lens`.
+  Ray generate_ray(const Vec2& raster, const Vec2& u_lens) const;
+
+  // Raster position of the ray leaving lens point p in direction w, if it lands on film.
+  std::optional<Vec2> raster_position(const Vec3& p, const Vec3& w) const;
+  // Importance W_e(p, w); zero when w misses the film.
+  float importance(const Vec3& p, const Vec3& w) const;
+  // Densities of generate_ray with uniform raster and lens samples: position on the lens
+  // (area; 1 for a pinhole, a delta handled by the path layer) and direction (solid angle).
+  void pdf_emission(const Vec3& w, float* pdf_position, float* pdf_direction) const;
+
+  // Connects a scene point to the lens (light tracing, t = 1 strategies).
+  std::optional<CameraDirectSample> sample_direct(const Vec3& ref, const Vec2& u_lens) const;
+
+ private:
+  Vec3 film_direction_local(const Vec2& raster) const;  // camera space, z = 1 plane
+
+  int width_, height_;
+  Vec3 position_, forward_, right_, up_;  // world; right_ = image +x
+  float tan_half_x_, tan_half_y_;         // film half extents on the z = 1 plane
+  float image_plane_area_;                // at distance 1
+  float aperture_radius_, focus_distance_;
+};
+
+}  // namespace emlt

@@ -1,0 +1,74 @@
+#pragma once
+// Plain-data description of a scene, produced by every loader (JSON, Mitsuba XML) and
+// consumed by Scene::build. Two loaders agree on a scene exactly when they produce the
+// same description, which keeps format-specific code out of the renderer.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "emlt/core/math.h"
+#include "emlt/render/image.h"
+#include "emlt/render/settings.h"
+#include "emlt/scene/bsdf.h"
+
+namespace emlt {
+
+struct MeshDesc {
+  std::string name;  // origin, for messages ("walls.obj", "rectangle #3")
+  std::vector<Vec3> positions;  // world space
+  std::vector<Vec3> normals;    // per vertex, world space; empty = flat shading
+  std::vector<Vec2> uvs;        // per vertex; may be empty
+  std::vector<uint32_t> indices;  // 3 per triangle
+  int material = -1;              // index into SceneDescription::materials
+  Rgb emission{0.0f};             // area-light radiance, emitted on the normal side
+};
+
+struct SphereDesc {
+  std::string name;
+  Vec3 center{0.0f};
+  float radius = 1.0f;
+  int material = -1;
+  Rgb emission{0.0f};
+  bool flip_normals = false;
+};
+
+struct MaterialDesc {
+  std::string name;
+  BsdfPtr bsdf;
+};
+
+struct EnvironmentDesc {
+  enum class Kind { None, Constant, Map } kind = Kind::None;
+  Rgb radiance{0.0f};      // Constant
+  std::string map_path;    // Map: lat-long .exr/.hdr, already resolved to a usable path
+  Image map;               // Map: loaded texels
+  float scale = 1.0f;
+  Mat4 to_world{1.0f};     // rotation of the map (directions only)
+};
+
+struct CameraDesc {
+  // Camera space: +z forward, +y up, +x to the image's left (Mitsuba's convention), so a
+  // Mitsuba `toWorld` can be used unchanged. JSON `lookat` builds the same matrix.
+  Mat4 to_world{1.0f};
+  float fov_degrees = 45.0f;
+  enum class FovAxis { X, Y, Smaller, Larger } fov_axis = FovAxis::X;
+  float aperture_radius = 0.0f;  // 0: pinhole
+  float focus_distance = 1.0f;
+  int width = 256, height = 256;
+};
+
+struct SceneDescription {
+  std::string source;  // file it came from
+  std::vector<MaterialDesc> materials;
+  std::vector<MeshDesc> meshes;
+  std::vector<SphereDesc> spheres;
+  EnvironmentDesc environment;
+  CameraDesc camera;
+  RenderSettings defaults;  // integrator, spp, max depth ... from the file
+  std::vector<std::string> warnings;
+};
+
+// Builds the camera matrix from a look-at triple (Mitsuba's lookat semantics).
+Mat4 look_at_matrix(const Vec3& origin, const Vec3& target, const Vec3& up);
+
+}  // namespace emlt

@@ -1,0 +1,71 @@
+#pragma once
+// Environment emitters: a constant colour, or a lat-long map importance-sampled with a
+// piecewise-constant 2-D distribution over luminance x sin(theta). The sampler's pdf and
+// pdf_direction() agree exactly (same table, same Jacobian), which MIS and MLT require.
+#include "emlt/core/distribution.h"
+#include "emlt/render/image.h"
+#include "emlt/scene/light.h"
+
+namespace emlt {
+
+class EnvironmentLight : public Light {
+ public:
+  bool is_environment() const override { return true; }
+
+  // Radiance arriving from world direction w (w points from the scene to the sky).
+  virtual Rgb radiance(const Vec3& w) const = 0;
+  // Importance sampling of directions (solid angle density).
+  virtual Vec3 sample_direction(const Vec2& u, float* pdf) const = 0;
+  virtual float pdf_direction(const Vec3& w) const = 0;
+
+  // The scene's bounding sphere: emission rays start on a disk of this radius.
+  void set_scene_bounds(const Vec3& center, float radius) {
+    scene_center_ = center;
+    scene_radius_ = radius;
+  }
+
+  std::optional<DirectLightSample> sample_direct(const Vec3& ref, const Vec2& u) const override;
+  float pdf_direct(const Vec3& ref, const Vec3& p, const Vec3& n, const Vec3& wi) const override;
+  std::optional<EmissionSample> sample_emission(const Vec2& u_position,
+                                                const Vec2& u_direction) const override;
+  void pdf_emission(const Vec3& p, const Vec3& n, const Vec3& w, float* pdf_position,
+                    float* pdf_direction) const override;
+  Rgb emitted(const Vec3& n, const Vec3& w) const override { (void)n; return radiance(w); }
+
+ protected:
+  Vec3 scene_center_{0.0f};
+  float scene_radius_ = 1.0f;
+};
+
+class ConstantEnvironment final : public EnvironmentLight {
+ public:
+  explicit ConstantEnvironment(const Rgb& radiance) : radiance_(radiance) {}
+  Rgb power() const override;
+  Rgb radiance(const Vec3&) const override { return radiance_; }
+  Vec3 sample_direction(const Vec2& u, float* pdf) const override;
+  float pdf_direction(const Vec3& w) const override;
+
+ private:
+  Rgb radiance_;
+};
+
+class EnvironmentMap final : public EnvironmentLight {
+ public:
+  // `to_world` rotates map directions into the world; `scale` multiplies every texel.
+  EnvironmentMap(Image map, float scale, const Mat3& to_world);
+  Rgb power() const override;
+  Rgb radiance(const Vec3& w) const override;
+  Vec3 sample_direction(const Vec2& u, float* pdf) const override;
+  float pdf_direction(const Vec3& w) const override;
+
+  const Image& map() const { return map_; }
+
+ private:
+  Image map_;
+  float scale_;
+  Mat3 to_world_, to_local_;
+  Distribution2D distribution_;
+  Rgb average_radiance_{0.0f};
+};
+
+}  // namespace emlt

@@ -1,0 +1,77 @@
+#pragma once
+// The renderable scene: an Embree BVH over triangles and spheres, materials, the camera
+// and the light set. Immutable after build(); safe to query from many threads.
+#include <embree3/rtcore.h>
+
+#include <memory>
+#include <vector>
+
+#include "emlt/scene/camera.h"
+#include "emlt/scene/description.h"
+#include "emlt/scene/light_set.h"
+#include "emlt/scene/ray.h"
+
+namespace emlt {
+
+struct SurfaceHit {
+  Vec3 position{0.0f};
+  Vec3 geometric_normal{0.0f};  // unit; triangle winding / sphere outward (flippable)
+  Vec3 shading_normal{0.0f};    // unit; interpolated normal, same side as geometric
+  Frame shading;                // z = shading_normal
+  Vec2 uv{0.0f};
+  float t = kInfinity;
+  const Bsdf* bsdf = nullptr;   // never null for a valid hit
+  const Light* light = nullptr; // the area light this point lies on, if emissive
+  uint32_t geometry_id = 0, primitive_id = 0;
+
+  // Radiance emitted from this point towards world direction w (zero if not emissive or w
+  // is behind the emitting side).
+  Rgb emitted(const Vec3& w) const;
+};
+
+struct SceneStats {
+  size_t triangles = 0, dropped_degenerate_triangles = 0, spheres = 0, meshes = 0;
+  size_t area_lights = 0, materials = 0;
+  bool has_environment = false;
+};
+
+class Scene {
+ public:
+  // Validates and builds; throws emlt::Error naming desc.source on unusable input
+  // (no emitter, no geometry, zero/absurd resolution...). Degenerate triangles are dropped
+  // and counted (a warning is appended to warnings()).
+  static std::unique_ptr<Scene> build(SceneDescription desc);
+  ~Scene();
+  Scene(const Scene&) = delete;
+  Scene& operator=(const Scene&) = delete;
+
+  bool intersect(const Ray& ray, SurfaceHit& hit) const;
+  bool occluded(const Ray& ray) const;
+  // Mutual visibility of two surface points (each offset along its normal).
+  bool visible(const Vec3& a, const Vec3& na, const Vec3& b, const Vec3& nb) const;
+
+  const Camera& camera() const { return *camera_; }
+  const LightSet& lights() const { return lights_; }
+  const EnvironmentLight* environment() const { return lights_.environment(); }
+  const SceneDescription& description() const { return desc_; }
+  const std::vector<std::string>& warnings() const { return desc_.warnings; }
+  const SceneStats& stats() const { return stats_; }
+  Vec3 bounds_center() const { return bounds_center_; }
+  float bounds_radius() const { return bounds_radius_; }
+
+ private:
+  Scene() = default;
+  struct Geometry;  // per Embree geometry: kind, material, normals, uvs, lights
+
+  SceneDescription desc_;
+  RTCDevice device_ = nullptr;
+  RTCScene rtc_scene_ = nullptr;
+  std::vector<Geometry> geometries_;
+  std::unique_ptr<Camera> camera_;
+  LightSet lights_;
+  SceneStats stats_;
+  Vec3 bounds_center_{0.0f};
+  float bounds_radius_ = 1.0f;
+};
+
+}  // namespace emlt

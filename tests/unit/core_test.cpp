@@ -1,0 +1,107 @@
+#include <gtest/gtest.h>
+
+#include "emlt/core/distribution.h"
+#include "emlt/core/frame.h"
+#include "emlt/core/rng.h"
+#include "emlt/core/warp.h"
+#include "support/test_support.h"
+
+using namespace emlt;
+
+TEST(Rng, StreamsAreReproducibleAndDistinct) {
+  Rng a = Rng::for_item(7, 3), b = Rng::for_item(7, 3), c = Rng::for_item(7, 4);
+  int same_as_c = 0;
+  for (int i = 0; i < 1000; ++i) {
+    const uint32_t x = a.next_u32();
+    EXPECT_EQ(x, b.next_u32());
+    same_as_c += (x == c.next_u32());
+  }
+  EXPECT_LT(same_as_c, 3);
+}
+
+TEST(Rng, UniformIsInUnitIntervalWithCorrectMean) {
+  Rng rng(1, 2);
+  double sum = 0.0;
+  const int n = 200000;
+  for (int i = 0; i < n; ++i) {
+    const float u = rng.uniform();
+    ASSERT_GE(u, 0.0f);
+    ASSERT_LT(u, 1.0f);
+    sum += u;
+  }
+  EXPECT_NEAR(sum / n, 0.5, 4.0 * std::sqrt(1.0 / 12.0 / n));
+}
+
+TEST(Frame, IsOrthonormalForManyNormals) {
+  Rng rng(3, 0);
+  for (int i = 0; i < 1000; ++i) {
+    const Vec3 n = square_to_uniform_sphere(rng.uniform2());
+    const Frame f(n);
+    EXPECT_NEAR(glm::dot(f.s, f.t), 0.0f, 1e-5f);
+    EXPECT_NEAR(glm::dot(f.s, f.n), 0.0f, 1e-5f);
+    EXPECT_NEAR(glm::length(f.s), 1.0f, 1e-5f);
+    const Vec3 w = square_to_uniform_sphere(rng.uniform2());
+    const Vec3 back = f.to_world(f.to_local(w));
+    EXPECT_NEAR(glm::length(back - w), 0.0f, 1e-5f);
+  }
+}
+
+TEST(Distribution1D, DiscreteFrequenciesMatchWeights) {
+  const Distribution1D d({1.0f, 0.0f, 3.0f, 4.0f});
+  EXPECT_FLOAT_EQ(d.pmf(1), 0.0f);
+  Rng rng(5, 0);
+  std::vector<double> counts(4, 0.0), expected(4);
+  const int n = 100000;
+  for (int i = 0; i < n; ++i) counts[d.sample_discrete(rng.uniform())] += 1.0;
+  for (int i = 0; i < 4; ++i) expected[i] = n * d.pmf(i);
+  EXPECT_EQ(counts[1], 0.0);
+  EXPECT_GT(test::chi_square_test(counts, expected).p_value, 1e-3);
+}
+
+TEST(Distribution2D, PdfMatchesSamplerAndIntegratesToOne) {
+  std::vector<float> w(8 * 4);
+  for (size_t i = 0; i < w.size(); ++i) w[i] = float((i * 7) % 5);
+  const Distribution2D d(w, 8, 4);
+  Rng rng(9, 0);
+  for (int i = 0; i < 1000; ++i) {
+    float pdf = 0.0f;
+    const Vec2 p = d.sample(rng.uniform2(), &pdf);
+    EXPECT_NEAR(pdf, d.pdf(p), 1e-4f * pdf);
+    EXPECT_GT(pdf, 0.0f);
+  }
+  const double integral = test::integrate_2d(
+      [&](double x, double y) { return d.pdf(Vec2(float(std::min(x, 0.999999)), float(std::min(y, 0.999999)))); },
+      0, 1, 0, 1, 400);
+  EXPECT_NEAR(integral, 1.0, 0.02);
+}
+
+TEST(Warp, CosineHemisphereHistogramMatchesPdf) {
+  // Bin directions over (cos theta, phi) and compare with the integral of the pdf.
+  const int nz = 10, nphi = 20, n = 200000;
+  std::vector<double> counts(nz * nphi, 0.0), expected(nz * nphi, 0.0);
+  Rng rng(11, 0);
+  for (int i = 0; i < n; ++i) {
+    const Vec3 w = square_to_cosine_hemisphere(rng.uniform2());
+    float phi = std::atan2(w.y, w.x);
+    if (phi < 0) phi += kTwoPi;
+    const int iz = std::min(int(w.z * nz), nz - 1), ip = std::min(int(phi / kTwoPi * nphi), nphi - 1);
+    counts[iz * nphi + ip] += 1.0;
+  }
+  for (int iz = 0; iz < nz; ++iz)
+    for (int ip = 0; ip < nphi; ++ip) {
+      // integral of cos/pi over a (z, phi) cell = (z1^2 - z0^2)/2 * dphi / pi
+      const double z0 = double(iz) / nz, z1 = double(iz + 1) / nz;
+      expected[iz * nphi + ip] = n * (z1 * z1 - z0 * z0) / 2.0 * (2.0 * M_PI / nphi) / M_PI;
+    }
+  EXPECT_GT(test::chi_square_test(counts, expected).p_value, 1e-3);
+}
+
+TEST(ChiSquare, RejectsAWrongDistribution) {
+  // Guard on the guard: the test must be able to fail.
+  std::vector<double> obs(10, 100.0), exp(10, 100.0);
+  obs[0] = 160.0;
+  obs[1] = 40.0;
+  EXPECT_LT(test::chi_square_test(obs, exp).p_value, 1e-3);
+  EXPECT_NEAR(test::chi_square_survival(3.84, 1), 0.05, 1e-3);
+  EXPECT_NEAR(test::chi_square_survival(18.307, 10), 0.05, 1e-3);
+}
