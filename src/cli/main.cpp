@@ -1,2 +1,45 @@
-// Placeholder entry point; replaced by the real command line.
-int main() { return 0; }
+// The `emlt` command: render, info. Every user-facing failure is one line on stderr
+// ("emlt: error: <file>: <problem>") and a non-zero exit; no partial output file is left.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "cli/commands.h"
+#include "emlt/core/error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"emlt: Monte Carlo and Markov chain Monte Carlo light transport"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "emlt 0.1.0");
+
+  emlt::cli::RenderOptions render_options;
+  CLI::App* render = app.add_subcommand("render", "Render a scene to an image");
+  emlt::cli::add_render_options(*render, render_options);
+
+  emlt::cli::InfoOptions info_options;
+  CLI::App* info = app.add_subcommand("info", "Print what a scene file contains");
+  info->add_option("scene", info_options.scene, "Scene file (.json or Mitsuba .xml)")->required();
+  info->add_option("-D", info_options.defines, "Scene parameter, name=value (repeatable)");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);
+    std::fprintf(stderr, "emlt: error: %s\n", e.what());
+    return 2;
+  }
+
+  try {
+    if (*render) return emlt::cli::run_render(*render, render_options);
+    if (*info) return emlt::cli::run_info(info_options);
+  } catch (const emlt::Error& e) {
+    std::fprintf(stderr, "emlt: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "emlt: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

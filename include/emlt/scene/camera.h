@@ -1,9 +1,11 @@
 #pragma once
 // Perspective camera: pinhole (aperture 0) or thin lens. Raster coordinates are pixels,
-// x in [0, width) to the right, y in [0, height) downwards. The importance function is
-// normalised so that a light-tracing splat of W_e * L * G / pdf at raster position r
-// estimates the same pixel values as camera rays (pbrt's convention): the image-plane
-// area at distance 1 and the lens area are both divided out.
+// x in [0, width) to the right, y in [0, height) downwards. The importance W_e is
+// normalised over the whole film (pbrt's convention): it integrates to one over the lens
+// and all directions that reach the film, i.e. W_e = 1 / (A_film * A_lens * cos^4), with
+// A_film the film's area on the plane at distance 1 and A_lens = 1 for a pinhole. A pixel
+// value is therefore (width * height) times the film measurement restricted to that pixel:
+// light tracing with N paths splats W_e * L * G / pdf * (width * height / N).
 #include <optional>
 
 #include "emlt/scene/description.h"

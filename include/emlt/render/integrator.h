@@ -1,0 +1,35 @@
+#pragma once
+// Integrators turn a scene into an image. They are chosen by name (`--integrator`), so
+// comparing methods is a command-line flag.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "emlt/render/image.h"
+#include "emlt/render/progress.h"
+#include "emlt/render/settings.h"
+#include "emlt/scene/scene.h"
+
+namespace emlt {
+
+struct RenderResult {
+  Image image;
+  double seconds = 0.0;
+  uint64_t samples = 0;         // camera samples (paths) traced
+  int samples_per_pixel = 0;
+  uint64_t invalid_samples = 0; // NaN/Inf estimates dropped (should stay 0)
+};
+
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+  virtual std::string name() const = 0;
+  virtual RenderResult render(const Scene& scene, const RenderSettings& settings,
+                              ProgressReporter& progress) const = 0;
+};
+
+// Throws emlt::Error for an unknown name.
+std::unique_ptr<Integrator> make_integrator(const std::string& name);
+std::vector<std::string> integrator_names();
+
+}  // namespace emlt

@@ -1,0 +1,17 @@
+#pragma once
+#include "emlt/core/rng.h"
+#include "emlt/render/integrator.h"
+
+namespace emlt {
+
+// Unidirectional path tracer with next-event estimation, MIS against BSDF sampling and
+// Russian roulette. The reference every other integrator is checked against.
+class PathTracer final : public Integrator {
+ public:
+  std::string name() const override { return "pt"; }
+  RenderResult render(const Scene& scene, const RenderSettings& settings,
+                      ProgressReporter& progress) const override;
+  static Rgb radiance(const Scene& scene, const RenderSettings& settings, const Ray& ray, Rng& rng);
+};
+
+}  // namespace emlt

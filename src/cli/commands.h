@@ -1,0 +1,32 @@
+#pragma once
+#include <CLI/CLI.hpp>
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "emlt/render/settings.h"
+
+namespace emlt::cli {
+
+struct RenderOptions {
+  std::string scene, output;
+  RenderSettings settings;
+  std::string mis = "power", direct_point_set = "independent";
+  std::vector<std::string> defines;
+  bool quiet = false;
+};
+
+struct InfoOptions {
+  std::string scene;
+  std::vector<std::string> defines;
+};
+
+void add_render_options(CLI::App& command, RenderOptions& options);
+int run_render(const CLI::App& command, RenderOptions& options);
+int run_info(const InfoOptions& options);
+
+// "name=value" strings into a map; throws emlt::Error on a malformed entry.
+std::map<std::string, std::string> parse_defines(const std::vector<std::string>& defines);
+
+}  // namespace emlt::cli

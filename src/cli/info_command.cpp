@@ -1,0 +1,30 @@
+#include <fmt/core.h>
+
+#include "cli/commands.h"
+#include "emlt/scene/loader.h"
+#include "emlt/scene/scene.h"
+
+namespace emlt::cli {
+
+int run_info(const InfoOptions& options) {
+  const auto scene = Scene::build(load_scene_description(options.scene, parse_defines(options.defines)));
+  const SceneStats& st = scene->stats();
+  const SceneDescription& d = scene->description();
+  fmt::print("scene        {}\n", d.source);
+  fmt::print("image        {}x{}\n", scene->camera().width(), scene->camera().height());
+  fmt::print("triangles    {} ({} degenerate dropped) in {} meshes\n", st.triangles,
+             st.dropped_degenerate_triangles, st.meshes);
+  fmt::print("spheres      {}\n", st.spheres);
+  fmt::print("area lights  {} emissive triangles\n", st.area_lights);
+  fmt::print("environment  {}\n", st.has_environment ? "yes" : "no");
+  fmt::print("materials    {}\n", d.materials.size());
+  for (const auto& m : d.materials)
+    fmt::print("  {:<20} {}\n", m.name, m.bsdf ? m.bsdf->name() : std::string("(none)"));
+  fmt::print("integrator   {} (max depth {}, {} spp)\n", d.defaults.integrator,
+             d.defaults.max_depth, d.defaults.spp);
+  fmt::print("warnings     {}\n", scene->warnings().size());
+  for (const auto& w : scene->warnings()) fmt::print("  {}\n", w);
+  return 0;
+}
+
+}  // namespace emlt::cli

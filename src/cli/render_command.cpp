@@ -1,0 +1,121 @@
+#include <filesystem>
+#include <fmt/core.h>
+
+#include "cli/commands.h"
+#include "emlt/core/error.h"
+#include "emlt/render/integrator.h"
+#include "emlt/scene/loader.h"
+
+namespace emlt::cli {
+
+namespace {
+
+bool is_known_image_extension(const std::string& ext) {
+  return ext == ".exr" || ext == ".pfm" || ext == ".png" || ext == ".hdr";
+}
+
+// Fails before a long render rather than after it.
+void check_output_path(const std::string& path) {
+  const std::filesystem::path p(path);
+  if (!is_known_image_extension(p.extension().string()))
+    throw file_error(path, "unknown output format (use .exr, .pfm, .png or .hdr)");
+  const auto parent = p.parent_path();
+  if (!parent.empty() && !std::filesystem::is_directory(parent))
+    throw file_error(path, "output directory does not exist");
+}
+
+}  // namespace
+
+std::map<std::string, std::string> parse_defines(const std::vector<std::string>& defines) {
+  std::map<std::string, std::string> result;
+  for (const auto& d : defines) {
+    const auto eq = d.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw Error("-D " + d + ": expected name=value");
+    result[d.substr(0, eq)] = d.substr(eq + 1);
+  }
+  return result;
+}
+
+void add_render_options(CLI::App& command, RenderOptions& o) {
+  RenderSettings& s = o.settings;
+  command.add_option("scene", o.scene, "Scene file (.json or Mitsuba .xml)")->required();
+  command.add_option("-o,--output", o.output, "Output image (.exr, .pfm, .png, .hdr)");
+  command.add_option("--integrator", s.integrator, "direct | pt");
+  command.add_option("--spp", s.spp, "Samples per pixel")->check(CLI::Range(1, 1 << 24));
+  command.add_option("--time", s.time_limit_s, "Time budget in seconds (renders until spent)")
+      ->check(CLI::PositiveNumber);
+  command.add_option("--seed", s.seed, "Random seed (same seed, same image)");
+  command.add_option("--threads", s.threads, "Worker threads (0 = all cores)")
+      ->check(CLI::Range(0, 4096));
+  command.add_option("--width", s.width, "Image width in pixels")->check(CLI::Range(1, 16384));
+  command.add_option("--height", s.height, "Image height in pixels")->check(CLI::Range(1, 16384));
+  command.add_option("--max-depth", s.max_depth, "Longest path in segments (-1 = unlimited)")
+      ->check(CLI::Range(-1, 100000));
+  command.add_option("--rr-depth", s.rr_depth, "Segments before Russian roulette starts")
+      ->check(CLI::Range(1, 100000));
+  command.add_option("--mis", o.mis, "MIS heuristic")->check(CLI::IsMember({"balance", "power"}));
+  command.add_option("--direct-samples", s.direct_samples,
+                     "Light and BSDF samples per direct-lighting estimate")
+      ->check(CLI::Range(1, 1 << 16));
+  command.add_option("--direct-sampler", o.direct_point_set,
+                     "Point set for direct lighting: independent | fibonacci")
+      ->check(CLI::IsMember({"independent", "fibonacci"}));
+  command.add_option("-D", o.defines, "Scene parameter, name=value (repeatable)");
+  command.add_flag("-q,--quiet", o.quiet, "No progress bar");
+}
+
+int run_render(const CLI::App& command, RenderOptions& o) {
+  SceneDescription desc = load_scene_description(o.scene, parse_defines(o.defines));
+
+  // Scene file defaults first, then whatever the command line set explicitly.
+  RenderSettings settings = desc.defaults;
+  const RenderSettings& cli = o.settings;
+  const auto given = [&](const char* name) { return command.count(name) > 0; };
+  if (given("--integrator")) settings.integrator = cli.integrator;
+  if (given("--spp")) settings.spp = cli.spp;
+  if (given("--time")) {
+    settings.time_limit_s = cli.time_limit_s;
+    if (!given("--spp")) settings.spp = 0;  // the time budget alone decides
+  }
+  if (given("--seed")) settings.seed = cli.seed;
+  if (given("--threads")) settings.threads = cli.threads;
+  if (given("--max-depth")) settings.max_depth = cli.max_depth;
+  if (given("--rr-depth")) settings.rr_depth = cli.rr_depth;
+  if (given("--direct-samples")) settings.direct_samples = cli.direct_samples;
+  settings.mis = o.mis == "balance" ? MisHeuristic::Balance : MisHeuristic::Power;
+  settings.direct_point_set =
+      o.direct_point_set == "fibonacci" ? DirectPointSet::Fibonacci : DirectPointSet::Independent;
+  settings.progress = !o.quiet;
+  if (given("--width")) desc.camera.width = cli.width;
+  if (given("--height")) desc.camera.height = cli.height;
+
+  if (o.output.empty()) o.output = std::filesystem::path(o.scene).stem().string() + ".exr";
+  check_output_path(o.output);
+  const auto integrator = make_integrator(settings.integrator);
+
+  const auto scene = Scene::build(std::move(desc));
+  for (const auto& w : scene->warnings()) std::fprintf(stderr, "emlt: warning: %s\n", w.c_str());
+
+  ProgressReporter progress(settings.progress);
+  const RenderResult result = integrator->render(*scene, settings, progress);
+
+  write_image(o.output, result.image);
+  std::string outputs = o.output;
+  const std::string ext = std::filesystem::path(o.output).extension().string();
+  if (ext != ".png") {
+    const std::string preview = preview_path_for(o.output);
+    write_image(preview, result.image);
+    outputs += " + " + preview;
+  }
+  if (result.invalid_samples > 0)
+    std::fprintf(stderr, "emlt: warning: %llu NaN/Inf samples were dropped\n",
+                 static_cast<unsigned long long>(result.invalid_samples));
+  const double rate = result.seconds > 0.0 ? double(result.samples) / result.seconds : 0.0;
+  fmt::print("{}: {}x{}, {} spp, {:.2f} s, {:.3f} M samples/s -> {}\n", integrator->name(),
+             result.image.width, result.image.height, result.samples_per_pixel, result.seconds,
+             rate * 1e-6, outputs);
+  return 0;
+}
+
+}  // namespace emlt::cli

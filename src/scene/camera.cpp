@@ -1,0 +1,114 @@
+#include "emlt/scene/camera.h"
+
+#include "emlt/core/error.h"
+#include "emlt/core/warp.h"
+
+namespace emlt {
+
+Camera::Camera(const CameraDesc& desc)
+    : width_(desc.width),
+      height_(desc.height),
+      aperture_radius_(desc.aperture_radius),
+      focus_distance_(desc.focus_distance) {
+  const Mat4& m = desc.to_world;
+  // Camera space has +x pointing to the image's left, so the image's right is -x.
+  right_ = -glm::normalize(Vec3(m[0]));
+  up_ = glm::normalize(Vec3(m[1]));
+  forward_ = glm::normalize(Vec3(m[2]));
+  position_ = Vec3(m[3]);
+
+  const float aspect = float(width_) / float(height_);
+  const float tan_half = std::tan(glm::radians(desc.fov_degrees) * 0.5f);
+  bool fov_is_x = true;
+  switch (desc.fov_axis) {
+    case CameraDesc::FovAxis::X: fov_is_x = true; break;
+    case CameraDesc::FovAxis::Y: fov_is_x = false; break;
+    case CameraDesc::FovAxis::Smaller: fov_is_x = width_ <= height_; break;
+    case CameraDesc::FovAxis::Larger: fov_is_x = width_ >= height_; break;
+  }
+  if (fov_is_x) {
+    tan_half_x_ = tan_half;
+    tan_half_y_ = tan_half / aspect;
+  } else {
+    tan_half_y_ = tan_half;
+    tan_half_x_ = tan_half * aspect;
+  }
+  image_plane_area_ = 4.0f * tan_half_x_ * tan_half_y_;
+}
+
+Vec3 Camera::film_direction_local(const Vec2& raster) const {
+  const float ndc_x = 2.0f * raster.x / float(width_) - 1.0f;
+  const float ndc_y = 1.0f - 2.0f * raster.y / float(height_);
+  return {ndc_x * tan_half_x_, ndc_y * tan_half_y_, 1.0f};
+}
+
+Ray Camera::generate_ray(const Vec2& raster, const Vec2& u_lens) const {
+  const Vec3 local = film_direction_local(raster);
+  const Vec3 through = local.x * right_ + local.y * up_ + forward_;  // z = 1 plane, world
+  Ray ray;
+  if (is_pinhole()) {
+    ray.origin = position_;
+    ray.direction = glm::normalize(through);
+    return ray;
+  }
+  // Thin lens: every ray through the same film point meets on the focus plane.
+  const Vec3 focus_point = position_ + through * focus_distance_;
+  const Vec2 disk = square_to_uniform_disk_concentric(u_lens) * aperture_radius_;
+  ray.origin = position_ + disk.x * right_ + disk.y * up_;
+  ray.direction = glm::normalize(focus_point - ray.origin);
+  return ray;
+}
+
+std::optional<Vec2> Camera::raster_position(const Vec3& p, const Vec3& w) const {
+  const float cos_theta = glm::dot(w, forward_);
+  if (cos_theta <= 0.0f) return std::nullopt;
+  // Where the ray crosses the focus plane, seen from the lens centre, fixes the pixel.
+  const float plane_distance = is_pinhole() ? 1.0f : focus_distance_;
+  const Vec3 q = (p + w * (plane_distance / cos_theta)) - position_;
+  const float depth = glm::dot(q, forward_);
+  if (depth <= 0.0f) return std::nullopt;
+  const float x = glm::dot(q, right_) / depth, y = glm::dot(q, up_) / depth;
+  const Vec2 raster((x / tan_half_x_ + 1.0f) * 0.5f * float(width_),
+                    (1.0f - y / tan_half_y_) * 0.5f * float(height_));
+  if (!(raster.x >= 0.0f && raster.x < float(width_) && raster.y >= 0.0f &&
+        raster.y < float(height_)))
+    return std::nullopt;
+  return raster;
+}
+
+float Camera::importance(const Vec3& p, const Vec3& w) const {
+  if (!raster_position(p, w)) return 0.0f;
+  const float cos_theta = glm::dot(w, forward_);
+  const float lens_area = is_pinhole() ? 1.0f : kPi * aperture_radius_ * aperture_radius_;
+  const float cos2 = cos_theta * cos_theta;
+  return 1.0f / (image_plane_area_ * lens_area * cos2 * cos2);
+}
+
+void Camera::pdf_emission(const Vec3& w, float* pdf_position, float* pdf_direction) const {
+  const float cos_theta = glm::dot(w, forward_);
+  const float lens_area = is_pinhole() ? 1.0f : kPi * aperture_radius_ * aperture_radius_;
+  *pdf_position = 1.0f / lens_area;
+  *pdf_direction = cos_theta > 0.0f ? 1.0f / (image_plane_area_ * cos_theta * cos_theta * cos_theta)
+                                    : 0.0f;
+}
+
+std::optional<CameraDirectSample> Camera::sample_direct(const Vec3& ref, const Vec2& u_lens) const {
+  CameraDirectSample s;
+  const Vec2 disk = is_pinhole() ? Vec2(0.0f)
+                                 : square_to_uniform_disk_concentric(u_lens) * aperture_radius_;
+  s.lens_point = position_ + disk.x * right_ + disk.y * up_;
+  const Vec3 to_lens = s.lens_point - ref;
+  s.distance = glm::length(to_lens);
+  if (!(s.distance > 0.0f)) return std::nullopt;
+  s.wi = to_lens / s.distance;
+  const auto raster = raster_position(s.lens_point, -s.wi);
+  if (!raster) return std::nullopt;
+  s.raster = *raster;
+  s.importance = Rgb(importance(s.lens_point, -s.wi));
+  const float lens_area = is_pinhole() ? 1.0f : kPi * aperture_radius_ * aperture_radius_;
+  const float cos_lens = std::abs(glm::dot(forward_, s.wi));
+  s.pdf = s.distance * s.distance / (cos_lens * lens_area);
+  return s;
+}
+
+}  // namespace emlt
