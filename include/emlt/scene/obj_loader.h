@@ -1,0 +1,19 @@
+#pragma once
+// Wavefront OBJ meshes (tinyobjloader). Every object/group in the file is merged into one
+// MeshDesc; polygons are fanned into triangles.
+#include <string>
+#include <vector>
+
+#include "emlt/scene/description.h"
+
+namespace emlt {
+
+// Positions are transformed by `to_world`, normals by its inverse transpose. The file's
+// normals are used only when `smooth_normals` is set (area-weighted vertex normals are
+// computed when the file has none); otherwise the mesh is flat shaded. Throws emlt::Error
+// "<path>: <problem>" for a missing or unparsable file, out-of-range indices or no faces.
+// Parser warnings are appended to `warnings` when given.
+MeshDesc load_obj_mesh(const std::string& path, const Mat4& to_world, bool smooth_normals,
+                       std::vector<std::string>* warnings = nullptr);
+
+}  // namespace emlt

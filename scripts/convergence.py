@@ -1,0 +1,88 @@
+#!/usr/bin/python3
+"""Convergence plot: MSE against samples per pixel for emlt's integrators.
+
+Renders a reference once (high spp), then each integrator at 1, 2, 4, ... spp with
+several seeds, and plots MSE (mean over pixels and RGB) against spp on log-log axes,
+the seeds' spread as a band. Uses only numpy and matplotlib (Debian's python3-*).
+
+    scripts/convergence.py scenes/cornell-box/scene.json --out docs/convergence.png
+"""
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+
+def read_pfm(path):
+    with open(path, "rb") as f:
+        header = f.readline().strip()
+        if header not in (b"PF", b"Pf"):
+            raise ValueError(f"{path}: not a PFM file")
+        width, height = map(int, f.readline().split())
+        scale = float(f.readline())
+        data = np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4")
+    channels = 3 if header == b"PF" else 1
+    image = data.reshape(height, width, channels)
+    return np.flipud(image)  # PFM stores the bottom row first
+
+
+def render(emlt, scene, out, integrator, spp, seed, extra):
+    cmd = [emlt, "render", scene, "-o", out, "--integrator", integrator, "--spp", str(spp),
+           "--seed", str(seed), "--quiet"] + extra
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+    return read_pfm(out)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("scene")
+    parser.add_argument("--out", default="convergence.png")
+    parser.add_argument("--emlt", default="build/emlt")
+    parser.add_argument("--integrators", default="pt,direct")
+    parser.add_argument("--max-spp", type=int, default=64)
+    parser.add_argument("--reference-spp", type=int, default=4096)
+    parser.add_argument("--seeds", type=int, default=3)
+    parser.add_argument("--size", type=int, default=128, help="image width and height")
+    parser.add_argument("--max-depth", type=int, default=-1)
+    args = parser.parse_args()
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    extra = ["--width", str(args.size), "--height", str(args.size), "--max-depth", str(args.max_depth)]
+    spps = [2 ** k for k in range(0, int(np.log2(args.max_spp)) + 1)]
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "img.pfm")
+        references = {}
+        fig, ax = plt.subplots(figsize=(6, 4.2))
+        for integrator in args.integrators.split(","):
+            # Each integrator converges to its own reference (direct is one bounce only).
+            print(f"reference: {integrator} at {args.reference_spp} spp", file=sys.stderr)
+            references[integrator] = render(args.emlt, args.scene, out, integrator, args.reference_spp, 1000, extra)
+            errors = np.zeros((args.seeds, len(spps)))
+            for s in range(args.seeds):
+                for i, spp in enumerate(spps):
+                    image = render(args.emlt, args.scene, out, integrator, spp, s + 1, extra)
+                    errors[s, i] = np.mean((image - references[integrator]) ** 2)
+            mean = errors.mean(axis=0)
+            ax.loglog(spps, mean, "o-", label=integrator)
+            ax.fill_between(spps, errors.min(axis=0), errors.max(axis=0), alpha=0.25)
+            for spp, e in zip(spps, mean):
+                print(f"{integrator}\t{spp}\t{e:.6g}")
+        ax.loglog(spps, mean[0] / np.array(spps, dtype=float), "k--", lw=0.8, label="1/N")
+        ax.set_xlabel("samples per pixel")
+        ax.set_ylabel("MSE against own reference")
+        ax.set_title(os.path.basename(os.path.dirname(os.path.abspath(args.scene))))
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend()
+        fig.tight_layout()
+        fig.savefig(args.out, dpi=110)
+        print(f"wrote {args.out}", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()

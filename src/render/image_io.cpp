@@ -1,0 +1,351 @@
+// Image reading and writing by file extension. Every format decodes to linear float RGB
+// with row 0 at the top; every write goes through a temporary file that is renamed into
+// place only once it is complete.
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cctype>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <stdexcept>
+#include <stb/stb_image.h>
+#include <stb/stb_image_write.h>
+
+#include "emlt/core/error.h"
+#include "emlt/render/image.h"
+
+namespace emlt {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+enum class Format { Exr, Hdr, Pfm, Png, Jpeg, Unknown };
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+Format format_of(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".exr") return Format::Exr;
+  if (ext == ".hdr") return Format::Hdr;
+  if (ext == ".pfm") return Format::Pfm;
+  if (ext == ".png") return Format::Png;
+  if (ext == ".jpg" || ext == ".jpeg") return Format::Jpeg;
+  return Format::Unknown;
+}
+
+Error unknown_format(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  return file_error(path, "unsupported image format '" + (ext.empty() ? "(none)" : ext) +
+                              "' (expected .exr, .hdr, .pfm or .png)");
+}
+
+float srgb_to_linear(float c) {
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+float linear_to_srgb(float c) {
+  return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+}
+
+// ---- OpenEXR ---------------------------------------------------------------------------
+
+// Finds a channel by its base name, with or without a layer prefix ("R" or "diffuse.R"),
+// preferring the unlayered one.
+const char* find_channel(const Imf::ChannelList& channels, const char* name) {
+  if (channels.findChannel(name)) return name;
+  for (auto it = channels.begin(); it != channels.end(); ++it) {
+    const std::string full = it.name();
+    const size_t dot = full.rfind('.');
+    if (dot != std::string::npos && full.compare(dot + 1, std::string::npos, name) == 0) {
+      return it.name();
+    }
+  }
+  return nullptr;
+}
+
+Image read_exr(const std::string& path) {
+  Imf::InputFile file(path.c_str());
+  const Imath::Box2i window = file.header().dataWindow();
+  const int64_t width = int64_t(window.max.x) - window.min.x + 1;
+  const int64_t height = int64_t(window.max.y) - window.min.y + 1;
+  if (width <= 0 || height <= 0) throw file_error(path, "image has zero size");
+  if (width * height > (int64_t(1) << 31)) throw file_error(path, "image is too large");
+
+  const Imf::ChannelList& channels = file.header().channels();
+  const char* r = find_channel(channels, "R");
+  const char* g = find_channel(channels, "G");
+  const char* b = find_channel(channels, "B");
+  const char* y = find_channel(channels, "Y");
+  if (!r && !g && !b && !y) throw file_error(path, "has no R, G, B or Y channel");
+
+  Image image{int(width), int(height)};
+  std::vector<float> luminance_plane;
+  Imf::FrameBuffer frame;
+  auto* base = reinterpret_cast<char*>(image.pixels.data());
+  if (r || g || b) {
+    // Channels that are absent read as zero (the slice fill value).
+    const char* names[3] = {r ? r : "R", g ? g : "G", b ? b : "B"};
+    for (int c = 0; c < 3; ++c) {
+      frame.insert(names[c], Imf::Slice::Make(Imf::FLOAT, base + c * sizeof(float), window,
+                                              sizeof(Rgb), sizeof(Rgb) * size_t(width)));
+    }
+  } else {
+    luminance_plane.resize(size_t(width * height));
+    frame.insert(y, Imf::Slice::Make(Imf::FLOAT, luminance_plane.data(), window, sizeof(float),
+                                     sizeof(float) * size_t(width)));
+  }
+  file.setFrameBuffer(frame);
+  file.readPixels(window.min.y, window.max.y);
+  if (!luminance_plane.empty()) {
+    for (size_t i = 0; i < luminance_plane.size(); ++i) image.pixels[i] = Rgb(luminance_plane[i]);
+  }
+  return image;
+}
+
+void write_exr(const std::string& path, const Image& image) {
+  Imf::Header header(image.width, image.height);
+  header.compression() = Imf::ZIP_COMPRESSION;
+  for (const char* name : {"R", "G", "B"}) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+  Imf::OutputFile file(path.c_str(), header);
+  Imf::FrameBuffer frame;
+  // The library only reads through these pointers when writing.
+  auto* base = reinterpret_cast<char*>(const_cast<Rgb*>(image.pixels.data()));
+  const size_t row_stride = sizeof(Rgb) * size_t(image.width);
+  frame.insert("R", Imf::Slice(Imf::FLOAT, base, sizeof(Rgb), row_stride));
+  frame.insert("G", Imf::Slice(Imf::FLOAT, base + sizeof(float), sizeof(Rgb), row_stride));
+  frame.insert("B", Imf::Slice(Imf::FLOAT, base + 2 * sizeof(float), sizeof(Rgb), row_stride));
+  file.setFrameBuffer(frame);
+  file.writePixels(image.height);
+}
+
+// ---- PFM (Portable Float Map) ------------------------------------------------------------
+// Header "PF" (RGB) or "Pf" (grey), "width height", then a scale whose sign gives the byte
+// order (negative = little-endian). Rows are stored bottom to top.
+
+uint32_t byte_swap(uint32_t v) {
+  return (v >> 24) | ((v >> 8) & 0xff00u) | ((v << 8) & 0xff0000u) | (v << 24);
+}
+
+Image read_pfm(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw file_error(path, "cannot open file");
+  std::string magic;
+  long long width = 0, height = 0;
+  double scale = 0.0;
+  in >> magic >> width >> height >> scale;
+  if (!in || (magic != "PF" && magic != "Pf")) throw file_error(path, "not a PFM file");
+  if (width <= 0 || height <= 0) throw file_error(path, "image has zero size");
+  if (width * height > (1LL << 31)) throw file_error(path, "image is too large");
+  if (scale == 0.0 || !std::isfinite(scale)) throw file_error(path, "malformed PFM scale");
+  in.get();  // the single whitespace byte that ends the header
+
+  const int channels = magic == "PF" ? 3 : 1;
+  // Check the size before allocating, so a corrupt header cannot ask for gigabytes.
+  const std::streamoff data_start = in.tellg();
+  in.seekg(0, std::ios::end);
+  const std::streamoff data_bytes = in.tellg() - data_start;
+  in.seekg(data_start);
+  if (data_bytes < std::streamoff(width * height * channels * 4)) {
+    throw file_error(path, "truncated PFM data");
+  }
+  std::vector<uint32_t> raw(size_t(width * height * channels));
+  in.read(reinterpret_cast<char*>(raw.data()), std::streamsize(raw.size() * sizeof(uint32_t)));
+  if (in.gcount() != std::streamsize(raw.size() * sizeof(uint32_t))) {
+    throw file_error(path, "truncated PFM data");
+  }
+  const bool file_little_endian = scale < 0.0;
+  const bool host_little_endian = std::endian::native == std::endian::little;
+  if (file_little_endian != host_little_endian) {
+    for (uint32_t& v : raw) v = byte_swap(v);
+  }
+
+  Image image{int(width), int(height)};
+  for (int y = 0; y < image.height; ++y) {
+    const size_t file_row = size_t(image.height - 1 - y);
+    for (int x = 0; x < image.width; ++x) {
+      const size_t at = (file_row * size_t(width) + size_t(x)) * channels;
+      Rgb value;
+      for (int c = 0; c < 3; ++c) {
+        value[c] = std::bit_cast<float>(raw[at + (channels == 3 ? c : 0)]);
+      }
+      image.at(x, y) = value;
+    }
+  }
+  return image;
+}
+
+// Writers below throw WriteFailure with the problem only; write_atomically names the
+// target path (not the temporary) in the emlt::Error it raises.
+struct WriteFailure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+void write_pfm(const std::string& path, const Image& image) {
+  std::ofstream out(path, std::ios::binary);
+  if (!out) throw WriteFailure("cannot create the file (does the directory exist?)");
+  const bool little = std::endian::native == std::endian::little;
+  out << "PF\n" << image.width << ' ' << image.height << '\n' << (little ? "-1.0" : "1.0") << '\n';
+  for (int y = image.height - 1; y >= 0; --y) {
+    out.write(reinterpret_cast<const char*>(&image.at(0, y)),
+              std::streamsize(sizeof(Rgb) * size_t(image.width)));
+  }
+  out.flush();
+  if (!out) throw WriteFailure("write failed");
+}
+
+// ---- stb formats (Radiance .hdr, PNG/JPEG) ------------------------------------------------
+
+Image read_hdr(const std::string& path) {
+  int width = 0, height = 0, components = 0;
+  float* data = stbi_loadf(path.c_str(), &width, &height, &components, 3);
+  if (!data) {
+    const char* why = stbi_failure_reason();
+    throw file_error(path, std::string("cannot decode Radiance HDR (") + (why ? why : "?") + ")");
+  }
+  Image image(width, height);
+  std::memcpy(image.pixels.data(), data, sizeof(float) * 3 * size_t(width) * size_t(height));
+  stbi_image_free(data);
+  return image;
+}
+
+Image read_ldr(const std::string& path) {
+  int width = 0, height = 0, components = 0;
+  unsigned char* data = stbi_load(path.c_str(), &width, &height, &components, 3);
+  if (!data) {
+    const char* why = stbi_failure_reason();
+    throw file_error(path, std::string("cannot decode image (") + (why ? why : "?") + ")");
+  }
+  std::array<float, 256> to_linear{};
+  for (int i = 0; i < 256; ++i) to_linear[i] = srgb_to_linear(float(i) / 255.0f);
+  Image image(width, height);
+  for (size_t i = 0; i < image.pixels.size(); ++i) {
+    image.pixels[i] = Rgb(to_linear[data[3 * i]], to_linear[data[3 * i + 1]],
+                          to_linear[data[3 * i + 2]]);
+  }
+  stbi_image_free(data);
+  return image;
+}
+
+void write_hdr(const std::string& path, const Image& image) {
+  if (!stbi_write_hdr(path.c_str(), image.width, image.height, 3,
+                      reinterpret_cast<const float*>(image.pixels.data()))) {
+    throw WriteFailure("cannot write Radiance HDR (does the directory exist?)");
+  }
+}
+
+void write_png(const std::string& path, const Image& image) {
+  const std::vector<unsigned char> bytes = to_srgb8(image);
+  if (!stbi_write_png(path.c_str(), image.width, image.height, 3, bytes.data(),
+                      image.width * 3)) {
+    throw WriteFailure("cannot write PNG (does the directory exist?)");
+  }
+}
+
+// Writes through "<path>.tmp-<pid>" in the same directory (so the rename is atomic) and
+// removes the temporary on any failure.
+void write_atomically(const std::string& path,
+                      const std::function<void(const std::string&)>& write_to) {
+  const std::string temporary = path + ".tmp-" + std::to_string(::getpid());
+  try {
+    write_to(temporary);
+  } catch (const std::exception& e) {  // WriteFailure, OpenEXR (Iex), allocation
+    std::error_code ignored;
+    fs::remove(temporary, ignored);
+    throw file_error(path, std::string("cannot write image: ") + e.what());
+  }
+  std::error_code error;
+  fs::rename(temporary, path, error);
+  if (error) {
+    std::error_code ignored;
+    fs::remove(temporary, ignored);
+    throw file_error(path, "cannot move the finished image into place: " + error.message());
+  }
+}
+
+}  // namespace
+
+Image read_image(const std::string& path) {
+  const Format format = format_of(path);
+  if (format == Format::Unknown) throw unknown_format(path);
+  std::error_code error;
+  if (!fs::exists(path, error)) throw file_error(path, "file not found");
+  if (fs::is_directory(path, error)) throw file_error(path, "is a directory, not an image");
+
+  Image image;
+  try {
+    switch (format) {
+      case Format::Exr: image = read_exr(path); break;
+      case Format::Hdr: image = read_hdr(path); break;
+      case Format::Pfm: image = read_pfm(path); break;
+      case Format::Png:
+      case Format::Jpeg: image = read_ldr(path); break;
+      case Format::Unknown: break;
+    }
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {  // OpenEXR (Iex) and allocation failures
+    throw file_error(path, std::string("cannot read image: ") + e.what());
+  }
+  if (image.width <= 0 || image.height <= 0 || image.pixels.empty()) {
+    throw file_error(path, "image has zero size");
+  }
+  for (const Rgb& texel : image.pixels) {
+    if (!is_finite(texel)) throw file_error(path, "contains NaN or infinite texels");
+  }
+  return image;
+}
+
+void write_image(const std::string& path, const Image& image) {
+  const Format format = format_of(path);
+  if (format == Format::Unknown || format == Format::Jpeg) throw unknown_format(path);
+  if (image.width <= 0 || image.height <= 0) throw file_error(path, "cannot write an empty image");
+  if (image.pixels.size() != size_t(image.width) * size_t(image.height)) {
+    throw file_error(path, "image size does not match its pixel count");
+  }
+  write_atomically(path, [&](const std::string& target) {
+    switch (format) {
+      case Format::Exr: write_exr(target, image); break;
+      case Format::Hdr: write_hdr(target, image); break;
+      case Format::Pfm: write_pfm(target, image); break;
+      case Format::Png: write_png(target, image); break;
+      case Format::Jpeg:
+      case Format::Unknown: break;
+    }
+  });
+}
+
+std::string preview_path_for(const std::string& path) {
+  return fs::path(path).replace_extension(".png").string();
+}
+
+std::vector<unsigned char> to_srgb8(const Image& image, float exposure) {
+  std::vector<unsigned char> bytes(image.pixels.size() * 3);
+  for (size_t i = 0; i < image.pixels.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      const float linear = image.pixels[i][c] * exposure;
+      // NaN and negatives map to black, overflow to white.
+      const float clamped = linear > 0.0f ? std::min(linear, 1.0f) : 0.0f;
+      bytes[3 * i + c] = static_cast<unsigned char>(linear_to_srgb(clamped) * 255.0f + 0.5f);
+    }
+  }
+  return bytes;
+}
+
+}  // namespace emlt

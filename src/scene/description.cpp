@@ -1,0 +1,19 @@
+#include "emlt/scene/description.h"
+
+namespace emlt {
+
+Mat4 look_at_matrix(const Vec3& origin, const Vec3& target, const Vec3& up) {
+  // Mitsuba's lookat: camera +z towards the target, +x to the image's left. A degenerate
+  // triple produces NaNs on purpose, so Scene::build rejects it with a clear message.
+  const Vec3 dir = glm::normalize(target - origin);
+  const Vec3 left = glm::normalize(glm::cross(up, dir));
+  const Vec3 new_up = glm::cross(dir, left);
+  Mat4 m(1.0f);
+  m[0] = Vec4(left, 0.0f);
+  m[1] = Vec4(new_up, 0.0f);
+  m[2] = Vec4(dir, 0.0f);
+  m[3] = Vec4(origin, 1.0f);
+  return m;
+}
+
+}  // namespace emlt

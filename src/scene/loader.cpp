@@ -1,0 +1,113 @@
+#include "emlt/scene/loader.h"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <glm/gtc/matrix_transform.hpp>
+#include <sstream>
+
+#include "emlt/core/error.h"
+#include "emlt/scene/materials.h"
+#include "src/scene/loader_common.h"
+
+namespace emlt {
+
+SceneDescription load_scene_description(const std::string& path, const SceneDefines& defines) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  if (extension == ".json") return load_json_scene(path, defines);
+  if (extension == ".xml") return load_mitsuba_scene(path, defines);
+  throw file_error(path, "unknown scene format (expected .json or Mitsuba .xml)");
+}
+
+namespace loader {
+
+std::string read_text_file(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw file_error(path, "file not found");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw file_error(path, "cannot read file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string resolve_path(const std::string& scene_file, const std::string& relative) {
+  const std::filesystem::path p(relative);
+  if (p.is_absolute()) return p.lexically_normal().string();
+  return (std::filesystem::path(scene_file).parent_path() / p).lexically_normal().string();
+}
+
+std::optional<float> named_ior(const std::string& name) {
+  // Mitsuba 0.6's table of named indices of refraction (at ~589 nm).
+  static const std::pair<const char*, float> kTable[] = {
+      {"vacuum", 1.0f},      {"helium", 1.000036f},        {"hydrogen", 1.000132f},
+      {"air", 1.000277f},    {"carbon dioxide", 1.00045f}, {"water", 1.3330f},
+      {"acetone", 1.36f},    {"ethanol", 1.361f},          {"carbon tetrachloride", 1.461f},
+      {"glycerol", 1.4729f}, {"benzene", 1.501f},          {"silicone oil", 1.52045f},
+      {"bromine", 1.661f},   {"water ice", 1.31f},         {"fused quartz", 1.458f},
+      {"pyrex", 1.470f},     {"acrylic glass", 1.49f},     {"polypropylene", 1.49f},
+      {"bk7", 1.5046f},      {"sodium chloride", 1.544f},  {"amber", 1.55f},
+      {"pet", 1.5750f},      {"diamond", 2.419f},          {"glass", 1.5f}};
+  std::string lower = name;
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  for (const auto& [key, value] : kTable)
+    if (lower == key) return value;
+  return std::nullopt;
+}
+
+Rgb conductor_normal_reflectance(const Rgb& eta, const Rgb& k) {
+  const Rgb k2 = k * k;
+  const Rgb numerator = (eta - 1.0f) * (eta - 1.0f) + k2;
+  const Rgb denominator = (eta + 1.0f) * (eta + 1.0f) + k2;
+  return glm::clamp(numerator / glm::max(denominator, Rgb(1e-12f)), Rgb(0.0f), Rgb(1.0f));
+}
+
+BsdfPtr make_smooth_conductor(const Rgb& eta, const Rgb& k, const Rgb& specular_reflectance,
+                              const std::string& where, std::vector<std::string>& warnings) {
+  warnings.push_back(where +
+                     ": smooth conductor approximated by a mirror tinted with its "
+                     "normal-incidence Fresnel reflectance (no angle dependence)");
+  return make_mirror(specular_reflectance * conductor_normal_reflectance(eta, k));
+}
+
+void load_environment_map(EnvironmentDesc& env, const std::string& scene_file,
+                          const std::string& file) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec))
+    throw file_error(scene_file, "environment map '" + file + "' not found");
+  env.kind = EnvironmentDesc::Kind::Map;
+  env.map_path = file;
+  env.map = read_image(file);
+}
+
+Mat4 rotation_matrix(const Vec3& axis, float degrees) {
+  const float length = glm::length(axis);
+  if (!(length > 0.0f)) return Mat4(std::numeric_limits<float>::quiet_NaN());
+  return glm::rotate(Mat4(1.0f), glm::radians(degrees), axis / length);
+}
+
+int material_index(SceneDescription& desc, const BsdfPtr& bsdf, const std::string& name) {
+  for (size_t i = 0; i < desc.materials.size(); ++i)
+    if (desc.materials[i].bsdf == bsdf) return int(i);
+  desc.materials.push_back({name, bsdf});
+  return int(desc.materials.size() - 1);
+}
+
+void transform_sphere(SphereDesc& sphere, const Mat4& to_world, const std::string& where,
+                      std::vector<std::string>& warnings) {
+  sphere.center = Vec3(to_world * Vec4(sphere.center, 1.0f));
+  const Vec3 scales(glm::length(Vec3(to_world[0])), glm::length(Vec3(to_world[1])),
+                    glm::length(Vec3(to_world[2])));
+  const float mean = (scales.x + scales.y + scales.z) / 3.0f;
+  if (std::abs(scales.x - mean) > 1e-4f * mean || std::abs(scales.y - mean) > 1e-4f * mean ||
+      std::abs(scales.z - mean) > 1e-4f * mean)
+    warnings.push_back(where + ": non-uniform scale on a sphere; using the mean scale");
+  sphere.radius *= mean;
+}
+
+}  // namespace loader
+}  // namespace emlt

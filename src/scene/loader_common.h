@@ -1,0 +1,45 @@
+#pragma once
+// Helpers shared by the JSON and Mitsuba XML loaders (internal to src/scene).
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "emlt/scene/description.h"
+
+namespace emlt::loader {
+
+// Whole file as text; throws "<path>: cannot read file" when it cannot be opened.
+std::string read_text_file(const std::string& path);
+
+// `relative` interpreted against the scene file's directory (absolute paths unchanged).
+std::string resolve_path(const std::string& scene_file, const std::string& relative);
+
+// Index of refraction for Mitsuba's named materials ("bk7", "water", "air", ...).
+std::optional<float> named_ior(const std::string& name);
+
+// Normal-incidence Fresnel reflectance of a conductor with complex IOR eta + i k.
+Rgb conductor_normal_reflectance(const Rgb& eta, const Rgb& k);
+
+// A smooth conductor has no dedicated BSDF: it becomes a mirror tinted by its
+// normal-incidence reflectance (grazing angles stay that colour instead of brightening
+// to white). Adds a warning saying so.
+BsdfPtr make_smooth_conductor(const Rgb& eta, const Rgb& k, const Rgb& specular_reflectance,
+                              const std::string& where, std::vector<std::string>& warnings);
+
+// Fills env with a lat-long map read from `file` (already resolved); a missing file is
+// reported against the scene file, an unreadable one against the map.
+void load_environment_map(EnvironmentDesc& env, const std::string& scene_file,
+                          const std::string& file);
+
+// Rotation about `axis` by `degrees` (right-handed), as Mitsuba's <rotate>.
+Mat4 rotation_matrix(const Vec3& axis, float degrees);
+
+// Finds the material index of `bsdf` in desc.materials, adding it under `name` if new.
+int material_index(SceneDescription& desc, const BsdfPtr& bsdf, const std::string& name);
+
+// Sphere parameters after a transform: the center moves, the radius scales by the
+// transform's mean axis scale (a warning is added when the scale is not uniform).
+void transform_sphere(SphereDesc& sphere, const Mat4& to_world, const std::string& where,
+                      std::vector<std::string>& warnings);
+
+}  // namespace emlt::loader

@@ -1,0 +1,283 @@
+// Mitsuba 0.6 XML scenes: the subset that maps onto this renderer (see scenes/README.md).
+// Everything else is reported as a warning naming the element and its line.
+#include <algorithm>
+#include <cmath>
+
+#include "emlt/core/error.h"
+#include "emlt/scene/loader.h"
+#include "emlt/scene/obj_loader.h"
+#include "emlt/scene/shape_builders.h"
+#include "src/scene/loader_common.h"
+#include "src/scene/mitsuba_parser.h"
+
+namespace emlt {
+
+namespace {
+
+using mitsuba::Document;
+using mitsuba::Properties;
+
+class MitsubaSceneReader {
+ public:
+  MitsubaSceneReader(const std::string& path, const SceneDefines& defines)
+      : doc_(path, defines, desc_.warnings) {
+    desc_.source = path;
+  }
+
+  SceneDescription read() {
+    const pugi::xml_node scene = doc_.scene();
+    for (pugi::xml_node child : scene.children("default"))
+      doc_.add_default(child.attribute("name").as_string(), child.attribute("value").as_string());
+    // BSDFs first so a <ref> may precede the declaration it names.
+    for (pugi::xml_node child : scene.children("bsdf"))
+      mitsuba::read_bsdf(doc_, child, named_bsdfs_, desc_.warnings);
+    bool has_sensor = false;
+    for (pugi::xml_node child : scene.children()) {
+      if (child.type() != pugi::node_element) continue;
+      const std::string kind = child.name();
+      if (kind == "default" || kind == "bsdf") continue;
+      if (kind == "shape")
+        read_shape(child);
+      else if (kind == "emitter")
+        read_environment(child);
+      else if (kind == "sensor") {
+        if (has_sensor)
+          doc_.warn(child, "only the first <sensor> is used");
+        else
+          read_sensor(child);
+        has_sensor = true;
+      } else if (kind == "integrator")
+        read_integrator(child);
+      else
+        doc_.warn(child, "unsupported element <" + kind + "> ignored");
+    }
+    if (!has_sensor)
+      desc_.warnings.push_back(doc_.path() + ": no <sensor>; using the default camera");
+    return std::move(desc_);
+  }
+
+ private:
+  void read_integrator(pugi::xml_node node) {
+    const std::string type = doc_.attribute(node, "type");
+    Properties props(doc_, node);
+    RenderSettings& s = desc_.defaults;
+    if (type == "path")
+      s.integrator = "pt";
+    else if (type == "direct")
+      s.integrator = "direct";
+    else if (type == "bdpt")
+      s.integrator = "bdpt";
+    else
+      doc_.warn(node,
+                "integrator type '" + type + "' is not supported; using '" + s.integrator + "'");
+    s.max_depth = props.get_integer("maxDepth", s.max_depth);
+    if (s.max_depth < -1) doc_.fail(node, "maxDepth must be -1 (unlimited) or >= 0");
+    s.rr_depth = props.get_integer("rrDepth", s.rr_depth);
+    for (pugi::xml_node child : props.objects())
+      doc_.warn(child, "unsupported element <" + std::string(child.name()) +
+                           "> inside <integrator> ignored");
+    props.warn_unused();
+  }
+
+  void read_sensor(pugi::xml_node node) {
+    const std::string type = doc_.attribute(node, "type");
+    if (type != "perspective" && type != "thinlens")
+      doc_.fail(node, "sensor type '" + type + "' is not supported (perspective, thinlens)");
+    Properties props(doc_, node);
+    CameraDesc& camera = desc_.camera;
+    camera.to_world = props.get_transform("toWorld");
+    for (pugi::xml_node child : props.objects()) {
+      const std::string kind = child.name();
+      if (kind == "film")
+        read_film(child);
+      else if (kind == "sampler")
+        read_sampler(child);
+      else
+        doc_.warn(child, "unsupported element <" + kind + "> inside <sensor> ignored");
+    }
+
+    const std::string axis = props.get_string("fovAxis", "x");
+    bool diagonal = false;
+    if (axis == "x")
+      camera.fov_axis = CameraDesc::FovAxis::X;
+    else if (axis == "y")
+      camera.fov_axis = CameraDesc::FovAxis::Y;
+    else if (axis == "smaller")
+      camera.fov_axis = CameraDesc::FovAxis::Smaller;
+    else if (axis == "larger")
+      camera.fov_axis = CameraDesc::FovAxis::Larger;
+    else if (axis == "diagonal")
+      diagonal = true;
+    else
+      doc_.fail(node, "unknown fovAxis '" + axis + "'");
+
+    if (props.has("fov")) {
+      camera.fov_degrees = props.get_float("fov", 45.0f);
+      if (props.has("focalLength")) doc_.warn(node, "focalLength ignored because fov is given");
+      props.ignore({"focalLength"});
+    } else {
+      // Mitsuba's focal length is in 35 mm film units (36 mm wide); 50 mm by default.
+      std::string focal = props.get_string("focalLength", "50mm");
+      if (focal.size() > 2 && focal.substr(focal.size() - 2) == "mm")
+        focal.resize(focal.size() - 2);
+      const float millimetres = doc_.to_float(node, focal);
+      camera.fov_degrees = glm::degrees(2.0f * std::atan(18.0f / millimetres));
+      camera.fov_axis = CameraDesc::FovAxis::X;
+      diagonal = false;
+    }
+    if (diagonal) {
+      // Convert the diagonal field of view to the horizontal one for this image aspect.
+      const float w = float(camera.width), h = float(camera.height);
+      const float tan_half =
+          std::tan(glm::radians(camera.fov_degrees) * 0.5f) * w / std::sqrt(w * w + h * h);
+      camera.fov_degrees = glm::degrees(2.0f * std::atan(tan_half));
+      camera.fov_axis = CameraDesc::FovAxis::X;
+    }
+    if (type == "thinlens") {
+      camera.aperture_radius = props.get_float("apertureRadius", camera.aperture_radius);
+      camera.focus_distance = props.get_float("focusDistance", camera.focus_distance);
+    }
+    props.ignore({"shutterOpen", "shutterClose"});
+    props.warn_unused();
+  }
+
+  void read_film(pugi::xml_node node) {
+    Properties props(doc_, node);
+    desc_.camera.width = props.get_integer("width", 768);
+    desc_.camera.height = props.get_integer("height", 576);
+    // Output encoding only; the renderer chooses its own from the output file name.
+    props.ignore({"banner", "pixelFormat", "componentFormat", "fileFormat", "attachLog",
+                  "highQualityEdges"});
+    for (pugi::xml_node child : props.objects()) {
+      const std::string kind = child.name();
+      if (kind == "rfilter" && doc_.attribute(child, "type") == "box") continue;
+      doc_.warn(child, "unsupported element " + doc_.describe(child) + " inside <film> ignored" +
+                           (kind == "rfilter" ? " (pixels use a box filter)" : ""));
+    }
+    props.warn_unused();
+  }
+
+  void read_sampler(pugi::xml_node node) {
+    Properties props(doc_, node);
+    desc_.defaults.spp = props.get_integer("sampleCount", desc_.defaults.spp);
+    if (desc_.defaults.spp < 1) doc_.fail(node, "sampleCount must be at least 1");
+    props.ignore({"scramble", "dimension", "resolution", "depth"});  // sequence details only
+    props.warn_unused();
+  }
+
+  int material_of(pugi::xml_node node) {
+    const BsdfPtr bsdf = mitsuba::read_bsdf(doc_, node, named_bsdfs_, desc_.warnings);
+    const std::string name = doc_.has_attribute(node, "id")
+                                 ? doc_.attribute(node, "id")
+                                 : "bsdf at line " + std::to_string(doc_.line(node));
+    return loader::material_index(desc_, bsdf, name);
+  }
+
+  void read_shape(pugi::xml_node node) {
+    const std::string type = doc_.attribute(node, "type");
+    static const char* kSupported[] = {"obj", "rectangle", "cube", "disk", "sphere"};
+    if (std::find_if(std::begin(kSupported), std::end(kSupported),
+                     [&](const char* t) { return type == t; }) == std::end(kSupported)) {
+      doc_.warn(node, "unsupported shape type '" + type + "' " + doc_.describe(node) + " skipped");
+      return;
+    }
+    Properties props(doc_, node);
+    const std::string name = type + " at line " + std::to_string(doc_.line(node));
+    const Mat4 to_world = props.get_transform("toWorld");
+    int material = -1;
+    Rgb emission(0.0f);
+    for (pugi::xml_node child : props.objects()) {
+      const std::string kind = child.name();
+      if (kind == "bsdf" || kind == "ref") {
+        if (material >= 0) doc_.warn(child, "shape has several BSDFs; the last one is used");
+        material = material_of(child);
+      } else if (kind == "emitter" && doc_.attribute(child, "type") == "area") {
+        Properties emitter(doc_, child);
+        emission = emitter.get_color("radiance", Rgb(1.0f));
+        emitter.ignore({"samplingWeight"});
+        emitter.warn_unused();
+      } else {
+        doc_.warn(child, "unsupported element " + doc_.describe(child) + " inside <shape> ignored");
+      }
+    }
+    const bool flip = props.get_boolean("flipNormals", false);
+
+    if (type == "sphere") {
+      SphereDesc sphere;
+      sphere.name = name;
+      sphere.center = props.get_point("center", Vec3(0.0f));
+      sphere.radius = props.get_float("radius", 1.0f);
+      if (!(sphere.radius > 0.0f)) doc_.fail(node, "sphere radius must be positive");
+      loader::transform_sphere(sphere, to_world, doc_.path() + ": " + name, desc_.warnings);
+      sphere.material = material;
+      sphere.emission = emission;
+      sphere.flip_normals = flip;
+      props.warn_unused();
+      desc_.spheres.push_back(sphere);
+      return;
+    }
+    MeshDesc mesh;
+    if (type == "obj") {
+      if (!props.has("filename")) doc_.fail(node, "<shape type=\"obj\"> needs a 'filename'");
+      const std::string file = loader::resolve_path(doc_.path(), props.get_string("filename", ""));
+      // Mitsuba uses the file's normals (or computes smooth ones) unless faceNormals is set.
+      const bool face_normals = props.get_boolean("faceNormals", false);
+      props.ignore({"flipTexCoords"});  // no textures, so uv orientation does not matter
+      mesh = load_obj_mesh(file, to_world, !face_normals, &desc_.warnings);
+    } else if (type == "rectangle") {
+      mesh = make_rectangle_mesh(to_world);
+    } else if (type == "cube") {
+      mesh = make_cube_mesh(to_world);
+    } else {
+      mesh = make_disk_mesh(to_world);
+    }
+    if (flip) flip_mesh_normals(mesh);
+    mesh.name =
+        type == "obj" ? mesh.name + " (line " + std::to_string(doc_.line(node)) + ")" : name;
+    mesh.material = material;
+    mesh.emission = emission;
+    props.warn_unused();
+    desc_.meshes.push_back(std::move(mesh));
+  }
+
+  void read_environment(pugi::xml_node node) {
+    const std::string type = doc_.attribute(node, "type");
+    if (type != "envmap" && type != "constant") {
+      doc_.warn(node,
+                "unsupported emitter type '" + type + "' " + doc_.describe(node) + " ignored");
+      return;
+    }
+    if (desc_.environment.kind != EnvironmentDesc::Kind::None) {
+      doc_.warn(node, "only one environment emitter is supported; this one is ignored");
+      return;
+    }
+    Properties props(doc_, node);
+    props.ignore({"samplingWeight", "cache"});
+    EnvironmentDesc& env = desc_.environment;
+    if (type == "constant") {
+      env.kind = EnvironmentDesc::Kind::Constant;
+      env.radiance = props.get_color("radiance", Rgb(1.0f));
+    } else {
+      if (!props.has("filename")) doc_.fail(node, "<emitter type=\"envmap\"> needs a 'filename'");
+      env.scale = props.get_float("scale", 1.0f);
+      env.to_world = props.get_transform("toWorld");
+      loader::load_environment_map(
+          env, doc_.path(), loader::resolve_path(doc_.path(), props.get_string("filename", "")));
+    }
+    for (pugi::xml_node child : props.objects())
+      doc_.warn(child, "unsupported element " + doc_.describe(child) + " inside <emitter> ignored");
+    props.warn_unused();
+  }
+
+  SceneDescription desc_;  // before doc_, which appends to its warnings
+  Document doc_;
+  std::map<std::string, BsdfPtr> named_bsdfs_;
+};
+
+}  // namespace
+
+SceneDescription load_mitsuba_scene(const std::string& path, const SceneDefines& defines) {
+  return MitsubaSceneReader(path, defines).read();
+}
+
+}  // namespace emlt

@@ -1,0 +1,144 @@
+#include "emlt/scene/obj_loader.h"
+
+#include <tiny_obj_loader.h>
+
+#include <filesystem>
+#include <map>
+#include <sstream>
+#include <tuple>
+
+#include "emlt/core/error.h"
+#include "emlt/scene/shape_builders.h"
+
+namespace emlt {
+
+namespace {
+
+// tinyobjloader reports problems as multi-line text; messages here are single lines.
+std::string first_line(const std::string& text) {
+  std::istringstream stream(text);
+  std::string line;
+  while (std::getline(stream, line))
+    if (!line.empty()) return line;
+  return text;
+}
+
+// Angle-weighted vertex normals (Thuermer and Wuethrich 1998): unlike area weighting,
+// the result does not depend on how polygons were split into triangles.
+void compute_smooth_normals(MeshDesc& mesh) {
+  mesh.normals.assign(mesh.positions.size(), Vec3(0.0f));
+  for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
+    const uint32_t corner[3] = {mesh.indices[i], mesh.indices[i + 1], mesh.indices[i + 2]};
+    const Vec3 n = glm::cross(mesh.positions[corner[1]] - mesh.positions[corner[0]],
+                              mesh.positions[corner[2]] - mesh.positions[corner[0]]);
+    const float length = glm::length(n);
+    if (!(length > 0.0f) || !std::isfinite(length)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 p = mesh.positions[corner[k]];
+      const Vec3 e1 = glm::normalize(mesh.positions[corner[(k + 1) % 3]] - p);
+      const Vec3 e2 = glm::normalize(mesh.positions[corner[(k + 2) % 3]] - p);
+      mesh.normals[corner[k]] += safe_acos(glm::dot(e1, e2)) * (n / length);
+    }
+  }
+  for (Vec3& n : mesh.normals) {
+    const float length = glm::length(n);
+    if (length > 0.0f) n /= length;
+  }
+}
+
+}  // namespace
+
+MeshDesc load_obj_mesh(const std::string& path, const Mat4& to_world, bool smooth_normals,
+                       std::vector<std::string>* warnings) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw file_error(path, "OBJ file not found");
+
+  tinyobj::ObjReaderConfig config;
+  config.triangulate = false;  // fanned below, after the indices have been validated
+  config.vertex_color = false;
+  tinyobj::ObjReader reader;
+  if (!reader.ParseFromFile(path, config))
+    throw file_error(path, "OBJ parse error: " + first_line(reader.Error()));
+  if (warnings && !reader.Warning().empty()) {
+    std::istringstream stream(reader.Warning());
+    std::string line;
+    while (std::getline(stream, line))
+      if (!line.empty() && line.find("out of bounds") == std::string::npos)
+        warnings->push_back(path + ": " + line);
+  }
+
+  const tinyobj::attrib_t& attrib = reader.GetAttrib();
+  const auto vertex_count = int(attrib.vertices.size() / 3);
+  const auto normal_count = int(attrib.normals.size() / 3);
+  const auto uv_count = int(attrib.texcoords.size() / 2);
+
+  // The file's normals are used only if every corner has one; uvs likewise.
+  bool use_file_normals = smooth_normals, use_uvs = true;
+  size_t face_count = 0;
+  for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+    const std::string object = shape.name.empty() ? "" : " (object '" + shape.name + "')";
+    size_t corner = 0;
+    for (size_t face = 0; face < shape.mesh.num_face_vertices.size(); ++face) {
+      const int n = shape.mesh.num_face_vertices[face];
+      for (int k = 0; k < n; ++k) {
+        const tinyobj::index_t& index = shape.mesh.indices[corner + k];
+        if (index.vertex_index < 0 || index.vertex_index >= vertex_count)
+          throw file_error(path, "face " + std::to_string(face_count + 1) + object +
+                                     " uses vertex " + std::to_string(index.vertex_index + 1) +
+                                     ", out of range (" + std::to_string(vertex_count) +
+                                     " vertices)");
+        if (index.normal_index >= normal_count || index.texcoord_index >= uv_count)
+          throw file_error(path, "face " + std::to_string(face_count + 1) + object +
+                                     " uses a normal or texture index out of range");
+        use_file_normals &= index.normal_index >= 0;
+        use_uvs &= index.texcoord_index >= 0;
+      }
+      corner += size_t(n);
+      if (n >= 3) ++face_count;
+    }
+  }
+  if (face_count == 0) throw file_error(path, "OBJ has no faces");
+
+  MeshDesc mesh;
+  mesh.name = std::filesystem::path(path).filename().string();
+  // Corners sharing position (and normal/uv where used) become one vertex.
+  std::map<std::tuple<int, int, int>, uint32_t> vertex_of_corner;
+  auto vertex_for = [&](const tinyobj::index_t& index) {
+    const auto key = std::make_tuple(index.vertex_index, use_file_normals ? index.normal_index : -1,
+                                     use_uvs ? index.texcoord_index : -1);
+    auto [it, inserted] = vertex_of_corner.try_emplace(key, uint32_t(mesh.positions.size()));
+    if (inserted) {
+      const float* p = &attrib.vertices[3 * size_t(index.vertex_index)];
+      mesh.positions.push_back(Vec3(p[0], p[1], p[2]));
+      if (use_file_normals) {
+        const float* n = &attrib.normals[3 * size_t(index.normal_index)];
+        mesh.normals.push_back(Vec3(n[0], n[1], n[2]));
+      }
+      if (use_uvs) {
+        const float* t = &attrib.texcoords[2 * size_t(index.texcoord_index)];
+        mesh.uvs.push_back(Vec2(t[0], t[1]));
+      }
+    }
+    return it->second;
+  };
+
+  for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+    size_t corner = 0;
+    for (const unsigned char n : shape.mesh.num_face_vertices) {
+      if (n >= 3) {
+        const uint32_t first = vertex_for(shape.mesh.indices[corner]);
+        for (int k = 1; k + 1 < n; ++k)
+          mesh.indices.insert(mesh.indices.end(),
+                              {first, vertex_for(shape.mesh.indices[corner + k]),
+                               vertex_for(shape.mesh.indices[corner + k + 1])});
+      }
+      corner += n;
+    }
+  }
+
+  transform_mesh(mesh, to_world, false);
+  if (smooth_normals && !use_file_normals) compute_smooth_normals(mesh);
+  return mesh;
+}
+
+}  // namespace emlt

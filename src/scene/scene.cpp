@@ -1,0 +1,350 @@
+#include "emlt/scene/scene.h"
+
+#include <algorithm>
+#include <mutex>
+#include <string>
+
+#include "emlt/core/error.h"
+#include "emlt/scene/materials.h"
+#include "emlt/scene/shape_builders.h"
+
+namespace emlt {
+
+struct Scene::Geometry {
+  enum class Kind { Triangles, Sphere } kind = Kind::Triangles;
+  std::string name;
+  const Bsdf* bsdf = nullptr;
+  // Triangles (degenerate ones already removed).
+  std::vector<Vec3> positions, normals;
+  std::vector<Vec2> uvs;
+  std::vector<uint32_t> indices;
+  std::vector<const Light*> lights;  // per triangle; empty when the mesh does not emit
+  // Sphere.
+  Vec3 center{0.0f};
+  float radius = 0.0f;
+  bool flip_normals = false;
+};
+
+Rgb SurfaceHit::emitted(const Vec3& w) const {
+  return light ? light->emitted(geometric_normal, w) : Rgb(0.0f);
+}
+
+namespace {
+
+constexpr int kMaxResolution = 16384;
+constexpr int64_t kMaxPixels = int64_t(1) << 28;
+
+// Embree reports errors through a callback; the build collects them and fails on any.
+struct EmbreeErrors {
+  std::mutex mutex;
+  std::string first;
+};
+
+void record_embree_error(void* user, RTCError code, const char* message) {
+  auto* errors = static_cast<EmbreeErrors*>(user);
+  std::lock_guard lock(errors->mutex);
+  if (errors->first.empty())
+    errors->first = "Embree error " + std::to_string(int(code)) + ": " + (message ? message : "");
+}
+
+void validate_camera(const SceneDescription& desc) {
+  const CameraDesc& camera = desc.camera;
+  if (camera.width <= 0 || camera.height <= 0 || camera.width > kMaxResolution ||
+      camera.height > kMaxResolution || int64_t(camera.width) * camera.height > kMaxPixels)
+    throw file_error(desc.source, "unusable image resolution " + std::to_string(camera.width) +
+                                      "x" + std::to_string(camera.height) + " (each side 1.." +
+                                      std::to_string(kMaxResolution) + ", at most 2^28 pixels)");
+  if (!is_finite_matrix(camera.to_world))
+    throw file_error(desc.source, "camera transform contains NaN or infinite values");
+  if (!(camera.fov_degrees > 0.0f && camera.fov_degrees < 180.0f))
+    throw file_error(desc.source, "camera field of view must lie in (0, 180) degrees");
+  if (!(camera.aperture_radius >= 0.0f) || !(camera.focus_distance > 0.0f) ||
+      !std::isfinite(camera.aperture_radius) || !std::isfinite(camera.focus_distance))
+    throw file_error(desc.source, "camera aperture radius must be >= 0 and focus distance > 0");
+}
+
+void validate_emission(const SceneDescription& desc, const std::string& shape, const Rgb& e) {
+  if (!is_finite(e) || e.x < 0.0f || e.y < 0.0f || e.z < 0.0f)
+    throw file_error(desc.source, "shape '" + shape + "' has a negative or non-finite emission");
+}
+
+}  // namespace
+
+std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
+  std::unique_ptr<Scene> scene(new Scene());
+  Scene& s = *scene;
+  s.desc_ = std::move(desc);
+  SceneDescription& d = s.desc_;
+  validate_camera(d);
+
+  // Emissive spheres become triangle meshes so every area light is a TriangleLight.
+  std::vector<SphereDesc> analytic_spheres;
+  for (SphereDesc& sphere : d.spheres) {
+    if (!(sphere.radius > 0.0f) || !std::isfinite(sphere.radius) || !is_finite(sphere.center))
+      throw file_error(d.source, "sphere '" + sphere.name + "' has an invalid center or radius");
+    validate_emission(d, sphere.name, sphere.emission);
+    if (is_black(sphere.emission)) {
+      analytic_spheres.push_back(sphere);
+      continue;
+    }
+    MeshDesc mesh = make_sphere_mesh(sphere.center, sphere.radius, sphere.flip_normals);
+    mesh.name = sphere.name + " (tessellated emissive sphere)";
+    mesh.material = sphere.material;
+    mesh.emission = sphere.emission;
+    d.meshes.push_back(std::move(mesh));
+  }
+  d.spheres = analytic_spheres;  // the description lists each shape once, as built
+
+  // Shapes without a material get Mitsuba's default BSDF (diffuse, reflectance 0.5).
+  int default_material = -1;
+  auto material_for = [&](int index, const std::string& shape) -> const Bsdf* {
+    if (index >= int(d.materials.size()) || (index >= 0 && !d.materials[size_t(index)].bsdf))
+      throw file_error(d.source, "shape '" + shape + "' refers to a missing material");
+    if (index >= 0) return d.materials[size_t(index)].bsdf.get();
+    if (default_material < 0) {
+      default_material = int(d.materials.size());
+      d.materials.push_back({"default diffuse", make_two_sided(make_lambertian(Rgb(0.5f)))});
+    }
+    d.warnings.push_back(d.source + ": shape '" + shape +
+                         "' has no material; using a two-sided diffuse of reflectance 0.5");
+    return d.materials[size_t(default_material)].bsdf.get();
+  };
+
+  Vec3 lower(kInfinity), upper(-kInfinity);
+  std::vector<LightPtr> lights;
+
+  for (const MeshDesc& mesh : d.meshes) {
+    validate_emission(d, mesh.name, mesh.emission);
+    if (mesh.indices.size() % 3 != 0)
+      throw file_error(d.source, "mesh '" + mesh.name + "': index count is not a multiple of 3");
+    if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
+      throw file_error(d.source,
+                       "mesh '" + mesh.name + "': normal count differs from vertex count");
+    if (!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size())
+      throw file_error(d.source, "mesh '" + mesh.name + "': uv count differs from vertex count");
+    ++s.stats_.meshes;
+
+    Geometry g;
+    g.kind = Geometry::Kind::Triangles;
+    g.name = mesh.name;
+    g.bsdf = material_for(mesh.material, mesh.name);
+    g.positions = mesh.positions;
+    g.normals = mesh.normals;
+    g.uvs = mesh.uvs;
+    const bool emissive = !is_black(mesh.emission);
+    for (size_t i = 0; i < mesh.indices.size(); i += 3) {
+      const uint32_t a = mesh.indices[i], b = mesh.indices[i + 1], c = mesh.indices[i + 2];
+      if (a >= mesh.positions.size() || b >= mesh.positions.size() || c >= mesh.positions.size())
+        throw file_error(d.source, "mesh '" + mesh.name + "': triangle " + std::to_string(i / 3) +
+                                       " has a vertex index out of range");
+      const Vec3 &pa = mesh.positions[a], &pb = mesh.positions[b], &pc = mesh.positions[c];
+      const Vec3 cross = glm::cross(pb - pa, pc - pa);
+      const float length = glm::length(cross);
+      if (!is_finite(pa) || !is_finite(pb) || !is_finite(pc) || !(length > 0.0f) ||
+          !std::isfinite(length) || !is_finite(cross / length)) {
+        ++s.stats_.dropped_degenerate_triangles;
+        continue;
+      }
+      g.indices.insert(g.indices.end(), {a, b, c});
+      for (const Vec3* p : {&pa, &pb, &pc}) {
+        lower = glm::min(lower, *p);
+        upper = glm::max(upper, *p);
+      }
+      if (emissive) {
+        lights.push_back(std::make_unique<TriangleLight>(pa, pb, pc, mesh.emission));
+        g.lights.push_back(lights.back().get());
+      }
+    }
+    s.stats_.triangles += g.indices.size() / 3;
+    s.stats_.area_lights += g.lights.size();
+    if (!g.indices.empty()) s.geometries_.push_back(std::move(g));
+  }
+  if (s.stats_.dropped_degenerate_triangles > 0)
+    d.warnings.push_back(d.source + ": " + std::to_string(s.stats_.dropped_degenerate_triangles) +
+                         " degenerate triangles dropped");
+
+  for (const SphereDesc& sphere : analytic_spheres) {
+    Geometry g;
+    g.kind = Geometry::Kind::Sphere;
+    g.name = sphere.name;
+    g.bsdf = material_for(sphere.material, sphere.name);
+    g.center = sphere.center;
+    g.radius = sphere.radius;
+    g.flip_normals = sphere.flip_normals;
+    lower = glm::min(lower, sphere.center - sphere.radius);
+    upper = glm::max(upper, sphere.center + sphere.radius);
+    s.geometries_.push_back(std::move(g));
+    ++s.stats_.spheres;
+  }
+  if (s.geometries_.empty()) throw file_error(d.source, "scene has no geometry");
+  s.stats_.materials = d.materials.size();
+
+  s.bounds_center_ = 0.5f * (lower + upper);
+  s.bounds_radius_ = std::max(0.5f * glm::length(upper - lower), 1e-3f);
+
+  // Environment.
+  const EnvironmentDesc& env = d.environment;
+  std::unique_ptr<EnvironmentLight> environment;
+  if (env.kind == EnvironmentDesc::Kind::Constant) {
+    if (!is_finite(env.radiance) || env.radiance.x < 0 || env.radiance.y < 0 || env.radiance.z < 0)
+      throw file_error(d.source, "environment radiance must be finite and non-negative");
+    if (!is_black(env.radiance)) environment = std::make_unique<ConstantEnvironment>(env.radiance);
+  } else if (env.kind == EnvironmentDesc::Kind::Map) {
+    if (!std::isfinite(env.scale) || env.scale < 0.0f || !is_finite_matrix(env.to_world))
+      throw file_error(d.source, "environment map scale/transform must be finite (scale >= 0)");
+    Image map = env.map.pixels.empty() ? read_image(env.map_path) : env.map;
+    if (map.width <= 0 || map.height <= 0)
+      throw file_error(d.source, "environment map '" + env.map_path + "' is empty");
+    if (env.scale > 0.0f)
+      environment = std::make_unique<EnvironmentMap>(std::move(map), env.scale, Mat3(env.to_world));
+  }
+  if (environment) {
+    environment->set_scene_bounds(s.bounds_center_, s.bounds_radius_);
+    s.stats_.has_environment = true;
+    lights.push_back(std::move(environment));
+  }
+  Rgb total_power(0.0f);
+  for (const LightPtr& light : lights) total_power += light->power();
+  if (lights.empty() || !(max_component(total_power) > 0.0f))
+    throw file_error(d.source, "scene has no emitter (no emissive shape and no environment)");
+  s.lights_ = LightSet(std::move(lights));
+
+  s.camera_ = std::make_unique<Camera>(d.camera);
+
+  // Embree.
+  EmbreeErrors errors;
+  s.device_ = rtcNewDevice(nullptr);
+  if (!s.device_) throw file_error(d.source, "could not create the Embree device");
+  rtcSetDeviceErrorFunction(s.device_, record_embree_error, &errors);
+  // `errors` dies with this frame, also when a throw leaves it.
+  struct DetachErrors {
+    RTCDevice device;
+    ~DetachErrors() { rtcSetDeviceErrorFunction(device, nullptr, nullptr); }
+  } detach_errors{s.device_};
+  s.rtc_scene_ = rtcNewScene(s.device_);
+  // Robust mode makes triangle tests watertight, so paths never leak through shared edges
+  // (glass and closed meshes rely on it); the cost is small.
+  rtcSetSceneFlags(s.rtc_scene_, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(s.rtc_scene_, RTC_BUILD_QUALITY_HIGH);
+  for (size_t id = 0; id < s.geometries_.size(); ++id) {
+    const Geometry& g = s.geometries_[id];
+    RTCGeometry geometry;
+    if (g.kind == Geometry::Kind::Triangles) {
+      geometry = rtcNewGeometry(s.device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+      auto* vertices = static_cast<float*>(
+          rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                  3 * sizeof(float), g.positions.size()));
+      auto* triangles = static_cast<uint32_t*>(
+          rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                  3 * sizeof(uint32_t), g.indices.size() / 3));
+      if (!vertices || !triangles) throw file_error(d.source, "out of memory building the BVH");
+      for (size_t i = 0; i < g.positions.size(); ++i)
+        std::copy_n(&g.positions[i].x, 3, vertices + 3 * i);
+      std::copy(g.indices.begin(), g.indices.end(), triangles);
+    } else {
+      geometry = rtcNewGeometry(s.device_, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+      auto* sphere = static_cast<float*>(rtcSetNewGeometryBuffer(
+          geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
+      if (!sphere) throw file_error(d.source, "out of memory building the BVH");
+      sphere[0] = g.center.x, sphere[1] = g.center.y, sphere[2] = g.center.z, sphere[3] = g.radius;
+    }
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometryByID(s.rtc_scene_, geometry, unsigned(id));
+    rtcReleaseGeometry(geometry);
+  }
+  rtcCommitScene(s.rtc_scene_);
+  if (!errors.first.empty()) throw file_error(d.source, errors.first);
+  return scene;
+}
+
+Scene::~Scene() {
+  if (rtc_scene_) rtcReleaseScene(rtc_scene_);
+  if (device_) rtcReleaseDevice(device_);
+}
+
+bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit query;
+  query.ray.org_x = ray.origin.x, query.ray.org_y = ray.origin.y, query.ray.org_z = ray.origin.z;
+  query.ray.dir_x = ray.direction.x, query.ray.dir_y = ray.direction.y,
+  query.ray.dir_z = ray.direction.z;
+  query.ray.tnear = ray.tmin;
+  query.ray.tfar = ray.tmax;
+  query.ray.time = 0.0f;
+  query.ray.mask = ~0u;
+  query.ray.id = 0;
+  query.ray.flags = 0;
+  query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  query.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(rtc_scene_, &context, &query);
+  if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+
+  const Geometry& g = geometries_[query.hit.geomID];
+  hit.t = query.ray.tfar;
+  hit.geometry_id = query.hit.geomID;
+  hit.primitive_id = query.hit.primID;
+  hit.bsdf = g.bsdf;
+  hit.light = nullptr;
+
+  if (g.kind == Geometry::Kind::Sphere) {
+    // Re-project onto the sphere: cheaper than refining t, and keeps spawned rays on the
+    // correct side of the surface.
+    Vec3 n = glm::normalize(ray.origin + hit.t * ray.direction - g.center);
+    hit.position = g.center + g.radius * n;
+    hit.uv = Vec2(std::atan2(n.y, n.x) * kInvTwoPi + 0.5f, safe_acos(n.z) * kInvPi);
+    if (g.flip_normals) n = -n;
+    hit.geometric_normal = hit.shading_normal = n;
+  } else {
+    const uint32_t* tri = &g.indices[3 * size_t(hit.primitive_id)];
+    const float u = query.hit.u, v = query.hit.v, w = 1.0f - u - v;
+    const Vec3 &p0 = g.positions[tri[0]], &p1 = g.positions[tri[1]], &p2 = g.positions[tri[2]];
+    // Barycentric interpolation is more accurate than origin + t * direction.
+    hit.position = w * p0 + u * p1 + v * p2;
+    const Vec3 ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+    hit.geometric_normal = ng;
+    Vec3 ns = ng;
+    if (!g.normals.empty()) {
+      const Vec3 interpolated =
+          w * g.normals[tri[0]] + u * g.normals[tri[1]] + v * g.normals[tri[2]];
+      const float length = glm::length(interpolated);
+      if (length > 1e-12f && std::isfinite(length)) {
+        ns = interpolated / length;
+        if (glm::dot(ns, ng) < 0.0f) ns = -ns;
+      }
+    }
+    hit.shading_normal = ns;
+    hit.uv = g.uvs.empty() ? Vec2(u, v) : w * g.uvs[tri[0]] + u * g.uvs[tri[1]] + v * g.uvs[tri[2]];
+    if (!g.lights.empty()) hit.light = g.lights[hit.primitive_id];
+  }
+  hit.shading = Frame(hit.shading_normal);
+  return true;
+}
+
+bool Scene::occluded(const Ray& ray) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay query;
+  query.org_x = ray.origin.x, query.org_y = ray.origin.y, query.org_z = ray.origin.z;
+  query.dir_x = ray.direction.x, query.dir_y = ray.direction.y, query.dir_z = ray.direction.z;
+  query.tnear = ray.tmin;
+  query.tfar = ray.tmax;
+  query.time = 0.0f;
+  query.mask = ~0u;
+  query.id = 0;
+  query.flags = 0;
+  rtcOccluded1(rtc_scene_, &context, &query);
+  return query.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
+}
+
+bool Scene::visible(const Vec3& a, const Vec3& na, const Vec3& b, const Vec3& nb) const {
+  const Vec3 origin = offset_ray_origin(a, na, b - a);
+  const Vec3 target = offset_ray_origin(b, nb, a - b);
+  const Vec3 delta = target - origin;
+  const float distance = glm::length(delta);
+  if (!(distance > 0.0f)) return true;
+  // The relative shortening keeps the far surface itself from counting as a blocker.
+  return !occluded(Ray{origin, delta / distance, 0.0f, distance * (1.0f - 1e-4f)});
+}
+
+}  // namespace emlt

@@ -1,0 +1,181 @@
+// The `emlt` command as a user runs it: outputs, summaries, and every bad input giving
+// one clear line, a non-zero exit and no output file.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "emlt/render/image.h"
+#include "support/test_support.h"
+
+using namespace emlt;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string emlt_cmd(const std::string& args) { return test::emlt_binary() + " " + args; }
+std::string cornell(const std::string& file = "scene.json") {
+  return test::source_path("scenes/cornell-box/" + file);
+}
+
+int count_lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+// Runs a command that must fail: non-zero exit, one line naming `must_mention`, no file.
+void expect_clean_failure(const std::string& args, const std::string& must_mention,
+                          const fs::path& output) {
+  std::string text;
+  const int status = test::run_command(emlt_cmd(args), &text);
+  EXPECT_NE(status, 0) << args;
+  EXPECT_EQ(count_lines(text), 1) << text;
+  EXPECT_NE(text.find("error"), std::string::npos) << text;
+  EXPECT_NE(text.find(must_mention), std::string::npos) << "expected '" << must_mention << "' in: " << text;
+  EXPECT_FALSE(fs::exists(output)) << output;
+  if (!fs::is_directory(output.parent_path())) return;
+  for (const auto& entry : fs::directory_iterator(output.parent_path()))
+    EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
+}
+
+void write_file(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+
+}  // namespace
+
+TEST(Cli, RendersCornellBoxWithPreviewAndSummary) {
+  const fs::path dir = test::scratch_dir("render");
+  const fs::path out = dir / "cornell.exr";
+  std::string text;
+  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + out.string() +
+                                          " --spp 4 --width 32 --height 32 --quiet"), &text)) << text;
+  EXPECT_TRUE(fs::exists(out));
+  EXPECT_TRUE(fs::exists(dir / "cornell.png"));
+  EXPECT_NE(text.find("samples/s"), std::string::npos) << text;
+  const Image image = read_image(out.string());
+  EXPECT_EQ(image.width, 32);
+  double sum = 0.0;
+  for (const Rgb& p : image.pixels) sum += luminance(p);
+  EXPECT_GT(sum / image.pixels.size(), 0.05);
+}
+
+TEST(Cli, SameSeedGivesIdenticalImagesOnOneAndTwoThreads) {
+  const fs::path dir = test::scratch_dir("threads");
+  const std::string common = " --spp 4 --width 48 --height 48 --seed 7 --quiet";
+  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "one.pfm").string() + common + " --threads 1")));
+  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "two.pfm").string() + common + " --threads 2")));
+  const Image a = read_image((dir / "one.pfm").string()), b = read_image((dir / "two.pfm").string());
+  ASSERT_EQ(a.pixels.size(), b.pixels.size());
+  EXPECT_EQ(0, std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(Rgb)));
+}
+
+TEST(Cli, JsonAndMitsubaCornellBoxesRenderTheSameImage) {
+  const fs::path dir = test::scratch_dir("formats");
+  const std::string common = " --spp 64 --width 32 --height 32 --quiet --integrator pt";
+  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell("scene.json") + " -o " + (dir / "json.pfm").string() + common)));
+  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell("scene.xml") + " -o " + (dir / "xml.pfm").string() + common + " --seed 2")));
+  const Image a = read_image((dir / "json.pfm").string()), b = read_image((dir / "xml.pfm").string());
+  ASSERT_EQ(a.pixels.size(), b.pixels.size());
+  // Independent seeds: equal up to noise, per channel and per image region.
+  for (int c = 0; c < 3; ++c) {
+    double ma = 0.0, mb = 0.0;
+    for (size_t i = 0; i < a.pixels.size(); ++i) {
+      ma += a.pixels[i][c];
+      mb += b.pixels[i][c];
+    }
+    EXPECT_NEAR(ma, mb, 0.02 * ma) << "channel " << c;
+  }
+  // Left and right halves: a mirrored image would swap the red and green walls.
+  double red_left_a = 0.0, red_left_b = 0.0;
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 8; ++x) {
+      red_left_a += a.at(x, y).x - a.at(x, y).y;
+      red_left_b += b.at(x, y).x - b.at(x, y).y;
+    }
+  EXPECT_GT(red_left_a, 0.0);
+  EXPECT_GT(red_left_b, 0.0);
+}
+
+TEST(Cli, InfoDescribesTheScene) {
+  std::string text;
+  ASSERT_EQ(0, test::run_command(emlt_cmd("info " + cornell()), &text)) << text;
+  EXPECT_NE(text.find("triangles"), std::string::npos);
+  EXPECT_NE(text.find("area lights"), std::string::npos);
+}
+
+TEST(CliBadInput, MissingSceneFile) {
+  const fs::path dir = test::scratch_dir("missing");
+  expect_clean_failure("render " + (dir / "nope.json").string() + " -o " + (dir / "o.exr").string(), "nope.json",
+                       dir / "o.exr");
+}
+
+TEST(CliBadInput, MalformedJson) {
+  const fs::path dir = test::scratch_dir("malformed");
+  write_file(dir / "bad.json", "{ \"camera\": { \"fov\": 40, }");
+  expect_clean_failure("render " + (dir / "bad.json").string() + " -o " + (dir / "o.exr").string(), "bad.json",
+                       dir / "o.exr");
+}
+
+TEST(CliBadInput, MalformedXml) {
+  const fs::path dir = test::scratch_dir("malformed-xml");
+  write_file(dir / "bad.xml", "<scene version=\"0.6.0\"><shape type=\"obj\"></scene>");
+  expect_clean_failure("render " + (dir / "bad.xml").string() + " -o " + (dir / "o.exr").string(), "bad.xml",
+                       dir / "o.exr");
+}
+
+TEST(CliBadInput, SceneWithoutEmitter) {
+  const fs::path dir = test::scratch_dir("dark");
+  write_file(dir / "dark.json", R"({"camera": {"lookat": {"origin": [0,0,-3], "target": [0,0,0], "up": [0,1,0]},
+    "fov": 40, "width": 16, "height": 16},
+    "materials": {"white": {"type": "diffuse", "reflectance": 0.5}},
+    "shapes": [{"type": "sphere", "center": [0,0,0], "radius": 1, "material": "white"}]})");
+  expect_clean_failure("render " + (dir / "dark.json").string() + " -o " + (dir / "o.exr").string(), "emitter",
+                       dir / "o.exr");
+}
+
+TEST(CliBadInput, ZeroAndAbsurdResolutions) {
+  const fs::path dir = test::scratch_dir("resolution");
+  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() + " --width 0", "width",
+                       dir / "o.exr");
+  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() + " --width 100000 --height 100000",
+                       "width", dir / "o.exr");
+}
+
+TEST(CliBadInput, UnknownFlagAndIntegrator) {
+  const fs::path dir = test::scratch_dir("flags");
+  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() + " --frobnicate 3", "frobnicate",
+                       dir / "o.exr");
+  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() + " --integrator magic", "magic",
+                       dir / "o.exr");
+}
+
+TEST(CliBadInput, UnwritableOrUnknownOutput) {
+  const fs::path dir = test::scratch_dir("output");
+  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.jpeg").string(), "o.jpeg", dir / "o.jpeg");
+  expect_clean_failure("render " + cornell() + " -o " + (dir / "no-such-dir" / "o.exr").string(), "no-such-dir",
+                       dir / "no-such-dir" / "o.exr");
+}
+
+TEST(CliBadInput, MissingMeshNamesTheMesh) {
+  const fs::path dir = test::scratch_dir("mesh");
+  write_file(dir / "s.json", R"({"camera": {"lookat": {"origin": [0,0,-3], "target": [0,0,0], "up": [0,1,0]},
+    "fov": 40, "width": 16, "height": 16},
+    "shapes": [{"type": "obj", "file": "ghost.obj", "emission": [1,1,1]}]})");
+  expect_clean_failure("render " + (dir / "s.json").string() + " -o " + (dir / "o.exr").string(), "ghost.obj",
+                       dir / "o.exr");
+}
+
+TEST(CliBadInput, NanTexelsInEnvironmentMap) {
+  const fs::path dir = test::scratch_dir("nan");
+  Image map(8, 4, Rgb(1.0f));
+  map.at(3, 2) = Rgb(std::nanf(""));
+  // PFM keeps the NaN bits exactly as written.
+  write_image((dir / "sky.pfm").string(), map);
+  write_file(dir / "s.json", R"({"camera": {"lookat": {"origin": [0,0,-3], "target": [0,0,0], "up": [0,1,0]},
+    "fov": 40, "width": 16, "height": 16},
+    "environment": {"type": "envmap", "file": "sky.pfm"},
+    "shapes": [{"type": "sphere", "center": [0,0,0], "radius": 1}]})");
+  expect_clean_failure("render " + (dir / "s.json").string() + " -o " + (dir / "o.exr").string(), "sky.pfm",
+                       dir / "o.exr");
+}

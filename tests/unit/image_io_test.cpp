@@ -1,0 +1,239 @@
+// Image reading/writing: round trips per format, error messages that name the file,
+// atomic writes, and the sRGB preview encoding.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "emlt/core/error.h"
+#include "emlt/render/image.h"
+#include "support/test_support.h"
+
+using namespace emlt;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Odd sizes catch stride mistakes; distinct values per channel catch channel swaps; the
+// top-left and bottom-right corners differ, so a vertical flip is visible.
+Image gradient(float peak) {
+  Image image(7, 5);
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      image.at(x, y) = peak * Rgb(float(x) / 6.0f, float(y) / 4.0f, 0.1f + 0.05f * float(x + y));
+    }
+  }
+  return image;
+}
+
+// Expects `action` to throw emlt::Error whose message names `path` and contains `words`.
+template <typename Action>
+void expect_file_error(Action action, const std::string& path, const std::string& words) {
+  try {
+    action();
+    ADD_FAILURE() << "no error for " << path;
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(path), std::string::npos) << message;
+    EXPECT_NE(message.find(words), std::string::npos) << message;
+  }
+}
+
+std::vector<std::string> directory_listing(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir)) names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+}  // namespace
+
+TEST(ImageIo, FloatFormatsRoundTripExactly) {
+  const fs::path dir = test::scratch_dir("float");
+  const Image image = gradient(40.0f);
+  for (const char* name : {"g.exr", "g.pfm"}) {
+    const std::string path = (dir / name).string();
+    write_image(path, image);
+    const Image back = read_image(path);
+    ASSERT_EQ(back.width, image.width) << name;
+    ASSERT_EQ(back.height, image.height) << name;
+    for (size_t i = 0; i < image.pixels.size(); ++i) {
+      ASSERT_EQ(back.pixels[i], image.pixels[i]) << name << " texel " << i;
+    }
+  }
+}
+
+TEST(ImageIo, RadianceHdrRoundTripsWithinRgbePrecision) {
+  const fs::path dir = test::scratch_dir("hdr");
+  const Image image = gradient(40.0f);
+  const std::string path = (dir / "g.hdr").string();
+  write_image(path, image);
+  const Image back = read_image(path);
+  ASSERT_EQ(back.width, image.width);
+  ASSERT_EQ(back.height, image.height);
+  for (size_t i = 0; i < image.pixels.size(); ++i) {
+    // RGBE shares one exponent: each channel is exact to about 2^-8 of the largest.
+    const float tolerance = 0.01f * max_component(image.pixels[i]) + 1e-6f;
+    for (int c = 0; c < 3; ++c) {
+      ASSERT_NEAR(back.pixels[i][c], image.pixels[i][c], tolerance) << "texel " << i;
+    }
+  }
+}
+
+TEST(ImageIo, PngRoundTripsAtEightBitSrgbPrecision) {
+  const fs::path dir = test::scratch_dir("png");
+  const Image image = gradient(0.9f);
+  const std::string path = (dir / "g.png").string();
+  write_image(path, image);
+  const Image back = read_image(path);
+  ASSERT_EQ(back.width, image.width);
+  ASSERT_EQ(back.height, image.height);
+  // Decoding to linear then re-encoding reproduces the stored bytes exactly.
+  EXPECT_EQ(to_srgb8(back), to_srgb8(image));
+  for (size_t i = 0; i < image.pixels.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      // One 8-bit sRGB step is at most ~0.9% of linear full scale (near white).
+      ASSERT_NEAR(back.pixels[i][c], image.pixels[i][c], 0.01f) << "texel " << i;
+    }
+  }
+  // Overflow clamps to white in the preview.
+  Image bright(1, 1, Rgb(5.0f, 0.0f, -1.0f));
+  write_image(path, bright);
+  EXPECT_EQ(read_image(path).at(0, 0), Rgb(1.0f, 0.0f, 0.0f));
+}
+
+TEST(ImageIo, GreyscalePfmAndBigEndianPfmAreRead) {
+  const fs::path dir = test::scratch_dir("pfm");
+  const std::string grey = (dir / "grey.pfm").string();
+  {
+    std::ofstream out(grey, std::ios::binary);
+    out << "Pf\n2 1\n-1.0\n";
+    const float values[2] = {0.25f, 3.0f};
+    out.write(reinterpret_cast<const char*>(values), sizeof(values));
+  }
+  const Image g = read_image(grey);
+  ASSERT_EQ(g.width, 2);
+  EXPECT_EQ(g.at(0, 0), Rgb(0.25f));
+  EXPECT_EQ(g.at(1, 0), Rgb(3.0f));
+
+  // Big-endian RGB, two rows stored bottom first: (1,2,3) ends up at the bottom.
+  const std::string big = (dir / "big.pfm").string();
+  {
+    std::ofstream out(big, std::ios::binary);
+    out << "PF\n1 2\n1.0\n";
+    for (float v : {1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f}) {
+      uint32_t bits;
+      std::memcpy(&bits, &v, 4);
+      const unsigned char bytes[4] = {static_cast<unsigned char>(bits >> 24),
+                                      static_cast<unsigned char>(bits >> 16),
+                                      static_cast<unsigned char>(bits >> 8),
+                                      static_cast<unsigned char>(bits)};
+      out.write(reinterpret_cast<const char*>(bytes), 4);
+    }
+  }
+  const Image b = read_image(big);
+  ASSERT_EQ(b.height, 2);
+  EXPECT_EQ(b.at(0, 0), Rgb(4.0f, 5.0f, 6.0f));
+  EXPECT_EQ(b.at(0, 1), Rgb(1.0f, 2.0f, 3.0f));
+}
+
+TEST(ImageIo, NonFiniteTexelsAreRejectedOnRead) {
+  const fs::path dir = test::scratch_dir("nan");
+  for (const char* name : {"nan.pfm", "nan.exr"}) {
+    Image image = gradient(1.0f);
+    image.at(3, 2).y = std::numeric_limits<float>::quiet_NaN();
+    const std::string path = (dir / name).string();
+    write_image(path, image);  // writing keeps the evidence; reading refuses it
+    expect_file_error([&] { read_image(path); }, path, "NaN or infinite");
+  }
+  Image image = gradient(1.0f);
+  image.at(0, 0).x = std::numeric_limits<float>::infinity();
+  const std::string path = (dir / "inf.pfm").string();
+  write_image(path, image);
+  expect_file_error([&] { read_image(path); }, path, "NaN or infinite");
+}
+
+TEST(ImageIo, MissingMalformedAndUnknownFilesNameThePath) {
+  const fs::path dir = test::scratch_dir("errors");
+  const std::string missing = (dir / "missing.exr").string();
+  expect_file_error([&] { read_image(missing); }, missing, "not found");
+
+  const std::string unknown = (dir / "image.tiff").string();
+  { std::ofstream(unknown) << "whatever"; }
+  expect_file_error([&] { read_image(unknown); }, unknown, "unsupported");
+  const std::string unknown_out = (dir / "image.bmp").string();
+  expect_file_error([&] { write_image(unknown_out, gradient(1.0f)); }, unknown_out,
+                    "unsupported");
+  EXPECT_FALSE(fs::exists(unknown_out));
+
+  const std::string garbage_exr = (dir / "garbage.exr").string();
+  { std::ofstream(garbage_exr) << "this is not an OpenEXR file"; }
+  expect_file_error([&] { read_image(garbage_exr); }, garbage_exr, "");
+
+  const std::string garbage_hdr = (dir / "garbage.hdr").string();
+  { std::ofstream(garbage_hdr) << "#?NOPE\n"; }
+  expect_file_error([&] { read_image(garbage_hdr); }, garbage_hdr, "");
+
+  const std::string truncated = (dir / "truncated.pfm").string();
+  { std::ofstream(truncated, std::ios::binary) << "PF\n4 4\n-1.0\n" << std::string(20, 'x'); }
+  expect_file_error([&] { read_image(truncated); }, truncated, "truncated");
+
+  const std::string empty = (dir / "empty.pfm").string();
+  { std::ofstream(empty, std::ios::binary) << "PF\n0 0\n-1.0\n"; }
+  expect_file_error([&] { read_image(empty); }, empty, "zero size");
+
+  const std::string zero_out = (dir / "zero.exr").string();
+  expect_file_error([&] { write_image(zero_out, Image()); }, zero_out, "empty");
+  EXPECT_FALSE(fs::exists(zero_out));
+}
+
+TEST(ImageIo, WritesAreAtomic) {
+  const fs::path dir = test::scratch_dir("atomic");
+  const Image first = gradient(1.0f), second = gradient(2.0f);
+  for (const char* name : {"a.exr", "a.pfm", "a.hdr", "a.png"}) {
+    write_image((dir / name).string(), first);
+    write_image((dir / name).string(), second);  // replaces the existing file
+  }
+  EXPECT_EQ(directory_listing(dir), (std::vector<std::string>{"a.exr", "a.hdr", "a.pfm", "a.png"}));
+  EXPECT_EQ(read_image((dir / "a.pfm").string()).at(6, 4), second.at(6, 4));
+
+  // A missing directory: an error naming the target, and nothing created anywhere.
+  for (const char* name : {"a.exr", "a.pfm", "a.hdr", "a.png"}) {
+    const std::string path = (dir / "no-such-dir" / name).string();
+    expect_file_error([&] { write_image(path, first); }, path, "");
+  }
+  EXPECT_FALSE(fs::exists(dir / "no-such-dir"));
+  EXPECT_EQ(directory_listing(dir).size(), 4u);
+}
+
+TEST(ImageIo, PreviewPathAndSrgbEncoding) {
+  EXPECT_EQ(preview_path_for("a/b.exr"), "a/b.png");
+  EXPECT_EQ(preview_path_for("cornell.pfm"), "cornell.png");
+  EXPECT_EQ(preview_path_for("out/render.v2.hdr"), "out/render.v2.png");
+
+  Image image(6, 1);
+  image.at(0, 0) = Rgb(0.0f, 1.0f, 0.5f);
+  image.at(1, 0) = Rgb(-1.0f, 7.0f, std::numeric_limits<float>::quiet_NaN());
+  image.at(2, 0) = Rgb(0.002f, 0.0031308f, 0.18f);
+  image.at(3, 0) = Rgb(0.25f);
+  const std::vector<unsigned char> bytes = to_srgb8(image);
+  ASSERT_EQ(bytes.size(), 18u);
+  EXPECT_EQ(bytes[0], 0);
+  EXPECT_EQ(bytes[1], 255);
+  EXPECT_EQ(bytes[2], 188);  // linear 0.5 -> sRGB 0.7354
+  EXPECT_EQ(bytes[3], 0);    // negative
+  EXPECT_EQ(bytes[4], 255);  // overflow
+  EXPECT_EQ(bytes[5], 0);    // NaN
+  EXPECT_EQ(bytes[6], 7);    // linear segment: 12.92 * 0.002 * 255 = 6.59
+  EXPECT_EQ(bytes[7], 10);   // the knee: 0.04045 * 255 = 10.3
+  EXPECT_EQ(bytes[8], 118);  // 18% grey -> 0.4614
+  // Exposure multiplies before the curve: 0.25 at exposure 2 encodes like 0.5.
+  EXPECT_EQ(to_srgb8(image, 2.0f)[9], 188);
+}

@@ -1,0 +1,434 @@
+// Scene loaders: JSON and Mitsuba XML agree on the shipped Cornell box, bad input gives a
+// one-line error naming the file, unsupported Mitsuba features are reported.
+#include "emlt/scene/loader.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <functional>
+
+#include "emlt/core/error.h"
+#include "emlt/scene/obj_loader.h"
+#include "emlt/scene/scene.h"
+#include "support/test_support.h"
+
+using namespace emlt;
+
+namespace {
+
+std::string write_file(const std::filesystem::path& dir, const std::string& name,
+                       const std::string& text) {
+  const auto path = dir / name;
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+// Message of the emlt::Error thrown by f ("" when nothing is thrown).
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string load_and_build_error(const std::string& path, const SceneDefines& defines = {}) {
+  return error_of([&] { Scene::build(load_scene_description(path, defines)); });
+}
+
+bool any_contains(const std::vector<std::string>& lines, const std::string& needle) {
+  for (const std::string& line : lines)
+    if (line.find(needle) != std::string::npos) return true;
+  return false;
+}
+
+Rgb total_power(const Scene& scene) {
+  Rgb power(0.0f);
+  for (size_t i = 0; i < scene.lights().size(); ++i) power += scene.lights().light(i).power();
+  return power;
+}
+
+constexpr const char* kLightOnlyObj = "v 0 1 0\nv 1 1 0\nv 0 1 1\nf 1 3 2\n";
+
+// A JSON scene with one emissive rectangle and whatever `extra_shapes` adds.
+std::string small_json(const std::string& camera_extra, const std::string& extra_shapes) {
+  return R"({"camera": {"lookat": {"origin": [0,0,-5], "target": [0,0,0], "up": [0,1,0]}, "fov": 40)" +
+         camera_extra + R"(},
+  "shapes": [{"type": "rectangle", "emission": [1,1,1], "material": {"type": "diffuse"}})" +
+         extra_shapes + "]}";
+}
+
+std::string small_xml(const std::string& body) {
+  return R"(<?xml version="1.0"?>
+<scene version="0.6.0">
+  <sensor type="perspective">
+    <float name="fov" value="40"/>
+    <transform name="toWorld"><lookat origin="0,0,-5" target="0,0,0" up="0,1,0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film>
+  </sensor>
+  <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/></emitter>
+    <bsdf type="diffuse"/></shape>
+)" + body +
+         "\n</scene>\n";
+}
+
+}  // namespace
+
+TEST(CornellBox, JsonAndXmlDescribeTheSameScene) {
+  const SceneDescription json_desc =
+      load_scene_description(test::source_path("scenes/cornell-box/scene.json"));
+  const SceneDescription xml_desc =
+      load_scene_description(test::source_path("scenes/cornell-box/scene.xml"));
+  EXPECT_TRUE(json_desc.warnings.empty()) << json_desc.warnings.front();
+  EXPECT_TRUE(xml_desc.warnings.empty()) << xml_desc.warnings.front();
+  EXPECT_EQ(json_desc.camera.width, 256);
+  EXPECT_EQ(xml_desc.camera.width, 256);
+  EXPECT_EQ(json_desc.defaults.spp, xml_desc.defaults.spp);
+  EXPECT_EQ(json_desc.defaults.integrator, xml_desc.defaults.integrator);
+  EXPECT_EQ(json_desc.defaults.max_depth, xml_desc.defaults.max_depth);
+
+  const auto json_scene = Scene::build(json_desc);
+  const auto xml_scene = Scene::build(xml_desc);
+  EXPECT_EQ(json_scene->stats().triangles, 32u);
+  EXPECT_EQ(xml_scene->stats().triangles, 32u);
+  EXPECT_EQ(json_scene->stats().area_lights, 2u);
+  EXPECT_EQ(xml_scene->stats().area_lights, 2u);
+  EXPECT_EQ(json_scene->stats().dropped_degenerate_triangles, 0u);
+  // Lambertian emitter: power = pi * area * radiance, light 130 mm x 105 mm.
+  const Rgb expected_power = kPi * 130.0f * 105.0f * Rgb(17, 12, 4);
+  for (const Scene* scene : {json_scene.get(), xml_scene.get()})
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(total_power(*scene)[c], expected_power[c], 1e-4f * expected_power[c]);
+
+  for (const Vec2 raster :
+       {Vec2(0.5f, 0.5f), Vec2(128, 128), Vec2(200.3f, 17.7f), Vec2(255.5f, 255.5f)}) {
+    const Ray a = json_scene->camera().generate_ray(raster, Vec2(0.5f));
+    const Ray b = xml_scene->camera().generate_ray(raster, Vec2(0.5f));
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(a.origin[c], b.origin[c], 1e-3f);
+      EXPECT_NEAR(a.direction[c], b.direction[c], 1e-6f);
+    }
+  }
+
+  int hits = 0;
+  const Vec3 wi_local = glm::normalize(Vec3(0.3f, -0.2f, 0.9f));
+  for (int y = 0; y < 16; ++y) {
+    for (int x = 0; x < 16; ++x) {
+      const Vec2 raster(16.0f * x + 8.0f, 16.0f * y + 8.0f);
+      const Ray ray = json_scene->camera().generate_ray(raster, Vec2(0.5f));
+      SurfaceHit a, b;
+      const bool hit_a = json_scene->intersect(ray, a), hit_b = xml_scene->intersect(ray, b);
+      ASSERT_EQ(hit_a, hit_b) << x << "," << y;
+      if (!hit_a) continue;
+      ++hits;
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(a.position[c], b.position[c], 1e-2f);
+      const Vec3 wo_a = a.shading.to_local(-ray.direction),
+                 wo_b = b.shading.to_local(-ray.direction);
+      const Rgb fa = a.bsdf->eval({}, wo_a, wi_local), fb = b.bsdf->eval({}, wo_b, wi_local);
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(fa[c], fb[c], 1e-6f);
+      EXPECT_GT(max_component(fa), 0.0f);
+      EXPECT_EQ(a.light == nullptr, b.light == nullptr);
+      const Rgb ea = a.emitted(-ray.direction), eb = b.emitted(-ray.direction);
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(ea[c], eb[c], 1e-6f);
+    }
+  }
+  EXPECT_EQ(hits, 256);  // the box fills the view
+}
+
+TEST(CornellBox, RedWallIsOnTheLeftAndLightIsVisible) {
+  const auto scene =
+      Scene::build(load_scene_description(test::source_path("scenes/cornell-box/scene.json")));
+  const Vec3 wo(0, 0, 1), wi = glm::normalize(Vec3(0.2f, 0.1f, 1.0f));
+  SurfaceHit hit;
+  ASSERT_TRUE(scene->intersect(scene->camera().generate_ray(Vec2(8, 128), Vec2(0.5f)), hit));
+  EXPECT_GT(hit.position.x, 540.0f);
+  Rgb f = hit.bsdf->eval({}, wo, wi);
+  EXPECT_GT(f.x, 5.0f * f.y);  // red
+  ASSERT_TRUE(scene->intersect(scene->camera().generate_ray(Vec2(248, 128), Vec2(0.5f)), hit));
+  EXPECT_LT(hit.position.x, 15.0f);
+  f = hit.bsdf->eval({}, wo, wi);
+  EXPECT_GT(f.y, 2.0f * f.x);  // green
+  // The light spans raster rows ~32-40 at the centre column (ceiling y = 548.8, camera at
+  // y = 273, light z in [227, 332], tan(fov/2) = 12.5/35).
+  ASSERT_TRUE(scene->intersect(scene->camera().generate_ray(Vec2(128, 36), Vec2(0.5f)), hit));
+  EXPECT_NE(hit.light, nullptr);
+  EXPECT_NEAR(hit.emitted(Vec3(0, -1, 0)).x, 17.0f, 1e-4f);
+}
+
+TEST(Loader, DefinesOverrideDefaultsInXmlAndJson) {
+  const SceneDefines defines = {{"width", "64"}, {"height", "48"}, {"spp", "4"}};
+  for (const char* file : {"scenes/cornell-box/scene.xml", "scenes/cornell-box/scene.json"}) {
+    const SceneDescription desc = load_scene_description(test::source_path(file), defines);
+    EXPECT_EQ(desc.camera.width, 64) << file;
+    EXPECT_EQ(desc.camera.height, 48) << file;
+    EXPECT_EQ(desc.defaults.spp, 4) << file;
+  }
+  const auto dir = test::scratch_dir("defines");
+  const std::string json =
+      write_file(dir, "undefined.json", small_json(R"(, "width": "$size")", ""));
+  const std::string message = error_of([&] { load_scene_description(json); });
+  EXPECT_NE(message.find("undefined.json"), std::string::npos) << message;
+  EXPECT_NE(message.find("$size"), std::string::npos) << message;
+  EXPECT_EQ(load_scene_description(json, {{"size", "20"}}).camera.width, 20);
+
+  const std::string xml = write_file(dir, "param.xml", small_xml(R"(
+  <shape type="sphere"><float name="radius" value="$r"/><point name="center" x="$x" y="0" z="0"/></shape>
+  <default name="r" value="0.25"/>)"));
+  SceneDescription desc = load_scene_description(xml, {{"x", "3"}});
+  ASSERT_EQ(desc.spheres.size(), 1u);
+  EXPECT_FLOAT_EQ(desc.spheres[0].radius, 0.25f);
+  EXPECT_FLOAT_EQ(desc.spheres[0].center.x, 3.0f);
+  const std::string missing = error_of([&] { load_scene_description(xml); });
+  EXPECT_NE(missing.find("param.xml: line 11"), std::string::npos) << missing;
+  EXPECT_NE(missing.find("$x"), std::string::npos) << missing;
+}
+
+TEST(Loader, BadInputGivesOneLineErrorNamingFileAndProblem) {
+  const auto dir = test::scratch_dir("bad");
+  write_file(dir, "light.obj", kLightOnlyObj);
+  std::string absurd_xml = small_xml("");
+  for (size_t at; (at = absurd_xml.find("value=\"16\"")) != std::string::npos;)
+    absurd_xml.replace(at, 10, "value=\"100000\"");
+  struct Case {
+    std::string file, content, expected_file, expected_problem;
+  };
+  const std::vector<Case> cases = {
+      {"malformed.json", R"({"camera": {"fov": 40,)", "malformed.json", "malformed JSON"},
+      {"malformed.xml", "<scene version=\"0.6.0\">\n<shape type=\"obj\">\n</scene>\n",
+       "malformed.xml", "malformed XML at line 3"},
+      {"missing_obj.json", small_json("", R"(, {"type": "obj", "file": "nowhere.obj"})"),
+       "nowhere.obj", "not found"},
+      {"missing_obj.xml",
+       small_xml(R"(<shape type="obj"><string name="filename" value="nowhere.obj"/></shape>)"),
+       "nowhere.obj", "not found"},
+      {"missing_env.json",
+       small_json("", "").replace(1, 0,
+                                  R"("environment": {"type": "envmap", "file": "sky.exr"}, )"),
+       "missing_env.json", "environment map"},
+      {"missing_env.xml",
+       small_xml(R"(<emitter type="envmap"><string name="filename" value="sky.exr"/></emitter>)"),
+       "sky.exr", "not found"},
+      {"nan_transform.json",
+       small_json("", R"(, {"type": "cube", "transform": [{"scale": 1e39}]})"),
+       "nan_transform.json", "NaN"},
+      {"nan_transform.xml",
+       small_xml(
+           R"(<shape type="cube"><transform name="toWorld"><translate x="nan"/></transform></shape>)"),
+       "nan_transform.xml", "not a finite number"},
+      {"nan_camera.json",
+       R"({"camera": {"lookat": {"origin": [0,0,0], "target": [0,1,0], "up": [0,1,0]}},
+         "shapes": [{"type": "rectangle", "emission": 1}]})",
+       "nan_camera.json", "NaN"},
+      {"no_emitter.json", R"({"shapes": [{"type": "cube"}]})", "no_emitter.json",
+       "scene has no emitter"},
+      {"no_emitter.xml", "<scene version=\"0.6.0\"><shape type=\"cube\"/></scene>",
+       "no_emitter.xml", "scene has no emitter"},
+      {"zero_resolution.json", small_json(R"(, "width": 0)", ""), "zero_resolution.json",
+       "resolution"},
+      {"absurd_resolution.json", small_json(R"(, "width": 100000, "height": 100000)", ""),
+       "absurd_resolution.json", "resolution"},
+      {"absurd_resolution.xml", absurd_xml, "absurd_resolution.xml", "resolution"},
+      {"unknown_material.json", small_json("", R"(, {"type": "cube", "material": "nope"})"),
+       "unknown_material.json", "unknown material 'nope'"},
+      {"unknown_material.xml", small_xml(R"(<shape type="cube"><ref id="nope"/></shape>)"),
+       "unknown_material.xml", "unknown reference id 'nope'"},
+      {"bad_index.json", small_json("", R"(, {"type": "obj", "file": "bad_index.obj"})"),
+       "bad_index.obj", "out of range"},
+      {"wrong_type.json", small_json("", R"(, {"type": "sphere", "radius": "big"})"),
+       "wrong_type.json", "shapes[1].radius: expected a number"},
+      {"missing_key.json", small_json("", R"(, {"type": "obj"})"), "missing_key.json",
+       "missing required key 'file'"},
+      {"no_faces.json", small_json("", R"(, {"type": "obj", "file": "empty.obj"})"), "empty.obj",
+       "no faces"},
+  };
+  write_file(dir, "bad_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
+  write_file(dir, "empty.obj", "v 0 0 0\nv 1 0 0\n");
+  for (const Case& c : cases) {
+    const std::string path = write_file(dir, c.file, c.content);
+    const std::string message = load_and_build_error(path);
+    EXPECT_NE(message.find(c.expected_file), std::string::npos) << c.file << ": " << message;
+    EXPECT_NE(message.find(c.expected_problem), std::string::npos) << c.file << ": " << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << c.file << ": " << message;
+  }
+  EXPECT_NE(load_and_build_error((dir / "scene.obj").string()).find("unknown scene format"),
+            std::string::npos);
+  EXPECT_NE(
+      load_and_build_error((dir / "absent.json").string()).find("absent.json: file not found"),
+      std::string::npos);
+}
+
+TEST(Loader, UnsupportedMitsubaElementsAreReportedWithNameAndLine) {
+  const auto dir = test::scratch_dir("mitsuba-warnings");
+  const std::string xml = write_file(dir, "scene.xml", small_xml(R"(
+  <shape type="ply"><string name="filename" value="x.ply"/></shape>
+  <medium type="homogeneous" id="fog"/>
+  <emitter type="point"><point name="position" x="0" y="1" z="0"/></emitter>
+  <shape type="cube"><bsdf type="phong"/><float name="wobble" value="2"/></shape>
+  <shape type="sphere"><bsdf type="roughconductor"><string name="distribution" value="beckmann"/></bsdf></shape>
+  <shape type="disk"><bsdf type="conductor"><string name="material" value="Au"/></bsdf></shape>)"));
+  const SceneDescription desc = load_scene_description(xml);
+  for (const char* needle :
+       {"'ply'", "<medium", "'point'", "'phong'", "'wobble'", "beckmann", "smooth conductor"})
+    EXPECT_TRUE(any_contains(desc.warnings, needle)) << needle;
+  EXPECT_TRUE(any_contains(desc.warnings, "scene.xml: line 11:"))
+      << desc.warnings.front();       // the ply shape
+  EXPECT_EQ(desc.meshes.size(), 3u);  // emissive rectangle, cube, disk (the ply is skipped)
+  EXPECT_EQ(desc.spheres.size(), 1u);
+
+  const std::string json = write_file(dir, "scene.json", small_json(R"(, "colour": 3)", ""));
+  EXPECT_TRUE(
+      any_contains(load_scene_description(json).warnings, "unknown key 'colour' in camera"));
+}
+
+TEST(Loader, XmlAndJsonPrimitiveShapesAndTransformsAgree) {
+  const auto dir = test::scratch_dir("shapes");
+  const std::string json = write_file(dir, "shapes.json", small_json("", R"(,
+    {"type": "cube", "transform": [{"scale": [1, 2, 3]}, {"rotate": {"axis": [0, 1, 0], "angle": 30}}, {"translate": [4, 0, 1]}]},
+    {"type": "disk", "transform": [{"matrix": [2,0,0,1, 0,2,0,2, 0,0,2,3, 0,0,0,1]}]},
+    {"type": "sphere", "center": [1, 1, 1], "radius": 0.5, "transform": [{"scale": 2}], "emission": [2, 2, 2]},
+    {"type": "rectangle", "transform": [{"lookat": {"origin": [0, 3, 0], "target": [0, 0, 0], "up": [0, 0, 1]}}],
+     "material": {"type": "roughconductor", "alpha": 0.2, "material": "Au"}})"));
+  const std::string xml = write_file(dir, "shapes.xml", small_xml(R"(
+  <shape type="cube"><transform name="toWorld"><scale x="1" y="2" z="3"/><rotate y="1" angle="30"/>
+    <translate x="4" y="0" z="1"/></transform></shape>
+  <shape type="disk"><transform name="toWorld"><matrix value="2 0 0 1  0 2 0 2  0 0 2 3  0 0 0 1"/></transform></shape>
+  <shape type="sphere"><point name="center" x="1" y="1" z="1"/><float name="radius" value="0.5"/>
+    <transform name="toWorld"><scale value="2"/></transform>
+    <emitter type="area"><rgb name="radiance" value="2, 2, 2"/></emitter></shape>
+  <shape type="rectangle"><transform name="toWorld"><lookat origin="0, 3, 0" target="0, 0, 0" up="0, 0, 1"/></transform>
+    <bsdf type="twosided"><bsdf type="roughconductor"><float name="alpha" value="0.2"/>
+      <string name="distribution" value="ggx"/><string name="material" value="Au"/></bsdf></bsdf></shape>)"));
+  const SceneDescription a = load_scene_description(json), b = load_scene_description(xml);
+  EXPECT_TRUE(a.warnings.empty()) << a.warnings.front();
+  EXPECT_TRUE(b.warnings.empty()) << b.warnings.front();
+  ASSERT_EQ(a.meshes.size(), b.meshes.size());
+  for (size_t m = 0; m < a.meshes.size(); ++m) {
+    ASSERT_EQ(a.meshes[m].positions.size(), b.meshes[m].positions.size());
+    EXPECT_EQ(a.meshes[m].indices, b.meshes[m].indices);
+    for (size_t i = 0; i < a.meshes[m].positions.size(); ++i)
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(a.meshes[m].positions[i][c], b.meshes[m].positions[i][c], 1e-5f);
+  }
+  ASSERT_EQ(a.spheres.size(), 1u);
+  ASSERT_EQ(b.spheres.size(), 1u);
+  EXPECT_FLOAT_EQ(a.spheres[0].radius, 1.0f);
+  EXPECT_FLOAT_EQ(b.spheres[0].radius, 1.0f);
+  EXPECT_FLOAT_EQ(b.spheres[0].center.z, 2.0f);
+
+  const auto scene_a = Scene::build(a), scene_b = Scene::build(b);
+  EXPECT_EQ(scene_a->stats().triangles, scene_b->stats().triangles);
+  EXPECT_EQ(scene_a->stats().area_lights, scene_b->stats().area_lights);
+  // The lookat rectangle lies in y = 3 facing -y; both see the same gold BSDF.
+  SurfaceHit ha, hb;
+  const Ray down{Vec3(0.2f, 10, 0.1f), Vec3(0, -1, 0)};
+  ASSERT_TRUE(scene_a->intersect(down, ha));
+  ASSERT_TRUE(scene_b->intersect(down, hb));
+  EXPECT_NEAR(ha.position.y, 3.0f, 1e-4f);
+  const Vec3 wo = glm::normalize(Vec3(0.1f, 0.0f, 1.0f)),
+             wi = glm::normalize(Vec3(-0.1f, 0.05f, 1.0f));
+  const Rgb fa = ha.bsdf->eval({}, wo, wi), fb = hb.bsdf->eval({}, wo, wi);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(fa[c], fb[c], 1e-5f);
+  EXPECT_GT(fa.x, fa.z);  // gold
+}
+
+TEST(Loader, XmlSensorFilmSamplerAndIntegrator) {
+  const auto dir = test::scratch_dir("sensor");
+  const std::string xml = write_file(dir, "scene.xml", R"(<scene version="0.6.0">
+  <integrator type="bdpt"><integer name="maxDepth" value="7"/></integrator>
+  <sensor type="thinlens">
+    <float name="fov" value="30"/><string name="fovAxis" value="smaller"/>
+    <float name="apertureRadius" value="0.1"/><float name="focusDistance" value="4"/>
+    <transform name="toWorld"><lookat origin="1, 2, 3" target="1, 2, 4" up="0, 1, 0"/></transform>
+    <sampler type="ldsampler"><integer name="sampleCount" value="64"/></sampler>
+    <film type="hdrfilm"><integer name="width" value="40"/><integer name="height" value="20"/>
+      <rfilter type="gaussian"/></film>
+  </sensor>
+  <emitter type="constant"><spectrum name="radiance" value="0.5"/></emitter>
+  <shape type="sphere"><bsdf type="dielectric"><string name="intIOR" value="water"/></bsdf></shape>
+</scene>)");
+  const SceneDescription desc = load_scene_description(xml);
+  EXPECT_EQ(desc.defaults.integrator, "bdpt");
+  EXPECT_EQ(desc.defaults.max_depth, 7);
+  EXPECT_EQ(desc.defaults.spp, 64);
+  EXPECT_EQ(desc.camera.width, 40);
+  EXPECT_EQ(desc.camera.height, 20);
+  EXPECT_FLOAT_EQ(desc.camera.fov_degrees, 30.0f);
+  EXPECT_EQ(desc.camera.fov_axis, CameraDesc::FovAxis::Smaller);
+  EXPECT_FLOAT_EQ(desc.camera.aperture_radius, 0.1f);
+  EXPECT_FLOAT_EQ(desc.camera.focus_distance, 4.0f);
+  EXPECT_FLOAT_EQ(desc.camera.to_world[3][2], 3.0f);
+  EXPECT_EQ(desc.environment.kind, EnvironmentDesc::Kind::Constant);
+  EXPECT_FLOAT_EQ(desc.environment.radiance.y, 0.5f);
+  EXPECT_TRUE(any_contains(desc.warnings, "gaussian"));
+  const auto scene = Scene::build(desc);
+  SurfaceHit hit;
+  ASSERT_TRUE(scene->intersect(Ray{Vec3(0, 0, -3), Vec3(0, 0, 1)}, hit));
+  EXPECT_TRUE(hit.bsdf->has_delta_lobe());  // smooth dielectric
+}
+
+TEST(ObjLoader, FansPolygonsAndHandlesNormals) {
+  const auto dir = test::scratch_dir("obj");
+  // A unit quad in z = 0 plus a triangle with explicit (tilted) normals.
+  const std::string path = write_file(dir, "mesh.obj",
+                                      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                                      "vn 0 0 1\nvn 0.6 0 0.8\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                                      "f 1/1/1 2/2/1 3/3/2 4/4/1\n");
+  const MeshDesc flat = load_obj_mesh(path, Mat4(1.0f), false);
+  EXPECT_EQ(flat.indices.size(), 6u);
+  EXPECT_TRUE(flat.normals.empty());
+  EXPECT_EQ(flat.uvs.size(), flat.positions.size());
+
+  const Mat4 stretch =
+      glm::mat4(Vec4(2, 0, 0, 0), Vec4(0, 1, 0, 0), Vec4(0, 0, 1, 0), Vec4(0, 0, 0, 1));
+  const MeshDesc smooth = load_obj_mesh(path, stretch, true);
+  ASSERT_EQ(smooth.normals.size(), smooth.positions.size());
+  bool found_tilted = false;
+  for (size_t i = 0; i < smooth.positions.size(); ++i) {
+    EXPECT_NEAR(glm::length(smooth.normals[i]), 1.0f, 1e-5f);
+    if (smooth.positions[i] == Vec3(2, 1, 0)) {
+      // Inverse transpose of the stretch halves the x component before normalising.
+      const Vec3 expected = glm::normalize(Vec3(0.3f, 0.0f, 0.8f));
+      EXPECT_NEAR(smooth.normals[i].x, expected.x, 1e-5f);
+      found_tilted = true;
+    }
+  }
+  EXPECT_TRUE(found_tilted);
+
+  // Without normals in the file, smooth normals are computed (angle weighted, so the ridge
+  // of this symmetric tent points straight along y whatever the fan triangulation).
+  const std::string tent = write_file(dir, "tent.obj",
+                                      "v -1 0 0\nv 0 1 0\nv 0 1 1\nv -1 0 1\nv 1 0 0\nv 1 0 1\n"
+                                      "f 1 2 3 4\nf 2 5 6 3\n");
+  const MeshDesc computed = load_obj_mesh(tent, Mat4(1.0f), true);
+  ASSERT_EQ(computed.normals.size(), computed.positions.size());
+  int ridge_vertices = 0;
+  for (size_t i = 0; i < computed.positions.size(); ++i) {
+    if (computed.positions[i].y != 1.0f) continue;
+    ++ridge_vertices;
+    EXPECT_NEAR(std::abs(computed.normals[i].y), 1.0f, 1e-5f);
+  }
+  EXPECT_EQ(ridge_vertices, 2);
+}
+
+TEST(ShippedScenes, LoadAndBuildWithoutWarnings) {
+  for (const char* file : {"scenes/cornell-glass/scene.json", "scenes/env-sky/scene.json",
+                           "scenes/env-sky/scene.xml"}) {
+    const SceneDescription desc = load_scene_description(test::source_path(file));
+    EXPECT_TRUE(desc.warnings.empty()) << file << ": " << desc.warnings.front();
+    const auto scene = Scene::build(desc);
+    EXPECT_GT(scene->stats().triangles + scene->stats().spheres, 0u) << file;
+    EXPECT_TRUE(scene->warnings().empty()) << file;
+  }
+  const auto sky =
+      Scene::build(load_scene_description(test::source_path("scenes/env-sky/scene.json")));
+  ASSERT_NE(sky->environment(), nullptr);
+  EXPECT_EQ(sky->stats().area_lights, 0u);
+  // scripts/make_sky.py and the renderer agree on the lat-long mapping: the sun sits in
+  // the script's SUN_DIRECTION, ~1e4 times brighter than the sky.
+  const Vec3 sun = glm::normalize(Vec3(-0.45f, 0.6f, -0.65f));
+  const float sun_radiance = luminance(sky->environment()->radiance(sun));
+  EXPECT_GT(sun_radiance, 500.0f);
+  EXPECT_LT(luminance(sky->environment()->radiance(Vec3(0, 1, 0))), 1e-3f * sun_radiance);
+  EXPECT_LT(luminance(sky->environment()->radiance(-sun)), 1e-3f * sun_radiance);
+}
