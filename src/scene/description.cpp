@@ -2,6 +2,14 @@
 
 namespace emlt {
 
+std::optional<CameraDesc::FovAxis> parse_fov_axis(const std::string& name) {
+  if (name == "x") return CameraDesc::FovAxis::X;
+  if (name == "y") return CameraDesc::FovAxis::Y;
+  if (name == "smaller") return CameraDesc::FovAxis::Smaller;
+  if (name == "larger") return CameraDesc::FovAxis::Larger;
+  return std::nullopt;
+}
+
 Mat4 look_at_matrix(const Vec3& origin, const Vec3& target, const Vec3& up) {
   // Mitsuba's lookat: camera +z towards the target, +x to the image's left. A degenerate
   // triple produces NaNs on purpose, so Scene::build rejects it with a clear message.

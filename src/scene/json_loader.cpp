@@ -221,17 +221,9 @@ class JsonSceneReader {
     if (c.contains("matrix")) camera.to_world = matrix16(c["matrix"], "camera.matrix");
     camera.fov_degrees = number(c, "fov", "camera", camera.fov_degrees);
     if (c.contains("fov_axis")) {
-      const std::string axis = string(c["fov_axis"], "camera.fov_axis");
-      if (axis == "x")
-        camera.fov_axis = CameraDesc::FovAxis::X;
-      else if (axis == "y")
-        camera.fov_axis = CameraDesc::FovAxis::Y;
-      else if (axis == "smaller")
-        camera.fov_axis = CameraDesc::FovAxis::Smaller;
-      else if (axis == "larger")
-        camera.fov_axis = CameraDesc::FovAxis::Larger;
-      else
-        fail("camera.fov_axis", "expected \"x\", \"y\", \"smaller\" or \"larger\"");
+      const auto axis = parse_fov_axis(string(c["fov_axis"], "camera.fov_axis"));
+      if (!axis) fail("camera.fov_axis", "expected \"x\", \"y\", \"smaller\" or \"larger\"");
+      camera.fov_axis = *axis;
     }
     camera.aperture_radius = number(c, "aperture_radius", "camera", camera.aperture_radius);
     camera.focus_distance = number(c, "focus_distance", "camera", camera.focus_distance);

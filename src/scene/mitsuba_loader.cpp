@@ -98,14 +98,8 @@ class MitsubaSceneReader {
 
     const std::string axis = props.get_string("fovAxis", "x");
     bool diagonal = false;
-    if (axis == "x")
-      camera.fov_axis = CameraDesc::FovAxis::X;
-    else if (axis == "y")
-      camera.fov_axis = CameraDesc::FovAxis::Y;
-    else if (axis == "smaller")
-      camera.fov_axis = CameraDesc::FovAxis::Smaller;
-    else if (axis == "larger")
-      camera.fov_axis = CameraDesc::FovAxis::Larger;
+    if (const auto parsed = parse_fov_axis(axis))
+      camera.fov_axis = *parsed;
     else if (axis == "diagonal")
       diagonal = true;
     else

@@ -68,6 +68,9 @@ struct SceneDescription {
   std::vector<std::string> warnings;
 };
 
+// "x", "y", "smaller", "larger" (the names both scene formats use); nullopt otherwise.
+std::optional<CameraDesc::FovAxis> parse_fov_axis(const std::string& name);
+
 // Builds the camera matrix from a look-at triple (Mitsuba's lookat semantics).
 Mat4 look_at_matrix(const Vec3& origin, const Vec3& target, const Vec3& up);
 
