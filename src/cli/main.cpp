@@ -1,4 +1,4 @@
-// The `emlt` command: render, info. Every user-facing failure is one line on stderr
+// The `emlt` command: render, info, compare. Every user-facing failure is one line on stderr
 // ("emlt: error: <file>: <problem>") and a non-zero exit; no partial output file is left.
 #include <CLI/CLI.hpp>
 
@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "cli/compare_command.h"
 #include "emlt/core/error.h"
 
 int main(int argc, char** argv) {
@@ -23,6 +24,10 @@ int main(int argc, char** argv) {
   info->add_option("scene", info_options.scene, "Scene file (.json or Mitsuba .xml)")->required();
   info->add_option("-D", info_options.defines, "Scene parameter, name=value (repeatable)");
 
+  emlt::cli::CompareOptions compare_options;
+  CLI::App* compare = app.add_subcommand("compare", "Error metrics of images against a reference");
+  emlt::cli::add_compare_options(*compare, compare_options);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -34,6 +39,7 @@ int main(int argc, char** argv) {
   try {
     if (*render) return emlt::cli::run_render(*render, render_options);
     if (*info) return emlt::cli::run_info(info_options);
+    if (*compare) return emlt::cli::run_compare(compare_options);
   } catch (const emlt::Error& e) {
     std::fprintf(stderr, "emlt: error: %s\n", e.what());
     return 1;

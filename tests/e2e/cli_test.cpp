@@ -6,7 +6,10 @@
 #include <filesystem>
 #include <fstream>
 
+#include <nlohmann/json.hpp>
+
 #include "emlt/render/image.h"
+#include "emlt/render/image_metrics.h"
 #include "support/test_support.h"
 
 using namespace emlt;
@@ -178,4 +181,35 @@ TEST(CliBadInput, NanTexelsInEnvironmentMap) {
     "shapes": [{"type": "sphere", "center": [0,0,0], "radius": 1}]})");
   expect_clean_failure("render " + (dir / "s.json").string() + " -o " + (dir / "o.exr").string(), "sky.pfm",
                        dir / "o.exr");
+}
+
+TEST(CliCompare, JsonMetricsEqualTheLibraryOnTheSameFiles) {
+  const fs::path dir = test::scratch_dir("compare");
+  const std::string common = " --width 24 --height 24 --quiet";
+  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "ref.pfm").string() + common + " --spp 64")));
+  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "img.pfm").string() + common + " --spp 4 --seed 3")));
+  std::string text;
+  ASSERT_EQ(0, test::run_command(emlt_cmd("compare " + (dir / "ref.pfm").string() + " " + (dir / "img.pfm").string() +
+                                          " --json --scene " + cornell() + " --error-map " + (dir / "err.png").string()),
+                                 &text)) << text;
+  const auto j = nlohmann::json::parse(text);
+  const Image ref = read_image((dir / "ref.pfm").string()), img = read_image((dir / "img.pfm").string());
+  const ImageMetrics m = compare_images(ref, img);
+  EXPECT_NEAR(j["mse"].get<double>(), m.mse, 1e-9 + 1e-6 * m.mse);
+  EXPECT_NEAR(j["relmse"].get<double>(), m.rel_mse, 1e-9 + 1e-6 * m.rel_mse);
+  EXPECT_NEAR(j["mean_ratio"].get<double>(), m.mean_ratio, 1e-6);
+  // The light is visible in the Cornell box, so excluding it lowers the MSE.
+  EXPECT_LT(j["mse_no_emitter"].get<double>(), m.mse);
+  EXPECT_GT(m.mse, 0.0);
+  EXPECT_TRUE(fs::exists(dir / "err.png"));
+}
+
+TEST(CliCompare, MismatchedSizesNameTheFile) {
+  const fs::path dir = test::scratch_dir("compare-bad");
+  write_image((dir / "a.pfm").string(), Image(4, 4, Rgb(1.0f)));
+  write_image((dir / "b.pfm").string(), Image(5, 4, Rgb(1.0f)));
+  std::string text;
+  EXPECT_NE(0, test::run_command(emlt_cmd("compare " + (dir / "a.pfm").string() + " " + (dir / "b.pfm").string()), &text));
+  EXPECT_NE(text.find("b.pfm"), std::string::npos) << text;
+  EXPECT_NE(text.find("sizes differ"), std::string::npos) << text;
 }
