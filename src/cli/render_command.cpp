@@ -41,7 +41,7 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
   RenderSettings& s = o.settings;
   command.add_option("scene", o.scene, "Scene file (.json or Mitsuba .xml)")->required();
   command.add_option("-o,--output", o.output, "Output image (.exr, .pfm, .png, .hdr)");
-  command.add_option("--integrator", s.integrator, "direct | pt");
+  command.add_option("--integrator", s.integrator, "direct | pt | bdpt");
   command.add_option("--spp", s.spp, "Samples per pixel")->check(CLI::Range(1, 1 << 24));
   command.add_option("--time", s.time_limit_s, "Time budget in seconds (renders until spent)")
       ->check(CLI::PositiveNumber);
@@ -61,6 +61,8 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
   command.add_option("--direct-sampler", o.direct_point_set,
                      "Point set for direct lighting: independent | fibonacci")
       ->check(CLI::IsMember({"independent", "fibonacci"}));
+  command.add_option("--bdpt-strategies", s.bdpt_strategies_dir,
+                     "bdpt: also write each strategy's MIS-weighted image (s<s>_t<t>.exr) here");
   command.add_option("-D", o.defines, "Scene parameter, name=value (repeatable)");
   command.add_flag("-q,--quiet", o.quiet, "No progress bar");
 }
@@ -83,6 +85,7 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   if (given("--max-depth")) settings.max_depth = cli.max_depth;
   if (given("--rr-depth")) settings.rr_depth = cli.rr_depth;
   if (given("--direct-samples")) settings.direct_samples = cli.direct_samples;
+  if (given("--bdpt-strategies")) settings.bdpt_strategies_dir = cli.bdpt_strategies_dir;
   settings.mis = o.mis == "balance" ? MisHeuristic::Balance : MisHeuristic::Power;
   settings.direct_point_set =
       o.direct_point_set == "fibonacci" ? DirectPointSet::Fibonacci : DirectPointSet::Independent;

@@ -1,15 +1,17 @@
 #include "emlt/core/error.h"
+#include "emlt/render/bdpt.h"
 #include "emlt/render/direct_integrator.h"
 #include "emlt/render/integrator.h"
 #include "emlt/render/path_tracer.h"
 
 namespace emlt {
 
-std::vector<std::string> integrator_names() { return {"direct", "pt"}; }
+std::vector<std::string> integrator_names() { return {"direct", "pt", "bdpt"}; }
 
 std::unique_ptr<Integrator> make_integrator(const std::string& name) {
   if (name == "direct") return std::make_unique<DirectIntegrator>();
   if (name == "pt" || name == "path") return std::make_unique<PathTracer>();
+  if (name == "bdpt") return std::make_unique<BidirectionalPathTracer>();
   std::string known;
   for (const auto& n : integrator_names()) known += (known.empty() ? "" : ", ") + n;
   throw Error("unknown integrator '" + name + "' (available: " + known + ")");

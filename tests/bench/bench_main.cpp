@@ -10,6 +10,7 @@
 
 #include "emlt/core/rng.h"
 #include "emlt/core/warp.h"
+#include "emlt/render/bdpt.h"
 #include "emlt/render/path_tracer.h"
 #include "emlt/scene/loader.h"
 
@@ -84,7 +85,9 @@ void BounceRays(benchmark::State& state) {
   state.counters["threads"] = threads;
 }
 
-void PathTracerSamples(benchmark::State& state) {
+// One camera sample per pixel per iteration; for BDPT a sample is a camera subpath, a
+// light subpath and all their connections, so the two rates compare cost per sample.
+void IntegratorSamples(benchmark::State& state, const Integrator& integrator) {
   RenderSettings settings;
   settings.spp = 1;
   settings.threads = int(state.range(0));
@@ -92,7 +95,7 @@ void PathTracerSamples(benchmark::State& state) {
   ProgressReporter progress(false);
   uint64_t samples = 0;
   for (auto _ : state) {
-    const RenderResult r = PathTracer().render(cornell_box(), settings, progress);
+    const RenderResult r = integrator.render(cornell_box(), settings, progress);
     samples += r.samples;
     settings.seed++;
   }
@@ -100,9 +103,13 @@ void PathTracerSamples(benchmark::State& state) {
   state.counters["threads"] = settings.threads;
 }
 
+void PathTracerSamples(benchmark::State& state) { IntegratorSamples(state, PathTracer()); }
+void BdptSamples(benchmark::State& state) { IntegratorSamples(state, BidirectionalPathTracer()); }
+
 }  // namespace
 
 BENCHMARK(CameraRays)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BounceRays)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(PathTracerSamples)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BdptSamples)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_MAIN();

@@ -213,3 +213,30 @@ TEST(CliCompare, MismatchedSizesNameTheFile) {
   EXPECT_NE(text.find("b.pfm"), std::string::npos) << text;
   EXPECT_NE(text.find("sizes differ"), std::string::npos) << text;
 }
+
+TEST(Cli, BdptWritesOneImagePerStrategyThatSumToTheRender) {
+  const fs::path dir = test::scratch_dir("bdpt");
+  const fs::path strategies = dir / "strategies";
+  fs::create_directories(strategies);
+  std::string text;
+  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "bdpt.pfm").string() +
+                                          " --integrator bdpt --spp 4 --width 16 --height 16 --max-depth 3 --quiet"
+                                          " --bdpt-strategies " + strategies.string()), &text)) << text;
+  const Image image = read_image((dir / "bdpt.pfm").string());
+  // Paths of at most 3 segments: strategies (s, t) with s + t - 1 <= 3 and t >= 1.
+  Image sum(image.width, image.height);
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(strategies)) {
+    const Image part = read_image(entry.path().string());
+    for (size_t i = 0; i < sum.pixels.size(); ++i) sum.pixels[i] += part.pixels[i];
+    ++files;
+  }
+  EXPECT_GE(files, 9);
+  double total = 0.0, difference = 0.0;
+  for (size_t i = 0; i < sum.pixels.size(); ++i) {
+    total += luminance(image.pixels[i]);
+    difference += std::abs(luminance(image.pixels[i]) - luminance(sum.pixels[i]));
+  }
+  EXPECT_GT(total, 0.0);
+  EXPECT_LT(difference, 1e-3 * total);
+}

@@ -21,6 +21,7 @@ struct RenderSettings {
   int direct_samples = 1;  // light and BSDF samples per direct-lighting estimate
   DirectPointSet direct_point_set = DirectPointSet::Independent;
   bool progress = true;
+  std::string bdpt_strategies_dir;  // non-empty: bdpt also writes per-strategy images here
 };
 
 inline const char* to_string(MisHeuristic h) { return h == MisHeuristic::Balance ? "balance" : "power"; }

@@ -1,0 +1,77 @@
+#include "emlt/path/path_density.h"
+
+#include "emlt/path/connection.h"
+
+namespace emlt {
+
+bool split_is_possible(std::span<const VertexDensity> path, int s) {
+  const int n = int(path.size());
+  if (s < 0 || s >= n) return false;  // t = 0 would need a walk to hit the lens
+  if (s == 0) return true;            // the camera walk hits x0; its density decides
+  if (path[size_t(s - 1)].delta || path[size_t(s)].delta) return false;
+  // Light tracing from a sky direction straight into the lens is not a sampled strategy
+  // (connection.h: sample_camera_vertex).
+  if (s == 1 && path[0].environment && path[1].camera) return false;
+  return true;
+}
+
+double split_density(std::span<const VertexDensity> path, int s) {
+  if (!split_is_possible(path, s)) return 0.0;
+  double density = 1.0;
+  for (int i = 0; i < int(path.size()); ++i)
+    density *= i < s ? double(path[size_t(i)].from_light) : double(path[size_t(i)].from_eye);
+  return density;
+}
+
+double mis_weight(std::span<const VertexDensity> path, int s, MisHeuristic heuristic) {
+  const int n = int(path.size());
+  const auto term = [heuristic](double ratio) {
+    return heuristic == MisHeuristic::Power ? ratio * ratio : ratio;
+  };
+  double sum = 1.0;  // the split itself: p_s / p_s
+  // Towards the eye: p_{i+1} / p_i = from_light(x_i) / from_eye(x_i).
+  double ratio = 1.0;
+  for (int i = s; i < n - 1; ++i) {
+    const VertexDensity& x = path[size_t(i)];
+    ratio = x.from_eye > 0.0f ? ratio * double(x.from_light) / double(x.from_eye) : 0.0;
+    if (split_is_possible(path, i + 1)) sum += term(ratio);
+  }
+  // Towards the light: p_{i} / p_{i+1} = from_eye(x_i) / from_light(x_i).
+  ratio = 1.0;
+  for (int i = s - 1; i >= 0; --i) {
+    const VertexDensity& x = path[size_t(i)];
+    ratio = x.from_light > 0.0f ? ratio * double(x.from_eye) / double(x.from_light) : 0.0;
+    if (split_is_possible(path, i)) sum += term(ratio);
+  }
+  const double weight = 1.0 / sum;
+  return std::isfinite(weight) ? weight : 0.0;
+}
+
+void connection_densities(const Scene& scene, std::span<const PathVertex> light, int s,
+                          std::span<const PathVertex> camera, int t, std::span<VertexDensity> out) {
+  const int n = s + t;
+  for (int i = 0; i < s; ++i) out[size_t(i)] = density_of(light[size_t(i)]);
+  for (int i = s; i < n; ++i) out[size_t(i)] = density_of(camera[size_t(n - 1 - i)]);
+  // The connection ends are evaluated by their smooth lobes (connection.h), so inside this
+  // path they are not Dirac vertices whatever lobe a walk went on with.
+  if (s >= 1) out[size_t(s - 1)].delta = false;
+  if (t >= 1) out[size_t(s)].delta = false;
+
+  if (s == 0) {
+    PathVertex emitter = camera[size_t(t - 1)];
+    emitter.delta = false;
+    out[0].from_light = pdf_light_origin(scene, emitter);
+    if (t >= 2) out[1].from_light = pdf_towards(scene, nullptr, emitter, camera[size_t(t - 2)]);
+    return;
+  }
+  PathVertex y = light[size_t(s - 1)], z = camera[size_t(t - 1)];
+  y.delta = z.delta = false;
+  const PathVertex* y_previous = s >= 2 ? &light[size_t(s - 2)] : nullptr;
+  const PathVertex* z_previous = t >= 2 ? &camera[size_t(t - 2)] : nullptr;
+  out[size_t(s)].from_light = pdf_towards(scene, y_previous, y, z);
+  if (z_previous) out[size_t(s + 1)].from_light = pdf_towards(scene, &y, z, *z_previous);
+  out[size_t(s - 1)].from_eye = pdf_towards(scene, z_previous, z, y);
+  if (y_previous) out[size_t(s - 2)].from_eye = pdf_towards(scene, &z, y, *y_previous);
+}
+
+}  // namespace emlt

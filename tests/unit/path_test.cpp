@@ -1,0 +1,245 @@
+// The path layer: density bookkeeping, contributions, MIS weights and connections, checked
+// on random paths of the shipped scenes (diffuse, specular glass + rough metal, sky-lit).
+#include <gtest/gtest.h>
+
+#include <functional>
+
+#include "emlt/path/connection.h"
+#include "emlt/path/path.h"
+#include "emlt/path/random_walk.h"
+#include "emlt/scene/loader.h"
+#include "support/test_support.h"
+
+using namespace emlt;
+
+namespace {
+
+std::unique_ptr<Scene> shipped_scene(const std::string& name) {
+  SceneDescription desc = load_scene_description(test::source_path("scenes/" + name + "/scene.json"), {});
+  desc.camera.width = desc.camera.height = 16;
+  return Scene::build(std::move(desc));
+}
+
+const char* const kScenes[] = {"cornell-box", "cornell-glass", "env-sky"};
+
+bool close(double a, double b, double tolerance = 1e-3) {
+  return a == b || std::abs(a - b) <= tolerance * std::max(std::abs(a), std::abs(b));
+}
+
+// A BDPT sample's connection, as a whole path plus the estimator BDPT computes for it.
+struct SampledPath {
+  Path path;
+  int s = 0, t = 0;
+  Rgb estimate{0.0f};  // throughput(y) * connection * throughput(z), unweighted
+};
+
+// Calls `visit` for every strategy of `samples` random subpath pairs whose connection
+// carries light (no Russian roulette, at most 5 vertices per subpath).
+void for_each_random_path(const Scene& scene, int samples, const std::function<void(const SampledPath&)>& visit) {
+  const WalkLimits limits{5, -1};
+  std::vector<PathVertex> light, camera;
+  for (int i = 0; i < samples; ++i) {
+    Rng rng(42, uint64_t(i));
+    const Vec2 raster = rng.uniform2() * Vec2(float(scene.camera().width()), float(scene.camera().height()));
+    generate_camera_subpath(scene, rng, raster, rng.uniform2(), limits, camera);
+    generate_light_subpath(scene, rng, limits, light);
+    for (int t = 1; t <= int(camera.size()); ++t) {
+      for (int s = 0; s <= int(light.size()); ++s) {
+        if (s + t < 2) continue;
+        SampledPath sample;
+        sample.s = s;
+        sample.t = t;
+        PathVertex lens;
+        std::span<const PathVertex> camera_side(camera);
+        if (s == 0) {
+          const PathVertex& z = camera[size_t(t - 1)];
+          if (!z.is_emitter()) continue;
+          sample.estimate = z.throughput * vertex_factor(scene, z, nullptr, &camera[size_t(t - 2)]);
+        } else if (t == 1) {
+          const auto sampled = sample_camera_vertex(scene, light[size_t(s - 1)], rng.uniform2());
+          if (!sampled) continue;
+          lens = *sampled;
+          camera_side = std::span<const PathVertex>(&lens, 1);
+          sample.estimate = light[size_t(s - 1)].throughput *
+                            connect_vertices(scene, s >= 2 ? &light[size_t(s - 2)] : nullptr,
+                                             light[size_t(s - 1)], lens, nullptr) *
+                            lens.throughput;
+        } else {
+          sample.estimate = light[size_t(s - 1)].throughput *
+                            connect_vertices(scene, s >= 2 ? &light[size_t(s - 2)] : nullptr,
+                                             light[size_t(s - 1)], camera[size_t(t - 1)],
+                                             &camera[size_t(t - 2)]) *
+                            camera[size_t(t - 1)].throughput;
+        }
+        if (is_black(sample.estimate)) continue;
+        ASSERT_TRUE(join_subpaths(scene, light, s, camera_side, t, sample.path));
+        visit(sample);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+TEST(PathType, HeckbertNotation) {
+  std::vector<PathVertex> vertices(5);
+  vertices[2].delta = true;
+  const PathType type = compute_path_type(vertices);
+  EXPECT_EQ(type.to_string(), "L D S D E");
+  EXPECT_EQ(type.edges(), 4);
+  vertices[3].delta = true;
+  const PathType other = compute_path_type(vertices);
+  EXPECT_EQ(other.to_string(), "L D S S E");
+  EXPECT_FALSE(type == other);
+  EXPECT_NE(std::hash<PathType>()(type), std::hash<PathType>()(other));
+}
+
+TEST(PathDensities, StoredDensitiesEqualADirectRecomputationForEverySplit) {
+  for (const char* name : kScenes) {
+    const auto scene = shipped_scene(name);
+    int paths = 0, splits = 0;
+    for_each_random_path(*scene, 300, [&](const SampledPath& sample) {
+      Path recomputed = sample.path;
+      recompute_densities(*scene, recomputed);
+      const int n = int(sample.path.vertices.size());
+      for (int i = 0; i < n; ++i) {
+        const PathVertex &a = sample.path.vertices[size_t(i)], &b = recomputed.vertices[size_t(i)];
+        EXPECT_TRUE(close(a.pdf_from_light, b.pdf_from_light))
+            << name << " s=" << sample.s << " t=" << sample.t << " vertex " << i << ": "
+            << a.pdf_from_light << " vs " << b.pdf_from_light;
+        EXPECT_TRUE(close(a.pdf_from_eye, b.pdf_from_eye))
+            << name << " s=" << sample.s << " t=" << sample.t << " vertex " << i << ": "
+            << a.pdf_from_eye << " vs " << b.pdf_from_eye;
+      }
+      for (int split = 0; split <= n; ++split) {
+        EXPECT_TRUE(close(path_density(sample.path, split), path_density(recomputed, split)))
+            << name << " p_" << split;
+        ++splits;
+      }
+      // The split that generated the path is possible and has a positive density.
+      EXPECT_GT(path_density(sample.path, sample.s), 0.0) << name << " s=" << sample.s;
+      ++paths;
+    });
+    EXPECT_GT(paths, 200) << name;
+    EXPECT_GT(splits, 1000) << name;
+  }
+}
+
+TEST(PathDensities, MisWeightsOfEveryPathSumToOne) {
+  for (const char* name : kScenes) {
+    const auto scene = shipped_scene(name);
+    for_each_random_path(*scene, 100, [&](const SampledPath& sample) {
+      const auto densities = path_densities(sample.path);
+      for (MisHeuristic h : {MisHeuristic::Balance, MisHeuristic::Power}) {
+        double sum = 0.0;
+        for (int split = 0; split <= int(densities.size()); ++split)
+          if (split_is_possible(densities, split)) sum += mis_weight(densities, split, h);
+        EXPECT_NEAR(sum, 1.0, 1e-6) << name << " " << sample.path.type.to_string();
+      }
+      // The balance heuristic is p_s / sum of p_s' by definition.
+      double total = 0.0;
+      for (int split = 0; split <= int(densities.size()); ++split) total += split_density(densities, split);
+      EXPECT_TRUE(close(mis_weight(densities, sample.s, MisHeuristic::Balance),
+                        split_density(densities, sample.s) / total, 1e-4));
+    });
+  }
+}
+
+TEST(PathContribution, OverTheGeneratingDensityEqualsTheBdptEstimate) {
+  for (const char* name : kScenes) {
+    const auto scene = shipped_scene(name);
+    int checked = 0;
+    for_each_random_path(*scene, 200, [&](const SampledPath& sample) {
+      const DVec3 f = path_contribution(*scene, sample.path);
+      const double p = path_density(sample.path, sample.s);
+      for (int c = 0; c < 3; ++c)
+        EXPECT_TRUE(close(f[c] / p, sample.estimate[c], 2e-3))
+            << name << " s=" << sample.s << " t=" << sample.t << " " << sample.path.type.to_string()
+            << ": " << f[c] / p << " vs " << sample.estimate[c];
+      EXPECT_DOUBLE_EQ(path_luminance(*scene, sample.path), 0.2126 * f.x + 0.7152 * f.y + 0.0722 * f.z);
+      ++checked;
+    });
+    EXPECT_GT(checked, 100) << name;
+  }
+}
+
+TEST(PathLayer, NoNonFiniteValueLeavesIt) {
+  for (const char* name : kScenes) {
+    const auto scene = shipped_scene(name);
+    InvalidCounter invalid;
+    std::vector<PathVertex> light, camera;
+    for (int i = 0; i < 2000; ++i) {
+      Rng rng(7, uint64_t(i));
+      generate_camera_subpath(*scene, rng, rng.uniform2() * 16.0f, rng.uniform2(), {12, 3}, camera, &invalid);
+      generate_light_subpath(*scene, rng, {12, 3}, light, &invalid);
+      for (const auto* subpath : {&light, &camera})
+        for (const PathVertex& v : *subpath) {
+          EXPECT_TRUE(is_finite(v.throughput));
+          EXPECT_TRUE(std::isfinite(v.pdf_from_light) && v.pdf_from_light >= 0.0f);
+          EXPECT_TRUE(std::isfinite(v.pdf_from_eye) && v.pdf_from_eye >= 0.0f);
+        }
+    }
+    EXPECT_EQ(invalid.count, 0u) << name;
+  }
+  InvalidCounter counter;
+  Rgb bad(std::numeric_limits<float>::quiet_NaN(), 1.0f, 1.0f);
+  EXPECT_FALSE(counter.keep(bad));
+  EXPECT_TRUE(is_black(bad));
+  EXPECT_EQ(counter.count, 1u);
+}
+
+TEST(Connection, SpecularVerticesAreNeverConnectedAndMarkTheirPathType) {
+  const auto scene = shipped_scene("cornell-glass");
+  std::vector<PathVertex> light, camera;
+  int glass_vertices = 0, specular_types = 0;
+  for (int i = 0; i < 500; ++i) {
+    Rng rng(3, uint64_t(i));
+    generate_camera_subpath(*scene, rng, rng.uniform2() * 16.0f, rng.uniform2(), {6, -1}, camera);
+    generate_light_subpath(*scene, rng, {3, -1}, light);
+    if (light.empty()) continue;
+    for (size_t j = 1; j < camera.size(); ++j) {
+      const PathVertex& z = camera[j];
+      if (!z.bsdf || !z.bsdf->is_purely_delta()) continue;
+      ++glass_vertices;
+      EXPECT_TRUE(is_black(connect_vertices(*scene, light.size() > 1 ? &light[light.size() - 2] : nullptr,
+                                            light.back(), z, &camera[j - 1])));
+    }
+  }
+  for_each_random_path(*scene, 500, [&](const SampledPath& sample) {
+    const auto densities = path_densities(sample.path);
+    for (size_t i = 1; i + 1 < densities.size(); ++i) {
+      if (!sample.path.vertices[i].delta) continue;
+      EXPECT_EQ(sample.path.type.to_string()[2 * i], 'S');
+      EXPECT_FALSE(split_is_possible(densities, int(i)));
+      EXPECT_FALSE(split_is_possible(densities, int(i) + 1));
+      ++specular_types;
+    }
+  });
+  EXPECT_GT(glass_vertices, 20);
+  EXPECT_GT(specular_types, 5);
+}
+
+TEST(Connection, CameraVertexRasterIsWhereThePathLands) {
+  const auto scene = shipped_scene("cornell-box");
+  const Camera& camera = scene->camera();
+  std::vector<PathVertex> light, camera_path;
+  int lens_vertices = 0;
+  for (int i = 0; i < 200; ++i) {
+    Rng rng(9, uint64_t(i));
+    const Vec2 raster = rng.uniform2() * 16.0f;
+    generate_camera_subpath(*scene, rng, raster, rng.uniform2(), {3, -1}, camera_path);
+    ASSERT_FALSE(camera_path.empty());
+    EXPECT_EQ(camera_path[0].raster, raster);
+    generate_light_subpath(*scene, rng, {3, -1}, light);
+    for (const PathVertex& y : light) {
+      const auto lens = sample_camera_vertex(*scene, y, rng.uniform2());
+      if (!lens) continue;
+      const auto expected = camera.raster_position(lens->position, direction_between(*lens, y));
+      ASSERT_TRUE(expected.has_value());
+      EXPECT_NEAR(lens->raster.x, expected->x, 1e-3f);
+      EXPECT_NEAR(lens->raster.y, expected->y, 1e-3f);
+      ++lens_vertices;
+    }
+  }
+  EXPECT_GT(lens_vertices, 50);
+}
