@@ -72,10 +72,15 @@ int random_walk(const Scene& scene, Rng& rng, TransportMode mode, int steps, int
     if (v.delta) {
       // Dirac lobe: f's factor is the sampled value with the light side's shading cosine
       // moved into it (Veach 1997 §5.3); its density is the lobe probability.
+      // bs->eta = n(wi side) / n(wo side), 1 for a reflection (see vertex.h).
       v.delta_probability = bs->pdf;
-      v.delta_value = bs->value * (importance ? cos_wo_shading / cos_wo_geometric
-                                              : std::abs(bs->wi.z) / cos_segment_geometric);
-      weight = v.delta_value * (cos_segment_geometric / bs->pdf);
+      v.delta_ior_ratio = glm::dot(v.normal, wi) > 0.0f ? bs->eta : 1.0f / bs->eta;
+      v.delta_value = bs->value * bs->eta *
+                      (importance ? cos_wo_shading / cos_wo_geometric
+                                  : std::abs(bs->wi.z) / cos_segment_geometric);
+      forward_solid_angle = bs->pdf * bs->eta;
+      reverse_solid_angle = bs->pdf_reverse / bs->eta;
+      weight = v.delta_value * (cos_segment_geometric / forward_solid_angle);
     } else {
       const BsdfContext context{v.uv, TransportMode::Radiance};
       forward_solid_angle = v.bsdf->pdf(context, wo_local, segment_local);

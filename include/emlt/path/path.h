@@ -42,12 +42,9 @@ double path_density(const Path& path, int s);
 // bookkeeping). Dirac vertices keep their stored lobe probability.
 void recompute_densities(const Scene& scene, Path& path);
 
-// Dirac vertices contribute the value stored by the walk that crossed them, in that walk's
-// transport mode. For refraction the radiance and importance values differ by eta^2 (the
-// Jacobian between the two sides' Dirac measures), so f / p_s equals the BDPT estimate
-// exactly for the split that generated the path (tested) and for splits on the same side
-// of every refraction; MLT code summing over splits through refractive vertices must
-// account for that factor.
+// Dirac vertices contribute the value stored by the walk that crossed them, in the
+// side-symmetric convention of vertex.h, so f is a function of the path alone and f / p_s
+// is the BDPT estimate of split s for every s, refractions included.
 //
 // The measurement contribution f(x) in RGB: Le * prod(vertex factors) * prod(G) * W_e, with
 // every edge assumed visible (paths come from walks and checked connections). In double:

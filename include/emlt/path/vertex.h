@@ -53,9 +53,15 @@ struct PathVertex {
   float pdf_from_eye = 0.0f;
 
   // Filled by a walk that sampled a Dirac lobe here: the lobe's probability and its value
-  // in the radiance convention (shading-normal corrected), since eval() returns zero.
+  // (shading-normal corrected), since eval() returns zero. At a refraction the radiance and
+  // importance values differ by (n_eye/n_light)^2, which would make f depend on which side
+  // sampled the vertex. Both are therefore stored in the symmetric convention
+  // value_radiance * n_light/n_eye = value_importance * n_eye/n_light, and the Dirac
+  // density of crossing from side a to side b carries the factor n_b/n_a, so that f is a
+  // function of the path alone and f/p_s is right for every split s (MLT needs both).
   float delta_probability = 0.0f;
   Rgb delta_value{0.0f};
+  float delta_ior_ratio = 1.0f;  // n(side of +normal) / n(side of -normal); 1 unless refracting
 
   Vec2 raster{0.0f};  // camera vertices: raster position of the primary direction
 
