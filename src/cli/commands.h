@@ -12,7 +12,7 @@ namespace emlt::cli {
 struct RenderOptions {
   std::string scene, output;
   RenderSettings settings;
-  std::string mis = "power", direct_point_set = "independent";
+  std::string mis = "power", direct_point_set = "independent", direct_mode = "separate";
   std::vector<std::string> defines;
   bool quiet = false;
 };

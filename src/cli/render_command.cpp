@@ -2,6 +2,8 @@
 #include <fmt/core.h>
 
 #include "cli/commands.h"
+#include "cli/mlt_report.h"
+#include "emlt/mcmc/mlt_integrator.h"
 #include "emlt/core/error.h"
 #include "emlt/render/integrator.h"
 #include "emlt/scene/loader.h"
@@ -41,7 +43,7 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
   RenderSettings& s = o.settings;
   command.add_option("scene", o.scene, "Scene file (.json or Mitsuba .xml)")->required();
   command.add_option("-o,--output", o.output, "Output image (.exr, .pfm, .png, .hdr)");
-  command.add_option("--integrator", s.integrator, "direct | pt | bdpt");
+  command.add_option("--integrator", s.integrator, "direct | pt | bdpt | mlt");
   command.add_option("--spp", s.spp, "Samples per pixel")->check(CLI::Range(1, 1 << 24));
   command.add_option("--time", s.time_limit_s, "Time budget in seconds (renders until spent)")
       ->check(CLI::PositiveNumber);
@@ -63,6 +65,19 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
       ->check(CLI::IsMember({"independent", "fibonacci"}));
   command.add_option("--bdpt-strategies", s.bdpt_strategies_dir,
                      "bdpt: also write each strategy's MIS-weighted image (s<s>_t<t>.exr) here");
+  command.add_option("--mpp", s.mutations_per_pixel, "mlt: mutations per pixel")
+      ->check(CLI::PositiveNumber);
+  command.add_option("--chains", s.chains, "mlt: independent chains (0 = from the budget)")
+      ->check(CLI::Range(0, 1 << 20));
+  command.add_option("--bootstrap", s.bootstrap_samples, "mlt: BDPT samples for b and the seeds")
+      ->check(CLI::Range(1, 1 << 30));
+  command.add_option("--mutations", s.mutations, "mlt: strategy mix, e.g. bidir=1");
+  command.add_option("--direct", o.direct_mode,
+                     "mlt: direct light rendered separately or by the chains")
+      ->check(CLI::IsMember({"separate", "mlt"}));
+  command.add_option("--direct-spp", s.direct_spp, "mlt: samples of the separate direct image")
+      ->check(CLI::Range(1, 1 << 20));
+  command.add_option("--stats", s.stats_path, "mlt: write statistics as JSON to this file");
   command.add_option("-D", o.defines, "Scene parameter, name=value (repeatable)");
   command.add_flag("-q,--quiet", o.quiet, "No progress bar");
 }
@@ -85,6 +100,14 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   if (given("--max-depth")) settings.max_depth = cli.max_depth;
   if (given("--rr-depth")) settings.rr_depth = cli.rr_depth;
   if (given("--direct-samples")) settings.direct_samples = cli.direct_samples;
+  if (given("--mpp")) settings.mutations_per_pixel = cli.mutations_per_pixel;
+  if (given("--time") && !given("--mpp")) settings.mutations_per_pixel = 0.0;
+  if (given("--chains")) settings.chains = cli.chains;
+  if (given("--bootstrap")) settings.bootstrap_samples = cli.bootstrap_samples;
+  if (given("--mutations")) settings.mutations = cli.mutations;
+  if (given("--direct")) settings.direct_separate = o.direct_mode == "separate";
+  if (given("--direct-spp")) settings.direct_spp = cli.direct_spp;
+  if (given("--stats")) settings.stats_path = cli.stats_path;
   if (given("--bdpt-strategies")) settings.bdpt_strategies_dir = cli.bdpt_strategies_dir;
   settings.mis = o.mis == "balance" ? MisHeuristic::Balance : MisHeuristic::Power;
   settings.direct_point_set =
@@ -96,6 +119,11 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   if (o.output.empty()) o.output = std::filesystem::path(o.scene).stem().string() + ".exr";
   check_output_path(o.output);
   const auto integrator = make_integrator(settings.integrator);
+  if (!settings.stats_path.empty()) {
+    const auto parent = std::filesystem::path(settings.stats_path).parent_path();
+    if (!parent.empty() && !std::filesystem::is_directory(parent))
+      throw file_error(settings.stats_path, "statistics directory does not exist");
+  }
 
   const auto scene = Scene::build(std::move(desc));
   for (const auto& w : scene->warnings()) std::fprintf(stderr, "emlt: warning: %s\n", w.c_str());
@@ -104,6 +132,8 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   const RenderResult result = integrator->render(*scene, settings, progress);
 
   write_image(o.output, result.image);
+  if (const auto* mlt = dynamic_cast<const MltIntegrator*>(integrator.get()))
+    report_mlt_statistics(mlt->statistics(), settings.stats_path);
   std::string outputs = o.output;
   const std::string ext = std::filesystem::path(o.output).extension().string();
   if (ext != ".png") {

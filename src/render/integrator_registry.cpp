@@ -3,15 +3,17 @@
 #include "emlt/render/direct_integrator.h"
 #include "emlt/render/integrator.h"
 #include "emlt/render/path_tracer.h"
+#include "emlt/mcmc/mlt_integrator.h"
 
 namespace emlt {
 
-std::vector<std::string> integrator_names() { return {"direct", "pt", "bdpt"}; }
+std::vector<std::string> integrator_names() { return {"direct", "pt", "bdpt", "mlt"}; }
 
 std::unique_ptr<Integrator> make_integrator(const std::string& name) {
   if (name == "direct") return std::make_unique<DirectIntegrator>();
   if (name == "pt" || name == "path") return std::make_unique<PathTracer>();
   if (name == "bdpt") return std::make_unique<BidirectionalPathTracer>();
+  if (name == "mlt") return std::make_unique<MltIntegrator>();
   std::string known;
   for (const auto& n : integrator_names()) known += (known.empty() ? "" : ", ") + n;
   throw Error("unknown integrator '" + name + "' (available: " + known + ")");

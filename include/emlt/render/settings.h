@@ -21,6 +21,15 @@ struct RenderSettings {
   int direct_samples = 1;  // light and BSDF samples per direct-lighting estimate
   DirectPointSet direct_point_set = DirectPointSet::Independent;
   bool progress = true;
+
+  // Metropolis light transport (integrator "mlt").
+  double mutations_per_pixel = 16.0;      // --mpp: total mutations = mpp * width * height
+  int chains = 0;                          // 0: chosen from the budget (reported)
+  int bootstrap_samples = 100000;          // BDPT samples for b and the chains' seeds
+  std::string mutations = "bidir=1";       // --mutations name=weight,...
+  bool direct_separate = true;             // --direct separate|mlt
+  int direct_spp = 16;                     // samples of the separate direct image
+  std::string stats_path;                  // --stats FILE.json
   std::string bdpt_strategies_dir;  // non-empty: bdpt also writes per-strategy images here
 };
 

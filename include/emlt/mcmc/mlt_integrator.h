@@ -1,0 +1,41 @@
+#pragma once
+// Path-space Metropolis light transport (Veach & Guibas 1997). A bootstrap of BDPT
+// samples gives b (the mean pixel luminance) and the chains' seeds; independent chains,
+// each with its own random stream, then run Metropolis-Hastings on f* = luminance of the
+// path contribution with strategies from mutations/. Every step splats the proposal with
+// weight a and the current path with 1 - a (expected values); the image is scaled so that
+// it estimates f itself: pixel = width * height * b / mutations * (sum of splats), each
+// splat carrying F / f* (colour with luminance one).
+//
+// Determinism: chains are grouped in a fixed number of blocks, each with its own film,
+// summed in block order; the schedule is a fixed number of rounds. The same seed and
+// chain count give the same bits at any thread count.
+#include "emlt/mcmc/strategy_mix.h"
+#include "emlt/render/integrator.h"
+
+namespace emlt {
+
+struct MltStatistics {
+  double b = 0.0, b_standard_error = 0.0;
+  uint64_t bootstrap_samples = 0, chains = 0, mutations = 0;
+  double seconds = 0.0;
+  std::vector<std::string> strategy_names;
+  std::vector<StrategyStats> strategies;
+};
+
+class MltIntegrator final : public Integrator {
+ public:
+  std::string name() const override { return "mlt"; }
+  RenderResult render(const Scene& scene, const RenderSettings& settings,
+                      ProgressReporter& progress) const override;
+
+  // Filled by the last render (printed by the command line, written by --stats).
+  const MltStatistics& statistics() const { return stats_; }
+
+  static int default_chain_count(uint64_t mutations);
+
+ private:
+  mutable MltStatistics stats_;
+};
+
+}  // namespace emlt

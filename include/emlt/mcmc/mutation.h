@@ -1,0 +1,45 @@
+#pragma once
+// The mutation interface every MCMC strategy implements (mutations/*.cpp). A strategy
+// proposes y from x and reports the log of its proposal-density ratio T(y->x) / T(x->y);
+// the driver owns everything else: selection among strategies (whose probabilities enter
+// the ratio when applicability differs between x and y), the scalar target
+// f*(x) = luminance of the path contribution, acceptance and splatting.
+//
+// Strategies hold no mutable state, so chains run in parallel without locks. Anything a
+// strategy needs besides the path comes through the MutationContext.
+#include <optional>
+#include <string_view>
+
+#include "emlt/core/rng.h"
+#include "emlt/path/path.h"
+
+namespace emlt {
+
+struct MutationContext {
+  const Scene& scene;
+  int min_edges = 1;   // shortest path the chains may visit (3 when direct light is separate)
+  int max_edges = 30;  // longest (max_depth, or the unlimited cap)
+  // Image-plane perturbation radii in pixels (Veach: 0.1 px and 5 % of the image area).
+  float lens_min_radius = 0.1f;
+  float lens_max_radius = 0.0f;
+};
+
+struct Proposal {
+  Path path;
+  // log T(y->x) - log T(x->y) of this strategy alone (selection probability excluded).
+  double log_reverse_over_forward = 0.0;
+};
+
+class Mutation {
+ public:
+  virtual ~Mutation() = default;
+  virtual std::string_view name() const = 0;
+  // Whether this strategy can act on x at all (by its path type); evaluated on both x and
+  // the proposal, since it fixes the selection probability in each direction.
+  virtual bool applies_to(const Path& x, const MutationContext& ctx) const = 0;
+  // A proposal, or nothing when sampling failed (treated as a rejection).
+  virtual std::optional<Proposal> propose(const Path& x, Rng& rng,
+                                          const MutationContext& ctx) const = 0;
+};
+
+}  // namespace emlt

@@ -1,0 +1,61 @@
+#pragma once
+// The set of mutation strategies a chain draws from, with their weights
+// (`--mutations bidir=3,lens=2,...`). A step picks among the strategies that apply to the
+// current path in proportion to their weights, so the probability of picking strategy j
+// depends on the path: P(j | x) = w_j [j applies to x] / sum_i w_i [i applies to x]. The
+// acceptance ratio includes P(j | y) / P(j | x).
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "emlt/mcmc/mutation.h"
+
+namespace emlt {
+
+struct StrategyStats {
+  uint64_t proposed = 0;        // times chosen
+  uint64_t not_applicable = 0;  // steps where it had weight but did not apply to the path
+  uint64_t failed = 0;          // proposals that could not be built (a = 0)
+  uint64_t accepted = 0;
+  double acceptance_sum = 0.0;  // sum of a over proposals
+
+  void merge(const StrategyStats& o) {
+    proposed += o.proposed;
+    not_applicable += o.not_applicable;
+    failed += o.failed;
+    accepted += o.accepted;
+    acceptance_sum += o.acceptance_sum;
+  }
+  double mean_acceptance() const { return proposed ? acceptance_sum / double(proposed) : 0.0; }
+};
+
+// A strategy by name ("bidir", "lens", "caustic", "multichain"); throws emlt::Error listing
+// the known names otherwise.
+std::unique_ptr<Mutation> make_mutation(const std::string& name);
+std::vector<std::string> mutation_names();
+
+class StrategyMix {
+ public:
+  // "name=weight,..." (a bare name has weight 1); throws emlt::Error on unknown names,
+  // non-positive or malformed weights, or an empty mix.
+  static StrategyMix parse(const std::string& spec);
+
+  size_t size() const { return strategies_.size(); }
+  const Mutation& strategy(size_t i) const { return *strategies_[i]; }
+  double weight(size_t i) const { return weights_[i]; }
+  const std::string& name(size_t i) const { return names_[i]; }
+
+  // Which strategies apply to x (one flag per strategy).
+  std::vector<uint8_t> applicable(const Path& x, const MutationContext& ctx) const;
+  // Picks a strategy among the applicable ones; -1 when none applies.
+  int choose(const std::vector<uint8_t>& applicable, float u, double* probability) const;
+  double selection_probability(size_t i, const std::vector<uint8_t>& applicable) const;
+
+ private:
+  std::vector<std::unique_ptr<Mutation>> strategies_;
+  std::vector<double> weights_;
+  std::vector<std::string> names_;
+};
+
+}  // namespace emlt

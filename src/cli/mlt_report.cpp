@@ -1,0 +1,47 @@
+#include "cli/mlt_report.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "emlt/core/error.h"
+
+namespace emlt::cli {
+
+void report_mlt_statistics(const MltStatistics& st, const std::string& json_path) {
+  std::fprintf(stderr, "mlt: b = %.6g +- %.2g (%llu bootstrap samples), %llu chains, %llu mutations, %.3f M mutations/s\n",
+               st.b, st.b_standard_error, static_cast<unsigned long long>(st.bootstrap_samples),
+               static_cast<unsigned long long>(st.chains), static_cast<unsigned long long>(st.mutations),
+               st.seconds > 0.0 ? double(st.mutations) / st.seconds * 1e-6 : 0.0);
+  std::fprintf(stderr, "  %-12s %12s %14s %12s %12s %10s\n", "strategy", "proposed", "not applicable",
+               "failed", "accepted", "mean a");
+  nlohmann::json strategies = nlohmann::json::array();
+  for (size_t i = 0; i < st.strategies.size(); ++i) {
+    const StrategyStats& s = st.strategies[i];
+    std::fprintf(stderr, "  %-12s %12llu %14llu %12llu %12llu %10.4f\n", st.strategy_names[i].c_str(),
+                 static_cast<unsigned long long>(s.proposed), static_cast<unsigned long long>(s.not_applicable),
+                 static_cast<unsigned long long>(s.failed), static_cast<unsigned long long>(s.accepted),
+                 s.mean_acceptance());
+    strategies.push_back({{"name", st.strategy_names[i]}, {"proposed", s.proposed},
+                          {"not_applicable", s.not_applicable}, {"failed", s.failed},
+                          {"accepted", s.accepted}, {"mean_acceptance", s.mean_acceptance()}});
+  }
+  if (json_path.empty()) return;
+  const nlohmann::json j = {{"b", st.b}, {"b_standard_error", st.b_standard_error},
+                            {"bootstrap_samples", st.bootstrap_samples}, {"chains", st.chains},
+                            {"mutations", st.mutations}, {"seconds", st.seconds},
+                            {"mutations_per_second", st.seconds > 0.0 ? double(st.mutations) / st.seconds : 0.0},
+                            {"strategies", strategies}};
+  const std::string temporary = json_path + ".tmp-" + std::to_string(getpid());
+  {
+    std::ofstream out(temporary);
+    out << j.dump(2) << "\n";
+    if (!out) throw file_error(json_path, "cannot write statistics");
+  }
+  std::filesystem::rename(temporary, json_path);
+}
+
+}  // namespace emlt::cli

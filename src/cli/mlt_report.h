@@ -1,0 +1,12 @@
+#pragma once
+#include <string>
+
+#include "emlt/mcmc/mlt_integrator.h"
+
+namespace emlt::cli {
+
+// The per-strategy table on stderr, and (when path is set) the same as JSON, written
+// atomically.
+void report_mlt_statistics(const MltStatistics& stats, const std::string& json_path);
+
+}  // namespace emlt::cli

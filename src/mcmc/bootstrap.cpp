@@ -1,0 +1,159 @@
+#include "emlt/mcmc/bootstrap.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <functional>
+
+#include "emlt/path/connection.h"
+#include "emlt/path/random_walk.h"
+
+namespace emlt {
+
+namespace {
+
+constexpr uint64_t kBootstrapStream = 0xb0075ull << 40;
+
+struct SampleScratch {
+  std::vector<PathVertex> light, camera;
+  VertexDensity densities[kMaxPathVertices];
+};
+
+// What a visitor sees of one strategy: its subpaths (for rebuilding the path) and the
+// MIS-weighted contribution. Returning false stops the enumeration.
+using StrategyVisitor = std::function<bool(int s, int t, const Rgb& contribution,
+                                           std::span<const PathVertex> light,
+                                           std::span<const PathVertex> camera_side)>;
+
+// Every strategy of one bidirectional sample, in a fixed order that consumes the sample's
+// stream identically each time: enumeration and replay see the same paths.
+void enumerate_sample(const Scene& scene, const BootstrapParams& p, uint32_t sample,
+                      SampleScratch& scratch, const StrategyVisitor& visit) {
+  Rng rng(derive_stream_seed(p.seed, kBootstrapStream + sample), sample);
+  const Camera& camera = scene.camera();
+  const Vec2 raster(rng.uniform() * float(camera.width()), rng.uniform() * float(camera.height()));
+  const Vec2 u_lens = rng.uniform2();
+  generate_camera_subpath(scene, rng, raster, u_lens, {p.max_edges + 1, p.rr_depth}, scratch.camera);
+  generate_light_subpath(scene, rng, {p.max_edges, p.rr_depth}, scratch.light);
+  const auto& cam = scratch.camera;
+  const auto& light = scratch.light;
+
+  for (int t = 1; t <= int(cam.size()); ++t) {
+    for (int s = 0; s <= int(light.size()); ++s) {
+      const int segments = s + t - 1;
+      if (segments > p.max_edges) break;
+      // Drawn whether or not the strategy is used, so replay stays in step.
+      const Vec2 u_connect = t == 1 ? rng.uniform2() : Vec2(0.0f);
+      if (segments < p.min_edges) continue;
+      Rgb contribution(0.0f);
+      PathVertex lens;
+      std::span<const PathVertex> camera_side(cam);
+      if (s == 0) {
+        const PathVertex& z = cam[size_t(t - 1)];
+        if (t < 2 || !z.is_emitter()) continue;
+        contribution = z.throughput * vertex_factor(scene, z, nullptr, &cam[size_t(t - 2)]);
+      } else {
+        const PathVertex& y = light[size_t(s - 1)];
+        const PathVertex* y_previous = s >= 2 ? &light[size_t(s - 2)] : nullptr;
+        if (t == 1) {
+          const auto sampled = sample_camera_vertex(scene, y, u_connect);
+          if (!sampled) continue;
+          lens = *sampled;
+          camera_side = std::span<const PathVertex>(&lens, 1);
+          contribution = y.throughput * connect_vertices(scene, y_previous, y, lens, nullptr) *
+                         lens.throughput;
+        } else {
+          const PathVertex& z = cam[size_t(t - 1)];
+          contribution = y.throughput * connect_vertices(scene, y_previous, y, z, &cam[size_t(t - 2)]) *
+                         z.throughput;
+        }
+      }
+      if (is_black(contribution) || !is_finite(contribution)) continue;
+      const std::span<VertexDensity> densities(scratch.densities, size_t(s + t));
+      connection_densities(scene, light, s, camera_side, t, densities);
+      contribution *= float(mis_weight(densities, s, p.mis));
+      if (is_black(contribution) || !is_finite(contribution)) continue;
+      if (!visit(s, t, contribution, light, camera_side)) return;
+    }
+  }
+}
+
+}  // namespace
+
+size_t Bootstrap::choose(double u) const {
+  const double target = u * cumulative.back();
+  const auto it = std::upper_bound(cumulative.begin(), cumulative.end(), target);
+  return std::min(size_t(it - cumulative.begin()), candidates.size() - 1);
+}
+
+Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& p) {
+  const int blocks = 64;
+  struct Block {
+    std::vector<BootstrapCandidate> candidates;
+    double sum = 0.0, sum_squares = 0.0;
+  };
+  std::vector<Block> results(blocks);
+  const int threads = p.threads > 0 ? p.threads : tbb::this_task_arena::max_concurrency();
+  tbb::task_arena arena(threads);
+  arena.execute([&] {
+    tbb::parallel_for(0, blocks, [&](int block) {
+      SampleScratch scratch;
+      Block& out = results[size_t(block)];
+      const uint32_t first = uint32_t(int64_t(p.samples) * block / blocks);
+      const uint32_t last = uint32_t(int64_t(p.samples) * (block + 1) / blocks);
+      for (uint32_t sample = first; sample < last; ++sample) {
+        double total = 0.0;
+        enumerate_sample(scene, p, sample, scratch,
+                         [&](int s, int t, const Rgb& c, auto, auto) {
+                           const float weight = luminance(c);
+                           if (weight > 0.0f) {
+                             out.candidates.push_back({sample, uint8_t(s), uint8_t(t), weight});
+                             total += weight;
+                           }
+                           return true;
+                         });
+        out.sum += total;
+        out.sum_squares += total * total;
+      }
+    });
+  });
+
+  Bootstrap result;
+  result.samples = uint64_t(std::max(p.samples, 0));
+  double sum = 0.0, sum_squares = 0.0;
+  for (Block& block : results) {  // block order: the same pool at any thread count
+    sum += block.sum;
+    sum_squares += block.sum_squares;
+    for (const auto& c : block.candidates) {
+      result.candidates.push_back(c);
+      result.cumulative.push_back((result.cumulative.empty() ? 0.0 : result.cumulative.back()) + c.weight);
+    }
+  }
+  if (result.samples > 0) {
+    const double n = double(result.samples);
+    result.b = sum / n;
+    result.standard_error = std::sqrt(std::max(sum_squares / n - result.b * result.b, 0.0) / n);
+  }
+  return result;
+}
+
+std::optional<Path> rebuild_candidate(const Scene& scene, const BootstrapParams& params,
+                                      const BootstrapCandidate& candidate) {
+  SampleScratch scratch;
+  std::optional<Path> path;
+  enumerate_sample(scene, params, candidate.sample, scratch,
+                   [&](int s, int t, const Rgb&, std::span<const PathVertex> light,
+                       std::span<const PathVertex> camera_side) {
+                     if (s != candidate.s || t != candidate.t) return true;
+                     Path p;
+                     if (join_subpaths(scene, light, s, camera_side, t, p)) {
+                       recompute_densities(scene, p);
+                       path = std::move(p);
+                     }
+                     return false;
+                   });
+  return path;
+}
+
+}  // namespace emlt

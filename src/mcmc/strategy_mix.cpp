@@ -1,0 +1,70 @@
+#include "emlt/mcmc/strategy_mix.h"
+
+#include <sstream>
+
+#include "emlt/core/error.h"
+
+namespace emlt {
+
+StrategyMix StrategyMix::parse(const std::string& spec) {
+  StrategyMix mix;
+  std::stringstream list(spec);
+  std::string item;
+  while (std::getline(list, item, ',')) {
+    if (item.empty()) continue;
+    const auto eq = item.find('=');
+    const std::string name = item.substr(0, eq);
+    double weight = 1.0;
+    if (eq != std::string::npos) {
+      const std::string text = item.substr(eq + 1);
+      size_t used = 0;
+      try {
+        weight = std::stod(text, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != text.size() || !(weight > 0.0) || !std::isfinite(weight))
+        throw Error("--mutations " + spec + ": weight of '" + name + "' must be a positive number");
+    }
+    for (const auto& existing : mix.names_)
+      if (existing == name) throw Error("--mutations " + spec + ": '" + name + "' given twice");
+    mix.strategies_.push_back(make_mutation(name));
+    mix.weights_.push_back(weight);
+    mix.names_.push_back(name);
+  }
+  if (mix.strategies_.empty()) throw Error("--mutations " + spec + ": no strategy given");
+  return mix;
+}
+
+std::vector<uint8_t> StrategyMix::applicable(const Path& x, const MutationContext& ctx) const {
+  std::vector<uint8_t> flags(strategies_.size());
+  for (size_t i = 0; i < strategies_.size(); ++i) flags[i] = strategies_[i]->applies_to(x, ctx);
+  return flags;
+}
+
+int StrategyMix::choose(const std::vector<uint8_t>& applicable, float u, double* probability) const {
+  double total = 0.0;
+  for (size_t i = 0; i < weights_.size(); ++i)
+    if (applicable[i]) total += weights_[i];
+  if (total <= 0.0) return -1;
+  double target = double(u) * total;
+  int chosen = -1;
+  for (size_t i = 0; i < weights_.size(); ++i) {
+    if (!applicable[i]) continue;
+    chosen = int(i);
+    target -= weights_[i];
+    if (target < 0.0) break;
+  }
+  if (probability) *probability = weights_[size_t(chosen)] / total;
+  return chosen;
+}
+
+double StrategyMix::selection_probability(size_t i, const std::vector<uint8_t>& applicable) const {
+  if (!applicable[i]) return 0.0;
+  double total = 0.0;
+  for (size_t j = 0; j < weights_.size(); ++j)
+    if (applicable[j]) total += weights_[j];
+  return weights_[i] / total;
+}
+
+}  // namespace emlt
