@@ -52,7 +52,7 @@ double selection_pmf(const Path& x, int new_edges, int a, int d, const MutationC
 }
 
 // (1/|S|) sum over splits of the density of y's vertices [a, a + n_new), each from its side.
-double inserted_density(const Path& y, int a, int n_new, int c) {
+double split_average_density(const Path& y, int a, int n_new, int c) {
   const int splits = count_splits(a, c, n_new);
   if (splits == 0) return 0.0;
   const auto& v = y.vertices;
@@ -78,13 +78,11 @@ double BidirectionalMutation::proposal_density(const Path& from, const Path& to,
                                                const MutationContext& ctx) {
   const int n_new = int(to.vertices.size()) - (int(from.vertices.size()) - d);
   const int c = int(from.vertices.size()) - a - d;
-  return selection_pmf(from, to.edges(), a, d, ctx) * inserted_density(to, a, n_new, c);
+  return selection_pmf(from, to.edges(), a, d, ctx) * split_average_density(to, a, n_new, c);
 }
 
 std::optional<Proposal> BidirectionalMutation::propose(const Path& x, Rng& rng,
                                                        const MutationContext& ctx) const {
-  const Scene& scene = ctx.scene;
-  const auto& xv = x.vertices;
   const int edges = x.edges(), n = edges + 1;
 
   // Lengths, deleted stretch, position, split.
@@ -111,8 +109,29 @@ std::optional<Proposal> BidirectionalMutation::propose(const Path& x, Rng& rng,
       s = q;
       break;
     }
-  const int t = n_new - s;
+  auto y = regenerate(x, a, d, n_new, s, rng, ctx);
+  if (!y) return std::nullopt;
+  Proposal proposal;
+  proposal.path = std::move(*y);
+  const double forward = proposal_density(x, proposal.path, a, d, ctx);
+  const double reverse = proposal_density(proposal.path, x, a, n_new, ctx);
+  if (!(forward > 0.0) || !std::isfinite(forward)) return std::nullopt;
+  proposal.log_reverse_over_forward =
+      reverse > 0.0 ? std::log(reverse) - std::log(forward) : -std::numeric_limits<double>::infinity();
+  return proposal;
+}
 
+double BidirectionalMutation::inserted_density(const Path& y, int a, int n_new, int c) {
+  return split_average_density(y, a, n_new, c);
+}
+
+std::optional<Path> BidirectionalMutation::regenerate(const Path& x, int a, int d, int n_new, int s,
+                                                      Rng& rng, const MutationContext& ctx) {
+  const Scene& scene = ctx.scene;
+  const auto& xv = x.vertices;
+  const int n = int(xv.size()), c = n - a - d;
+  if (a < 0 || d < 0 || c < 0 || s < 0 || s > n_new || !split_allowed(a, c, n_new, s)) return std::nullopt;
+  const int t = n_new - s;
   // Light side: a fresh light subpath, or a walk on from the kept prefix end.
   std::vector<PathVertex> light_walk, eye_walk;
   if (s > 0) {
@@ -144,8 +163,8 @@ std::optional<Proposal> BidirectionalMutation::propose(const Path& x, Rng& rng,
 
   // Assemble y: prefix, light-side vertices, eye-side vertices reversed, suffix. A kept end
   // that a walk left from carries that walk's sampling record, so take the walk's copy.
-  Proposal proposal;
-  auto& yv = proposal.path.vertices;
+  Path y;
+  auto& yv = y.vertices;
   yv.reserve(size_t(n - d + n_new));
   for (int i = 0; i < a; ++i) yv.push_back(xv[size_t(i)]);
   if (a >= 2 && s > 0) yv.back() = light_walk[1];
@@ -181,15 +200,9 @@ std::optional<Proposal> BidirectionalMutation::propose(const Path& x, Rng& rng,
       z.raster = *raster;
     }
   }
-  proposal.path.type = compute_path_type(yv);
-  recompute_densities(scene, proposal.path);
-
-  const double forward = proposal_density(x, proposal.path, a, d, ctx);
-  const double reverse = proposal_density(proposal.path, x, a, n_new, ctx);
-  if (!(forward > 0.0) || !std::isfinite(forward)) return std::nullopt;
-  proposal.log_reverse_over_forward =
-      reverse > 0.0 ? std::log(reverse) - std::log(forward) : -std::numeric_limits<double>::infinity();
-  return proposal;
+  y.type = compute_path_type(yv);
+  recompute_densities(scene, y);
+  return y;
 }
 
 }  // namespace emlt

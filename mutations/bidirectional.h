@@ -26,9 +26,17 @@ class BidirectionalMutation final : public Mutation {
   std::optional<Proposal> propose(const Path& x, Rng& rng, const MutationContext& ctx) const override;
 
   // The proposal density of the move that deletes [a, a + d) of `from` and leaves `to`
-  // (exposed for tests: T(x->y) and T(y->x) are both this function).
+  // (T(x->y) and T(y->x) are both this function).
   static double proposal_density(const Path& from, const Path& to, int a, int d,
                                  const MutationContext& ctx);
+
+  // The building blocks, for strategies that reuse them: y from x with [a, a + d) replaced
+  // by n_new vertices, s of them walked from the light side; and the density of y's
+  // inserted vertices averaged over every split that could have made them (c = number of
+  // kept vertices after the inserted ones).
+  static std::optional<Path> regenerate(const Path& x, int a, int d, int n_new, int s, Rng& rng,
+                                        const MutationContext& ctx);
+  static double inserted_density(const Path& y, int a, int n_new, int c);
 };
 
 }  // namespace emlt

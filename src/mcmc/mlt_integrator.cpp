@@ -41,7 +41,7 @@ void splat(std::vector<DVec3>& film, int width, int height, const Path& path,
 }
 
 void run_chain(Chain& chain, uint64_t steps, const StrategyMix& mix, const MutationContext& ctx,
-               std::vector<DVec3>& film, int width, int height) {
+               bool ignore_selection, std::vector<DVec3>& film, int width, int height) {
   for (uint64_t step = 0; step < steps; ++step) {
     double p_forward = 0.0;
     const int chosen = mix.choose(chain.applicable, chain.rng.uniform(), &p_forward);
@@ -64,7 +64,8 @@ void run_chain(Chain& chain, uint64_t steps, const StrategyMix& mix, const Mutat
       target = luminance(contribution);
       if (target > 0.0 && std::isfinite(target)) {
         applicable = mix.applicable(proposal->path, ctx);
-        const double p_reverse = mix.selection_probability(size_t(chosen), applicable);
+        const double p_reverse = ignore_selection ? p_forward
+                                                  : mix.selection_probability(size_t(chosen), applicable);
         const double ratio = target / chain.target * std::exp(proposal->log_reverse_over_forward) *
                              (p_reverse / p_forward);
         acceptance = std::isfinite(ratio) ? std::clamp(ratio, 0.0, 1.0) : (ratio > 0.0 ? 1.0 : 0.0);
@@ -103,7 +104,9 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   const Camera& camera = scene.camera();
   const int width = camera.width(), height = camera.height();
   const uint64_t pixels = uint64_t(width) * uint64_t(height);
-  const StrategyMix mix = StrategyMix::parse(settings.mutations);
+  const std::shared_ptr<const StrategyMix> mix_holder =
+      options_.mix ? options_.mix : std::make_shared<const StrategyMix>(StrategyMix::parse(settings.mutations));
+  const StrategyMix& mix = *mix_holder;
   stats_ = MltStatistics{};
   for (size_t i = 0; i < mix.size(); ++i) stats_.strategy_names.push_back(mix.name(i));
   stats_.strategies.assign(mix.size(), StrategyStats{});
@@ -191,7 +194,8 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
           if (!(chains[size_t(c)].target > 0.0)) continue;
           const uint64_t steps = this_round / uint64_t(chain_count) +
                                  (uint64_t(c) < this_round % uint64_t(chain_count) ? 1 : 0);
-          run_chain(chains[size_t(c)], steps, mix, ctx, films[size_t(block)], width, height);
+          run_chain(chains[size_t(c)], steps, mix, ctx, options_.ignore_selection_probability,
+                    films[size_t(block)], width, height);
           progress.advance(steps);
         }
       });

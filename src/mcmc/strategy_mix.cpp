@@ -28,12 +28,16 @@ StrategyMix StrategyMix::parse(const std::string& spec) {
     }
     for (const auto& existing : mix.names_)
       if (existing == name) throw Error("--mutations " + spec + ": '" + name + "' given twice");
-    mix.strategies_.push_back(make_mutation(name));
-    mix.weights_.push_back(weight);
-    mix.names_.push_back(name);
+    mix.add(name, make_mutation(name), weight);
   }
   if (mix.strategies_.empty()) throw Error("--mutations " + spec + ": no strategy given");
   return mix;
+}
+
+void StrategyMix::add(std::string name, std::unique_ptr<Mutation> strategy, double weight) {
+  strategies_.push_back(std::move(strategy));
+  weights_.push_back(weight);
+  names_.push_back(std::move(name));
 }
 
 std::vector<uint8_t> StrategyMix::applicable(const Path& x, const MutationContext& ctx) const {

@@ -9,53 +9,18 @@
 #include "emlt/render/path_tracer.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/scene.h"
+#include "support/test_scenes.h"
 
 using namespace emlt;
 
 namespace {
 
-void add_quad(SceneDescription& d, Vec3 a, Vec3 b, Vec3 c, Vec3 e, int material, Rgb emission = Rgb(0)) {
-  MeshDesc m;
-  m.name = "quad";
-  m.positions = {a, b, c, e};
-  m.indices = {0, 1, 2, 0, 2, 3};
-  m.material = material;
-  m.emission = emission;
-  d.meshes.push_back(m);
-}
+using test::add_material;
+using test::add_quad;
+using test::camera_at;
 
-int add_material(SceneDescription& d, BsdfPtr bsdf) {
-  d.materials.push_back({"m" + std::to_string(d.materials.size()), std::move(bsdf)});
-  return int(d.materials.size()) - 1;
-}
-
-CameraDesc camera_at(Vec3 eye, Vec3 target, int size, Vec3 up = Vec3(0, 1, 0)) {
-  CameraDesc c;
-  c.to_world = look_at_matrix(eye, target, up);
-  c.fov_degrees = 60.0f;
-  c.width = c.height = size;
-  return c;
-}
-
-// Inside of a closed axis-aligned cube [-1,1]^3 whose faces point inwards, all with
-// albedo a and emitted radiance le: radiance everywhere is le (1 + a + ... + a^(k-1)) for
-// paths of at most k segments, le / (1 - a) without a limit.
 std::unique_ptr<Scene> emissive_box(float albedo, float le) {
-  SceneDescription d;
-  d.source = "emissive-box";
-  const int m = add_material(d, make_lambertian(Rgb(albedo)));
-  const Rgb e(le);
-  const Vec3 p[8] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
-                     {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
-  // Counter-clockwise seen from inside, so normals point inwards.
-  add_quad(d, p[0], p[1], p[2], p[3], m, e);  // z = -1
-  add_quad(d, p[5], p[4], p[7], p[6], m, e);  // z = +1
-  add_quad(d, p[4], p[0], p[3], p[7], m, e);  // x = -1
-  add_quad(d, p[1], p[5], p[6], p[2], m, e);  // x = +1
-  add_quad(d, p[4], p[5], p[1], p[0], m, e);  // y = -1
-  add_quad(d, p[3], p[2], p[6], p[7], m, e);  // y = +1
-  d.camera = camera_at(Vec3(0.1f, 0.2f, -0.5f), Vec3(0.3f, -0.2f, 1.0f), 16);
-  return Scene::build(std::move(d));
+  return test::emissive_box(Rgb(albedo), le);
 }
 
 struct ImageStats {

@@ -23,8 +23,17 @@ struct MltStatistics {
   std::vector<StrategyStats> strategies;
 };
 
+// Diagnostics and tests: a strategy mix built in code (instead of settings.mutations),
+// and a switch that drops the selection-probability term from the acceptance ratio, to
+// show that the tests notice.
+struct MltOptions {
+  std::shared_ptr<const StrategyMix> mix;
+  bool ignore_selection_probability = false;
+};
+
 class MltIntegrator final : public Integrator {
  public:
+  explicit MltIntegrator(MltOptions options = {}) : options_(std::move(options)) {}
   std::string name() const override { return "mlt"; }
   RenderResult render(const Scene& scene, const RenderSettings& settings,
                       ProgressReporter& progress) const override;
@@ -35,6 +44,7 @@ class MltIntegrator final : public Integrator {
   static int default_chain_count(uint64_t mutations);
 
  private:
+  MltOptions options_;
   mutable MltStatistics stats_;
 };
 

@@ -40,6 +40,7 @@ class StrategyMix {
   // "name=weight,..." (a bare name has weight 1); throws emlt::Error on unknown names,
   // non-positive or malformed weights, or an empty mix.
   static StrategyMix parse(const std::string& spec);
+  void add(std::string name, std::unique_ptr<Mutation> strategy, double weight);
 
   size_t size() const { return strategies_.size(); }
   const Mutation& strategy(size_t i) const { return *strategies_[i]; }
