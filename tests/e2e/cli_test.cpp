@@ -240,3 +240,21 @@ TEST(Cli, BdptWritesOneImagePerStrategyThatSumToTheRender) {
   EXPECT_GT(total, 0.0);
   EXPECT_LT(difference, 1e-3 * total);
 }
+
+TEST(Cli, MltWritesStatisticsAndRejectsUnknownStrategies) {
+  const fs::path dir = test::scratch_dir("mlt");
+  std::string text;
+  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "mlt.pfm").string() +
+                                          " --integrator mlt --mpp 4 --bootstrap 5000 --width 16 --height 16 --quiet"
+                                          " --stats " + (dir / "stats.json").string()), &text)) << text;
+  EXPECT_TRUE(fs::exists(dir / "mlt.pfm"));
+  std::ifstream in(dir / "stats.json");
+  const auto stats = nlohmann::json::parse(in);
+  EXPECT_GT(stats["b"].get<double>(), 0.0);
+  EXPECT_EQ(stats["mutations"].get<uint64_t>(), 4u * 16u * 16u);
+  EXPECT_EQ(stats["strategies"][0]["name"], "bidir");
+  EXPECT_EQ(stats["strategies"][0]["proposed"].get<uint64_t>(), 4u * 16u * 16u);
+  EXPECT_NE(text.find("mean a"), std::string::npos) << text;
+  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() + " --integrator mlt --mutations teleport=1",
+                       "teleport", dir / "o.exr");
+}
