@@ -14,6 +14,7 @@ struct RenderOptions {
   RenderSettings settings;
   std::string mis = "power", direct_point_set = "independent", direct_mode = "separate";
   std::vector<std::string> defines;
+  std::string reference, log;
   bool quiet = false;
 };
 

@@ -4,6 +4,8 @@
 #include "cli/commands.h"
 #include "cli/mlt_report.h"
 #include "emlt/mcmc/mlt_integrator.h"
+#include "emlt/render/convergence_log.h"
+#include "emlt/render/image_metrics.h"
 #include "emlt/core/error.h"
 #include "emlt/render/integrator.h"
 #include "emlt/scene/loader.h"
@@ -78,6 +80,9 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
   command.add_option("--direct-spp", s.direct_spp, "mlt: samples of the separate direct image")
       ->check(CLI::Range(1, 1 << 20));
   command.add_option("--stats", s.stats_path, "mlt: write statistics as JSON to this file");
+  command.add_option("--reference", o.reference, "Reference image for error metrics");
+  command.add_option("--log", o.log,
+                     "Convergence log (CSV) at power-of-two samples/mutations per pixel; needs --reference");
   command.add_option("-D", o.defines, "Scene parameter, name=value (repeatable)");
   command.add_flag("-q,--quiet", o.quiet, "No progress bar");
 }
@@ -125,8 +130,31 @@ int run_render(const CLI::App& command, RenderOptions& o) {
       throw file_error(settings.stats_path, "statistics directory does not exist");
   }
 
+  if (!o.log.empty() && o.reference.empty()) throw Error("--log " + o.log + ": needs --reference");
+  if (!o.log.empty()) {
+    const auto parent = std::filesystem::path(o.log).parent_path();
+    if (!parent.empty() && !std::filesystem::is_directory(parent))
+      throw file_error(o.log, "log directory does not exist");
+  }
+  const Image reference = o.reference.empty() ? Image() : read_image(o.reference);
+
   const auto scene = Scene::build(std::move(desc));
   for (const auto& w : scene->warnings()) std::fprintf(stderr, "emlt: warning: %s\n", w.c_str());
+  std::vector<uint8_t> sees_emitter;
+  if (!o.reference.empty()) {
+    if (reference.width != scene->camera().width() || reference.height != scene->camera().height())
+      throw file_error(o.reference, "reference is " + std::to_string(reference.width) + "x" +
+                                        std::to_string(reference.height) + " but the render is " +
+                                        std::to_string(scene->camera().width()) + "x" +
+                                        std::to_string(scene->camera().height()));
+    sees_emitter = directly_visible_emitters(*scene);
+  }
+  std::unique_ptr<ConvergenceLog> log;
+  if (!o.log.empty()) {
+    log = std::make_unique<ConvergenceLog>(o.log, reference, sees_emitter, scene->camera().width(),
+                                           scene->camera().height());
+    settings.snapshots = log.get();
+  }
 
   ProgressReporter progress(settings.progress);
   const RenderResult result = integrator->render(*scene, settings, progress);
@@ -134,6 +162,11 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   write_image(o.output, result.image);
   if (const auto* mlt = dynamic_cast<const MltIntegrator*>(integrator.get()))
     report_mlt_statistics(mlt->statistics(), settings.stats_path);
+  if (!o.reference.empty()) {
+    const ImageMetrics m = compare_images(reference, result.image, std::nullopt, &sees_emitter);
+    std::fprintf(stderr, "against %s: mse %.6g, relmse %.6g, mse without visible emitters %.6g, mean ratio %.5f\n",
+                 o.reference.c_str(), m.mse, m.rel_mse, m.mse_no_emitter, m.mean_ratio);
+  }
   std::string outputs = o.output;
   const std::string ext = std::filesystem::path(o.output).extension().string();
   if (ext != ".png") {

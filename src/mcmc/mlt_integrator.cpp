@@ -10,6 +10,7 @@
 #include "emlt/mcmc/bootstrap.h"
 #include "emlt/render/bdpt.h"
 #include "emlt/render/direct_integrator.h"
+#include "emlt/render/snapshot.h"
 
 namespace emlt {
 
@@ -125,6 +126,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     RenderSettings direct = settings;
     direct.spp = settings.direct_spp;
     direct.time_limit_s = 0.0;
+    direct.snapshots = nullptr;  // the log follows the chains, not this pass
     ProgressReporter quiet(false);
     result.image = DirectIntegrator().render(scene, direct, quiet).image;
     result.invalid_samples = 0;
@@ -179,18 +181,54 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   }
 
   std::vector<std::vector<DVec3>> films(size_t(blocks), std::vector<DVec3>(pixels, DVec3(0.0)));
+  const auto block_first_chain = [&](int block) { return int(int64_t(chain_count) * block / blocks); };
+
+  // The image after `mutations` steps: the direct part, plus the blocks' films summed in
+  // order and each chain's weight not yet splatted (added to a copy: the chains go on
+  // untouched), scaled so the image's mean luminance is b.
+  uint64_t live = 0;  // chains with a seed (all, in practice)
+  for (const Chain& chain : chains) live += chain.target > 0.0;
+  const Image direct_image = result.image;
+  const auto compose = [&](uint64_t mutations_done) {
+    std::vector<DVec3> total(pixels, DVec3(0.0));
+    for (const auto& film : films)
+      for (uint64_t p = 0; p < pixels; ++p) total[p] += film[p];
+    for (const Chain& chain : chains)
+      splat(total, width, height, chain.current, chain.contribution, chain.target, chain.carried);
+    const double splatted = double(mutations_done) * double(live) / double(chain_count);
+    const double scale = splatted > 0.0 ? double(pixels) * bootstrap.b / splatted : 0.0;
+    Image image = direct_image;
+    for (uint64_t p = 0; p < pixels; ++p) image.pixels[p] += Rgb(total[p] * scale);
+    return image;
+  };
+  const auto acceptance_so_far = [&] {
+    std::vector<StrategyAcceptance> out;
+    for (size_t i = 0; i < mix.size(); ++i) {
+      StrategyStats merged;
+      for (const Chain& chain : chains) merged.merge(chain.stats[i]);
+      out.push_back({mix.name(i), merged.mean_acceptance()});
+    }
+    return out;
+  };
+  double snapshot_seconds = 0.0;
+  const auto take_snapshot = [&](uint64_t mutations_done) {
+    const auto begin = std::chrono::steady_clock::now();
+    settings.snapshots->snapshot(double(mutations_done) / double(pixels), elapsed() - snapshot_seconds,
+                                 compose(mutations_done), acceptance_so_far());
+    snapshot_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  };
+
   tbb::task_arena arena(threads);
   progress.start("mlt", timed ? 0 : planned, settings.time_limit_s);
-  // Rounds of about one mutation per pixel: the time budget is checked between rounds.
+  // Rounds of one mutation per pixel: checkpoints (powers of two in mutations per pixel)
+  // fall on round ends, and the time budget is checked between rounds.
   const uint64_t round_size = std::max<uint64_t>(pixels, uint64_t(chain_count));
   uint64_t done = 0;
   while (done < planned) {
     const uint64_t this_round = std::min(round_size, planned - done);
     arena.execute([&] {
       tbb::parallel_for(0, blocks, [&](int block) {
-        const int first = int(int64_t(chain_count) * block / blocks);
-        const int last = int(int64_t(chain_count) * (block + 1) / blocks);
-        for (int c = first; c < last; ++c) {
+        for (int c = block_first_chain(block); c < block_first_chain(block + 1); ++c) {
           if (!(chains[size_t(c)].target > 0.0)) continue;
           const uint64_t steps = this_round / uint64_t(chain_count) +
                                  (uint64_t(c) < this_round % uint64_t(chain_count) ? 1 : 0);
@@ -201,29 +239,19 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
       });
     });
     done += this_round;
-    if (timed && elapsed() >= settings.time_limit_s) break;
+    const bool checkpoint = done % pixels == 0 && is_checkpoint(done / pixels);
+    if (settings.snapshots && checkpoint) take_snapshot(done);
+    if (timed && elapsed() - snapshot_seconds >= settings.time_limit_s) break;
   }
-  for (int block = 0; block < blocks; ++block)
-    for (int c = int(int64_t(chain_count) * block / blocks); c < int(int64_t(chain_count) * (block + 1) / blocks); ++c) {
-      Chain& chain = chains[size_t(c)];
-      splat(films[size_t(block)], width, height, chain.current, chain.contribution, chain.target, chain.carried);
-      for (size_t i = 0; i < mix.size(); ++i) stats_.strategies[i].merge(chain.stats[i]);
-    }
+  if (settings.snapshots && !(done % pixels == 0 && is_checkpoint(done / pixels))) take_snapshot(done);
   progress.finish();
 
-  // Chains without a seed (none in practice) do not count towards the splat total.
-  uint64_t live = 0;
-  for (const Chain& chain : chains) live += chain.target > 0.0;
-  const double mutations = double(done) * double(live) / double(chain_count);
-  const double scale = mutations > 0.0 ? double(pixels) * bootstrap.b / mutations : 0.0;
-  for (uint64_t p = 0; p < pixels; ++p) {
-    DVec3 sum(0.0);
-    for (const auto& film : films) sum += film[p];  // block order: deterministic
-    result.image.pixels[p] += Rgb(sum * scale);
-  }
+  result.image = compose(done);
+  for (const Chain& chain : chains)
+    for (size_t i = 0; i < mix.size(); ++i) stats_.strategies[i].merge(chain.stats[i]);
   stats_.chains = uint64_t(chain_count);
   stats_.mutations = done;
-  stats_.seconds = elapsed();
+  stats_.seconds = elapsed() - snapshot_seconds;
   result.seconds = stats_.seconds;
   result.samples = done;
   result.samples_per_pixel = int(std::llround(double(done) / double(pixels)));

@@ -1,5 +1,7 @@
 #include "emlt/render/bdpt.h"
 
+#include "emlt/render/snapshot.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -206,8 +208,29 @@ RenderResult BidirectionalPathTracer::render(const Scene& scene, const RenderSet
   RenderResult result;
   const int bounded_pass = int(std::max<uint64_t>(1, kSamplesPerPass / std::max<uint64_t>(pixels, 1)));
   int done = 0, pass_spp = timed ? 1 : bounded_pass;
+  // Camera-side estimates average over the pixel's samples. A splat carries W_e of the
+  // whole film (camera.h), so the light-tracing image is scaled by pixels / light paths;
+  // there is one light path per pixel sample.
+  const auto average = [&](int samples) {
+    Image image(width, height);
+    const double camera_scale = samples > 0 ? 1.0 / samples : 0.0;
+    const double light_paths = double(pixels) * double(samples);
+    const double splat_scale = light_paths > 0.0 ? double(pixels) / light_paths : 0.0;
+    for (uint64_t i = 0; i < pixels; ++i)
+      image.pixels[i] = Rgb(camera_sums[i] * camera_scale + film.sums()[i] * splat_scale);
+    return image;
+  };
+  double snapshot_seconds = 0.0;
+  const auto take_snapshot = [&](int samples) {
+    const auto begin = std::chrono::steady_clock::now();
+    settings.snapshots->snapshot(samples, elapsed() - snapshot_seconds, average(samples), {});
+    snapshot_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  };
   while (done < max_spp) {
-    const int first = done, last = done + std::min(pass_spp, max_spp - done);
+    // Passes end at power-of-two sample counts whether or not a log listens (snapshot.h).
+    const int first = done;
+    const int last = int(std::min<uint64_t>(uint64_t(done + std::min(pass_spp, max_spp - done)),
+                                            next_checkpoint(uint64_t(done))));
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
         SampleScratch scratch;
@@ -248,27 +271,23 @@ RenderResult BidirectionalPathTracer::render(const Scene& scene, const RenderSet
     }
     film.add_in_order(lists);
     done = last;
+    if (settings.snapshots && is_checkpoint(uint64_t(done))) take_snapshot(done);
     if (!timed) continue;
-    const double used = elapsed(), left = settings.time_limit_s - used;
+    const double used = elapsed() - snapshot_seconds, left = settings.time_limit_s - used;
     if (left <= 0.0) break;
     const double seconds_per_spp = used / done;
     pass_spp = int(std::clamp(left / seconds_per_spp / 4.0, 1.0, double(bounded_pass)));
     if (left < seconds_per_spp) break;
   }
+  if (settings.snapshots && !is_checkpoint(uint64_t(done))) take_snapshot(done);
   progress.finish();
 
-  result.seconds = elapsed();
+  result.seconds = elapsed() - snapshot_seconds;
   result.samples_per_pixel = done;
   result.samples = pixels * uint64_t(done);
-  result.image = Image(width, height);
-  // Camera-side estimates average over the pixel's samples. A splat carries W_e of the
-  // whole film (camera.h), so the light-tracing image is scaled by pixels / light paths;
-  // there is one light path per pixel sample.
+  result.image = average(done);
   const double camera_scale = done > 0 ? 1.0 / done : 0.0;
-  const double light_paths = double(pixels) * double(done);
-  const double splat_scale = light_paths > 0.0 ? double(pixels) / light_paths : 0.0;
-  for (uint64_t i = 0; i < pixels; ++i)
-    result.image.pixels[i] = Rgb(camera_sums[i] * camera_scale + film.sums()[i] * splat_scale);
+  const double splat_scale = done > 0 ? 1.0 / double(done) : 0.0;
   if (strategy_images)
     write_strategy_images(settings.bdpt_strategies_dir, width, height, strategy_sums, film,
                           camera_scale, splat_scale);

@@ -1,5 +1,7 @@
 #include "emlt/render/pixel_renderer.h"
 
+#include "emlt/render/snapshot.h"
+
 #include <tbb/blocked_range2d.h>
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
@@ -70,16 +72,33 @@ RenderResult render_pixels(const Scene& scene, const RenderSettings& settings,
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
 
+  const auto average = [&](int samples) {
+    Image image(width, height);
+    const double scale = samples > 0 ? 1.0 / samples : 0.0;
+    for (uint64_t i = 0; i < pixels; ++i) image.pixels[i] = Rgb(sums[i] * scale);
+    return image;
+  };
+  double snapshot_seconds = 0.0;  // time spent in snapshots, not rendering
+  const auto take_snapshot = [&](int samples) {
+    const auto begin = std::chrono::steady_clock::now();
+    settings.snapshots->snapshot(samples, elapsed() - snapshot_seconds, average(samples), {});
+    snapshot_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  };
+
   RenderResult result;
   int done = 0, pass_spp = timed ? 1 : max_spp;
   while (done < max_spp) {
-    const int last = done + std::min(pass_spp, max_spp - done);
+    // Passes always end at power-of-two sample counts (checkpoints), so a convergence log
+    // changes nothing about how the samples are summed.
+    const int last = int(std::min<uint64_t>(uint64_t(done + std::min(pass_spp, max_spp - done)),
+                                            next_checkpoint(uint64_t(done))));
     arena.execute([&] {
       result.invalid_samples += render_pass(scene, settings, progress, radiance, done, last, sums);
     });
     done = last;
+    if (settings.snapshots && is_checkpoint(uint64_t(done))) take_snapshot(done);
     if (!timed) continue;
-    const double used = elapsed(), left = settings.time_limit_s - used;
+    const double used = elapsed() - snapshot_seconds, left = settings.time_limit_s - used;
     if (left <= 0.0) break;
     // Size the next pass to about a quarter of the remaining time, so the budget is met
     // closely without many tiny passes.
@@ -87,14 +106,13 @@ RenderResult render_pixels(const Scene& scene, const RenderSettings& settings,
     pass_spp = int(std::clamp(left / seconds_per_spp / 4.0, 1.0, 1e6));
     if (left < seconds_per_spp) break;
   }
+  if (settings.snapshots && !is_checkpoint(uint64_t(done))) take_snapshot(done);
   progress.finish();
 
-  result.seconds = elapsed();
+  result.seconds = elapsed() - snapshot_seconds;
   result.samples_per_pixel = done;
   result.samples = pixels * uint64_t(done);
-  result.image = Image(width, height);
-  const double scale = done > 0 ? 1.0 / done : 0.0;
-  for (uint64_t i = 0; i < pixels; ++i) result.image.pixels[i] = Rgb(sums[i] * scale);
+  result.image = average(done);
   return result;
 }
 

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -257,4 +258,56 @@ TEST(Cli, MltWritesStatisticsAndRejectsUnknownStrategies) {
   EXPECT_NE(text.find("mean a"), std::string::npos) << text;
   expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() + " --integrator mlt --mutations teleport=1",
                        "teleport", dir / "o.exr");
+}
+
+namespace {
+std::vector<std::vector<std::string>> read_csv(const fs::path& path) {
+  std::vector<std::vector<std::string>> rows;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) cells.push_back(cell);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+}  // namespace
+
+TEST(CliConvergenceLog, RowsAtPowersOfTwoAndTheImageIsUnchanged) {
+  const fs::path dir = test::scratch_dir("log");
+  const std::string common = " --width 16 --height 16 --quiet --spp 8 --mpp 8 --bootstrap 5000";
+  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "ref.pfm").string() +
+                                          " --integrator bdpt --spp 64 --width 16 --height 16 --quiet")));
+  for (const std::string integrator : {"pt", "bdpt", "mlt"}) {
+    const fs::path plain = dir / (integrator + "-plain.pfm"), logged = dir / (integrator + "-logged.pfm");
+    const fs::path log = dir / (integrator + ".csv");
+    ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + plain.string() + " --integrator " +
+                                            integrator + common)));
+    std::string text;
+    ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + logged.string() + " --integrator " +
+                                            integrator + common + " --reference " + (dir / "ref.pfm").string() +
+                                            " --log " + log.string()), &text)) << text;
+    // Snapshots never disturb the render.
+    const Image a = read_image(plain.string()), b = read_image(logged.string());
+    EXPECT_EQ(0, std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(Rgb))) << integrator;
+    const auto rows = read_csv(log);
+    ASSERT_EQ(rows.size(), 5u) << integrator;  // header + 1, 2, 4, 8
+    EXPECT_EQ(rows[0][0], "per_pixel");
+    for (int i = 1; i <= 4; ++i) EXPECT_EQ(std::stod(rows[size_t(i)][0]), double(1 << (i - 1))) << integrator;
+    if (integrator == "mlt") {
+      EXPECT_EQ(rows[0].back(), "acceptance_bidir");
+    }
+    // The last row is the final image's error.
+    const ImageMetrics m = compare_images(read_image((dir / "ref.pfm").string()), b);
+    EXPECT_NEAR(std::stod(rows[4][2]), m.mse, 1e-6 * m.mse) << integrator;
+    EXPECT_NEAR(std::stod(rows[4][5]), m.mean_ratio, 1e-5) << integrator;
+  }
+  // A log needs a reference of the right size.
+  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() + " --log " + (dir / "x.csv").string(),
+                       "--reference", dir / "o.exr");
+  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() + " --width 8 --height 8 --reference " +
+                       (dir / "ref.pfm").string() + " --log " + (dir / "x.csv").string(), "ref.pfm", dir / "o.exr");
 }

@@ -5,6 +5,8 @@
 
 namespace emlt {
 
+class SnapshotSink;
+
 enum class MisHeuristic { Balance, Power };
 enum class DirectPointSet { Independent, Fibonacci };
 
@@ -30,6 +32,9 @@ struct RenderSettings {
   bool direct_separate = true;             // --direct separate|mlt
   int direct_spp = 16;                     // samples of the separate direct image
   std::string stats_path;                  // --stats FILE.json
+
+  // Receives images at power-of-two samples (mutations) per pixel; not owned. Null: none.
+  SnapshotSink* snapshots = nullptr;
   std::string bdpt_strategies_dir;  // non-empty: bdpt also writes per-strategy images here
 };
 
