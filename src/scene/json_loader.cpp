@@ -152,6 +152,82 @@ class JsonSceneReader {
     return vec3(v, where + "." + key);
   }
 
+  // A colour, or a texture object wherever a colour is accepted:
+  //   {"type": "bitmap", "file": "wood.png", "raw": false, "wrap": "repeat", <uv>}
+  //   {"type": "checkerboard", "color0": c, "color1": c, <uv>}
+  //   {"type": "scale", "scale": c, "texture": {...}}
+  // with <uv> = "uvscale", "uscale", "vscale", "uoffset", "voffset" (Mitsuba's). Counts the
+  // textures that vary over the surface in varying_textures_.
+  TexturePtr texture(const json& obj, const char* key, const std::string& where, Rgb fallback) {
+    if (!obj.contains(key)) return make_constant_texture(fallback);
+    const json& v = obj[key];
+    if (!v.is_object()) return make_constant_texture(color(obj, key, where, fallback));
+    TexturePtr t = texture_object(v, where + "." + key);
+    if (!t->constant()) ++varying_textures_;
+    return t;
+  }
+
+  TexturePtr texture_object(const json& t, const std::string& where) {
+    const std::string type = string(required(t, "type", where), where + ".type");
+    auto uv = [&] {
+      const float uniform = number(t, "uvscale", where, 1.0f);
+      UvTransform transform;
+      transform.scale = Vec2(number(t, "uscale", where, uniform), number(t, "vscale", where, uniform));
+      transform.offset = Vec2(number(t, "uoffset", where, 0.0f), number(t, "voffset", where, 0.0f));
+      return transform;
+    };
+    if (type == "bitmap") {
+      check_keys(t, where,
+                 {"type", "file", "raw", "wrap", "uvscale", "uscale", "vscale", "uoffset", "voffset"});
+      const std::string file =
+          loader::resolve_path(path_, string(required(t, "file", where), where + ".file"));
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(file, ec))
+        fail(where + ".file", "texture image '" + file + "' not found");
+      WrapMode wrap = WrapMode::Repeat;
+      if (t.contains("wrap")) {
+        const std::string mode = string(t["wrap"], where + ".wrap");
+        if (mode == "mirror")
+          wrap = WrapMode::Mirror;
+        else if (mode == "clamp")
+          wrap = WrapMode::Clamp;
+        else if (mode != "repeat")
+          fail(where + ".wrap", "expected \"repeat\", \"mirror\" or \"clamp\"");
+      }
+      return load_bitmap_texture(file, boolean(t, "raw", where, false), uv(), wrap);
+    }
+    if (type == "checkerboard") {
+      check_keys(t, where,
+                 {"type", "color0", "color1", "uvscale", "uscale", "vscale", "uoffset", "voffset"});
+      return make_checkerboard_texture(color(t, "color0", where, Rgb(0.4f)),
+                                       color(t, "color1", where, Rgb(0.2f)), uv());
+    }
+    if (type == "scale") {
+      check_keys(t, where, {"type", "scale", "texture"});
+      const json& inner = required(t, "texture", where);
+      TexturePtr nested = inner.is_object()
+                              ? texture_object(inner, where + ".texture")
+                              : make_constant_texture(color(t, "texture", where, Rgb(1.0f)));
+      return make_scale_texture(nested, color(t, "scale", where, Rgb(1.0f)));
+    }
+    fail(where + ".type", "unknown texture type '" + type + "' (bitmap, checkerboard, scale)");
+  }
+
+  // A roughness: a number or a texture (its channel mean is used).
+  TexturePtr roughness(const json& m, const std::string& where, float fallback) {
+    TexturePtr alpha = texture(m, "alpha", where, Rgb(fallback));
+    if (auto c = alpha->constant(); c && !(c->x >= 0.0f)) fail(where + ".alpha", "must be >= 0");
+    return alpha;
+  }
+
+  MicrofacetType distribution(const json& m, const std::string& where) const {
+    const std::string name =
+        m.contains("distribution") ? string(m["distribution"], where + ".distribution") : "ggx";
+    if (name == "ggx") return MicrofacetType::Ggx;
+    if (name == "beckmann") return MicrofacetType::Beckmann;
+    fail(where + ".distribution", "expected \"ggx\" or \"beckmann\"");
+  }
+
   float ior(const json& obj, const char* key, const std::string& where, float fallback) const {
     if (!obj.contains(key)) return fallback;
     if (obj[key].is_string()) {
@@ -256,59 +332,78 @@ class JsonSceneReader {
       fail(where + ".material", "unknown conductor '" + name + "'");
   }
 
-  BsdfPtr read_material(const json& spec, const std::string& where) {
+  MaterialDesc read_material(const json& spec, const std::string& where) {
     const json& m = object(spec, where);
     const std::string type = string(required(m, "type", where), where + ".type");
+    const int textures_before = varying_textures_;
     BsdfPtr bsdf;
     bool opaque = true;
     if (type == "diffuse") {
-      check_keys(m, where, {"type", "reflectance", "two_sided"});
-      bsdf = make_lambertian(color(m, "reflectance", where, Rgb(0.5f)));
+      check_keys(m, where, {"type", "reflectance", "two_sided", "opacity", "bump"});
+      bsdf = make_lambertian(texture(m, "reflectance", where, Rgb(0.5f)));
     } else if (type == "mirror") {
-      check_keys(m, where, {"type", "reflectance", "two_sided"});
+      check_keys(m, where, {"type", "reflectance", "two_sided", "opacity", "bump"});
       bsdf = make_mirror(color(m, "reflectance", where, Rgb(1.0f)));
-    } else if (type == "dielectric") {
+    } else if (type == "dielectric" || type == "thindielectric" || type == "roughdielectric") {
       check_keys(m, where,
-                 {"type", "int_ior", "ext_ior", "specular_reflectance", "specular_transmittance"});
+                 {"type", "int_ior", "ext_ior", "specular_reflectance", "specular_transmittance",
+                  "alpha", "distribution", "opacity", "bump"});
       opaque = false;
-      bsdf = make_dielectric(ior(m, "int_ior", where, 1.5046f), ior(m, "ext_ior", where, 1.000277f),
-                             color(m, "specular_reflectance", where, Rgb(1.0f)),
-                             color(m, "specular_transmittance", where, Rgb(1.0f)));
+      const float int_ior = ior(m, "int_ior", where, 1.5046f);
+      const float ext_ior = ior(m, "ext_ior", where, 1.000277f);
+      const Rgb reflectance = color(m, "specular_reflectance", where, Rgb(1.0f));
+      const Rgb transmittance = color(m, "specular_transmittance", where, Rgb(1.0f));
+      if (type != "roughdielectric" && (m.contains("alpha") || m.contains("distribution")))
+        warn(where + ": 'alpha'/'distribution' ignored on a smooth " + type);
+      if (type == "dielectric")
+        bsdf = make_dielectric(int_ior, ext_ior, reflectance, transmittance);
+      else if (type == "thindielectric")
+        bsdf = make_thin_dielectric(int_ior, ext_ior, reflectance, transmittance);
+      else
+        bsdf = make_rough_dielectric(roughness(m, where, 0.1f), int_ior, ext_ior,
+                                     distribution(m, where), reflectance, transmittance);
     } else if (type == "conductor" || type == "roughconductor") {
       check_keys(m, where,
-                 {"type", "alpha", "material", "eta", "k", "specular_reflectance", "two_sided"});
+                 {"type", "alpha", "distribution", "material", "eta", "k", "specular_reflectance",
+                  "two_sided", "opacity", "bump"});
       Rgb eta, k;
       conductor_ior(m, where, &eta, &k);
-      const Rgb specular = color(m, "specular_reflectance", where, Rgb(1.0f));
-      const float alpha = type == "conductor" ? 0.0f : number(m, "alpha", where, 0.1f);
-      if (alpha < 0.0f) fail(where + ".alpha", "must be >= 0");
-      if (type == "conductor" && m.contains("alpha"))
-        warn(where + ": 'alpha' ignored on a smooth conductor");
-      bsdf = alpha > 0.0f ? make_rough_conductor(alpha, eta, k, specular)
-                          : loader::make_smooth_conductor(eta, k, specular, path_ + ": " + where,
-                                                          desc_.warnings);
+      TexturePtr specular = texture(m, "specular_reflectance", where, Rgb(1.0f));
+      if (type == "conductor" && (m.contains("alpha") || m.contains("distribution")))
+        warn(where + ": 'alpha'/'distribution' ignored on a smooth conductor");
+      bsdf = type == "conductor"
+                 ? make_conductor(eta, k, specular)
+                 : make_rough_conductor(roughness(m, where, 0.1f), eta, k, specular,
+                                        distribution(m, where));
     } else if (type == "plastic" || type == "roughplastic") {
       check_keys(m, where,
-                 {"type", "alpha", "diffuse_reflectance", "specular_reflectance", "int_ior",
-                  "ext_ior", "two_sided"});
-      const float alpha = type == "plastic" ? 0.0f : number(m, "alpha", where, 0.1f);
-      if (alpha < 0.0f) fail(where + ".alpha", "must be >= 0");
-      if (type == "plastic" && m.contains("alpha"))
-        warn(where + ": 'alpha' ignored on smooth plastic");
-      bsdf =
-          make_rough_plastic(alpha, color(m, "diffuse_reflectance", where, Rgb(0.5f)),
-                             color(m, "specular_reflectance", where, Rgb(1.0f)),
-                             ior(m, "int_ior", where, 1.49f), ior(m, "ext_ior", where, 1.000277f));
+                 {"type", "alpha", "distribution", "diffuse_reflectance", "specular_reflectance",
+                  "int_ior", "ext_ior", "nonlinear", "two_sided", "opacity", "bump"});
+      if (type == "plastic" && (m.contains("alpha") || m.contains("distribution")))
+        warn(where + ": 'alpha'/'distribution' ignored on smooth plastic");
+      TexturePtr alpha =
+          type == "plastic" ? make_constant_texture(Rgb(0.0f)) : roughness(m, where, 0.1f);
+      bsdf = make_rough_plastic(alpha, texture(m, "diffuse_reflectance", where, Rgb(0.5f)),
+                                texture(m, "specular_reflectance", where, Rgb(1.0f)),
+                                ior(m, "int_ior", where, 1.49f), ior(m, "ext_ior", where, 1.000277f),
+                                boolean(m, "nonlinear", where, false),
+                                type == "plastic" ? MicrofacetType::Ggx : distribution(m, where));
     } else {
       fail(where + ".type",
            "unknown material type '" + type +
-               "' (diffuse, mirror, dielectric, conductor, roughconductor, plastic, "
-               "roughplastic)");
+               "' (diffuse, mirror, dielectric, roughdielectric, thindielectric, conductor, "
+               "roughconductor, plastic, roughplastic)");
     }
     // Opaque surfaces are two-sided by default: a single-sided wall seen from behind
     // renders black, which is rarely what a hand-written scene means.
     if (opaque && boolean(m, "two_sided", where, true)) bsdf = make_two_sided(bsdf);
-    return bsdf;
+    MaterialDesc material("", bsdf);
+    // Surface modifiers (Mitsuba's mask and bumpmap): "opacity" in [0, 1] and "bump", a
+    // height texture in world units per unit uv.
+    if (m.contains("opacity")) material.opacity = texture(m, "opacity", where, Rgb(1.0f));
+    if (m.contains("bump")) material.bump = texture(m, "bump", where, Rgb(0.0f));
+    material.textured = varying_textures_ > textures_before || material.bump;
+    return material;
   }
 
   int material_for_shape(const json& s, const std::string& where) {
@@ -319,9 +414,13 @@ class JsonSceneReader {
       auto it = named_materials_.find(name);
       if (it == named_materials_.end())
         fail(where + ".material", "unknown material '" + name + "'");
-      return loader::material_index(desc_, it->second, name);
+      MaterialDesc material = it->second;
+      material.name = name;
+      return loader::material_index(desc_, material);
     }
-    return loader::material_index(desc_, read_material(m, where + ".material"), where);
+    MaterialDesc material = read_material(m, where + ".material");
+    material.name = where;
+    return loader::material_index(desc_, material);
   }
 
   void read_shape(const json& s, const std::string& where) {
@@ -354,11 +453,11 @@ class JsonSceneReader {
     if (type == "obj") {
       check_keys(s, where,
                  {"type", "name", "transform", "material", "emission", "flip_normals", "file",
-                  "smooth_normals"});
+                  "smooth_normals", "flip_tex_coords"});
       const std::string file =
           loader::resolve_path(path_, string(required(s, "file", where), where + ".file"));
       mesh = load_obj_mesh(file, to_world, boolean(s, "smooth_normals", where, false),
-                           &desc_.warnings);
+                           &desc_.warnings, boolean(s, "flip_tex_coords", where, true));
     } else {
       check_keys(s, where, {"type", "name", "transform", "material", "emission", "flip_normals"});
       if (type == "rectangle")
@@ -402,7 +501,8 @@ class JsonSceneReader {
   std::string path_;
   const SceneDefines& defines_;
   std::map<std::string, json> file_defaults_;
-  std::map<std::string, BsdfPtr> named_materials_;
+  std::map<std::string, MaterialDesc> named_materials_;
+  int varying_textures_ = 0;
   SceneDescription desc_;
 };
 

@@ -66,14 +66,6 @@ Rgb conductor_normal_reflectance(const Rgb& eta, const Rgb& k) {
   return glm::clamp(numerator / glm::max(denominator, Rgb(1e-12f)), Rgb(0.0f), Rgb(1.0f));
 }
 
-BsdfPtr make_smooth_conductor(const Rgb& eta, const Rgb& k, const Rgb& specular_reflectance,
-                              const std::string& where, std::vector<std::string>& warnings) {
-  warnings.push_back(where +
-                     ": smooth conductor approximated by a mirror tinted with its "
-                     "normal-incidence Fresnel reflectance (no angle dependence)");
-  return make_mirror(specular_reflectance * conductor_normal_reflectance(eta, k));
-}
-
 void load_environment_map(EnvironmentDesc& env, const std::string& scene_file,
                           const std::string& file) {
   std::error_code ec;
@@ -91,9 +83,16 @@ Mat4 rotation_matrix(const Vec3& axis, float degrees) {
 }
 
 int material_index(SceneDescription& desc, const BsdfPtr& bsdf, const std::string& name) {
-  for (size_t i = 0; i < desc.materials.size(); ++i)
-    if (desc.materials[i].bsdf == bsdf) return int(i);
-  desc.materials.push_back({name, bsdf});
+  return material_index(desc, MaterialDesc(name, bsdf));
+}
+
+int material_index(SceneDescription& desc, const MaterialDesc& material) {
+  for (size_t i = 0; i < desc.materials.size(); ++i) {
+    const MaterialDesc& m = desc.materials[i];
+    if (m.bsdf == material.bsdf && m.opacity == material.opacity && m.bump == material.bump)
+      return int(i);
+  }
+  desc.materials.push_back(material);
   return int(desc.materials.size() - 1);
 }
 

@@ -20,12 +20,6 @@ std::optional<float> named_ior(const std::string& name);
 // Normal-incidence Fresnel reflectance of a conductor with complex IOR eta + i k.
 Rgb conductor_normal_reflectance(const Rgb& eta, const Rgb& k);
 
-// A smooth conductor has no dedicated BSDF: it becomes a mirror tinted by its
-// normal-incidence reflectance (grazing angles stay that colour instead of brightening
-// to white). Adds a warning saying so.
-BsdfPtr make_smooth_conductor(const Rgb& eta, const Rgb& k, const Rgb& specular_reflectance,
-                              const std::string& where, std::vector<std::string>& warnings);
-
 // Fills env with a lat-long map read from `file` (already resolved); a missing file is
 // reported against the scene file, an unreadable one against the map.
 void load_environment_map(EnvironmentDesc& env, const std::string& scene_file,
@@ -36,6 +30,8 @@ Mat4 rotation_matrix(const Vec3& axis, float degrees);
 
 // Finds the material index of `bsdf` in desc.materials, adding it under `name` if new.
 int material_index(SceneDescription& desc, const BsdfPtr& bsdf, const std::string& name);
+// The same for a whole material (BSDF, opacity and bump must all match).
+int material_index(SceneDescription& desc, const MaterialDesc& material);
 
 // Sphere parameters after a transform: the center moves, the radius scales by the
 // transform's mean axis scale (a warning is added when the scale is not uniform).

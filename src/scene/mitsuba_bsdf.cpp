@@ -1,6 +1,8 @@
 // Mitsuba 0.6 <bsdf> elements mapped onto the built-in BSDFs. Mitsuba's defaults are kept
 // (diffuse reflectance 0.5, intIOR bk7 for dielectrics, polypropylene for plastics, Cu
-// conductors, alpha 0.1) so that a scene renders like it does in Mitsuba.
+// conductors, alpha 0.1, Beckmann distribution) so that a scene renders like it does in
+// Mitsuba. `mask` and `bumpmap` become the material's opacity and bump textures;
+// `coating` falls back to its nested BSDF with a warning.
 #include "emlt/core/error.h"
 #include "emlt/scene/conductor_presets.h"
 #include "emlt/scene/materials.h"
@@ -13,26 +15,36 @@ namespace {
 
 class BsdfReader {
  public:
-  BsdfReader(const Document& doc, std::map<std::string, BsdfPtr>& named,
-             std::vector<std::string>& warnings)
-      : doc_(doc), named_(named), warnings_(warnings) {}
+  BsdfReader(const Document& doc, NamedObjects& named) : doc_(doc), named_(named) {}
 
-  BsdfPtr read(pugi::xml_node node) {
+  MaterialDesc read(pugi::xml_node node) {
     if (std::string(node.name()) == "ref") {
       const std::string id = doc_.attribute(node, "id");
-      auto it = named_.find(id);
-      if (it == named_.end()) doc_.fail(node, "unknown reference id '" + id + "'");
+      auto it = named_.bsdfs.find(id);
+      if (it == named_.bsdfs.end()) doc_.fail(node, "unknown reference id '" + id + "'");
       return it->second;
     }
     const std::string type = doc_.attribute(node, "type");
     Properties props(doc_, node);
-    BsdfPtr bsdf = build(type, node, props);
+    const int textures_before = varying_textures_;
+    MaterialDesc material = build(type, node, props);
+    material.textured |= varying_textures_ > textures_before || material.bump;
     props.warn_unused();
-    if (doc_.has_attribute(node, "id")) named_[doc_.attribute(node, "id")] = bsdf;
-    return bsdf;
+    if (doc_.has_attribute(node, "id")) {
+      material.name = doc_.attribute(node, "id");
+      named_.bsdfs[material.name] = material;
+    }
+    return material;
   }
 
  private:
+  // A parameter that may be a texture; counts the ones that vary over the surface.
+  TexturePtr texture(Properties& props, const char* name, const Rgb& fallback) {
+    TexturePtr t = props.get_texture(name, fallback, named_);
+    if (!t->constant()) ++varying_textures_;
+    return t;
+  }
+
   float ior(Properties& props, const char* name, float fallback, pugi::xml_node node) {
     if (!props.has(name)) return fallback;
     // Mitsuba accepts a number (<float>) or a material name (<string>) for an IOR.
@@ -59,27 +71,40 @@ class BsdfReader {
     *k /= ext_eta;
   }
 
-  float alpha(Properties& props, pugi::xml_node node) {
-    const std::string distribution = props.get_string("distribution", "beckmann");
-    if (distribution != "ggx")
-      doc_.warn(node, "microfacet distribution '" + distribution + "'" +
-                          (props.has("distribution") ? "" : " (Mitsuba's default)") +
-                          " is not supported; using GGX with the same alpha");
-    float a = props.get_float("alpha", 0.1f);
+  MicrofacetType distribution(Properties& props, pugi::xml_node node) {
+    const std::string name = props.get_string("distribution", "beckmann");
+    if (name == "ggx") return MicrofacetType::Ggx;
+    if (name != "beckmann")
+      doc_.warn(node, "microfacet distribution '" + name +
+                          "' is not supported; using Beckmann with the same alpha");
+    return MicrofacetType::Beckmann;
+  }
+
+  TexturePtr alpha(Properties& props, pugi::xml_node node) {
     if (props.has("alphaU") || props.has("alphaV")) {
+      const float a = props.get_float("alpha", 0.1f);
       const float u = props.get_float("alphaU", a), v = props.get_float("alphaV", a);
       if (u != v)
         doc_.warn(node, "anisotropic roughness approximated by the mean of alphaU and alphaV");
-      a = 0.5f * (u + v);
+      if (!(u + v > 0.0f)) doc_.fail(node, "alpha must be positive");
+      return make_constant_texture(Rgb(0.5f * (u + v)));
     }
-    if (!(a > 0.0f)) doc_.fail(node, "alpha must be positive");
+    TexturePtr a = texture(props, "alpha", Rgb(0.1f));
+    if (auto c = a->constant(); c && !((c->x + c->y + c->z) > 0.0f))
+      doc_.fail(node, "alpha must be positive");
     return a;
   }
 
-  BsdfPtr nested(pugi::xml_node node, Properties& props) {
+  // The nested BSDF of a wrapper; unnamed <texture> children are left to `textures`.
+  MaterialDesc nested(pugi::xml_node node, Properties& props,
+                      std::vector<pugi::xml_node>* textures = nullptr) {
     pugi::xml_node inner;
     for (pugi::xml_node child : props.objects()) {
       const std::string kind = child.name();
+      if (textures && kind == "texture") {
+        textures->push_back(child);
+        continue;
+      }
       if (kind != "bsdf" && kind != "ref") {
         doc_.warn(child,
                   "unsupported element <" + kind + "> inside " + doc_.describe(node) + " ignored");
@@ -100,82 +125,126 @@ class BsdfReader {
                            doc_.describe(node) + " ignored");
   }
 
-  BsdfPtr build(const std::string& type, pugi::xml_node node, Properties& props) {
+  MaterialDesc wrapper(const std::string& type, pugi::xml_node node, Properties& props) {
     if (type == "twosided") {
-      BsdfPtr inner = nested(node, props);
-      if (inner->lobes() & kLobeTransmission) {
+      MaterialDesc inner = nested(node, props);
+      if (inner.bsdf->lobes() & kLobeTransmission) {
         doc_.warn(node, "<twosided> around a transmissive BSDF has no effect; left out");
         return inner;
       }
-      return make_two_sided(inner);
+      inner.bsdf = make_two_sided(inner.bsdf);
+      return inner;
     }
-    if (type == "mask" || type == "bumpmap" || type == "normalmap" || type == "coating") {
-      doc_.warn(node, "<bsdf type=\"" + type + "\"> is not supported; using its nested BSDF alone");
-      props.ignore({"opacity", "thickness", "intIOR", "extIOR", "sigmaA", "specularReflectance"});
-      return nested(node, props);
+    if (type == "mask") {
+      TexturePtr opacity = texture(props, "opacity", Rgb(0.5f));
+      MaterialDesc inner = nested(node, props);
+      if (inner.opacity) doc_.warn(node, "nested masks: only the outer opacity is used");
+      inner.opacity = opacity;
+      inner.textured |= !opacity->constant();
+      return inner;
     }
+    if (type == "bumpmap") {
+      std::vector<pugi::xml_node> textures;
+      MaterialDesc inner = nested(node, props, &textures);
+      TexturePtr height;
+      for (const std::string& name : props.names_of_kind("texture"))
+        if (!height) height = props.get_texture(name, Rgb(0.0f), named_);
+      for (const std::string& name : props.names_of_kind("ref"))
+        if (!height) height = props.get_texture(name, Rgb(0.0f), named_);
+      for (pugi::xml_node t : textures)
+        if (!height) height = read_texture(doc_, t, named_);
+      if (!height) doc_.fail(node, "<bsdf type=\"bumpmap\"> needs a nested <texture>");
+      if (inner.bump) doc_.warn(node, "nested bump maps: only the outer one is used");
+      inner.bump = height;
+      inner.textured = true;
+      return inner;
+    }
+    // coating / normalmap
+    doc_.warn(node, "<bsdf type=\"" + type + "\"> is not supported; using its nested BSDF alone");
+    props.ignore({"thickness", "intIOR", "extIOR", "sigmaA", "specularReflectance", "alpha",
+                  "distribution"});
+    std::vector<pugi::xml_node> ignored_textures;
+    return nested(node, props, &ignored_textures);
+  }
+
+  MaterialDesc build(const std::string& type, pugi::xml_node node, Properties& props) {
+    if (type == "twosided" || type == "mask" || type == "bumpmap" || type == "coating" ||
+        type == "normalmap")
+      return wrapper(type, node, props);
     no_children(node, props);
+    return MaterialDesc("", scattering(type, node, props));
+  }
+
+  BsdfPtr scattering(const std::string& type, pugi::xml_node node, Properties& props) {
     if (type == "diffuse" || type == "roughdiffuse") {
       if (type == "roughdiffuse") {
         doc_.warn(node, "roughdiffuse approximated by a Lambertian diffuse");
         props.ignore({"alpha", "useFastApprox"});
       }
-      return make_lambertian(props.get_color("reflectance", Rgb(0.5f)));
+      return make_lambertian(texture(props, "reflectance", Rgb(0.5f)));
     }
-    if (type == "dielectric" || type == "roughdielectric" || type == "thindielectric") {
-      if (type != "dielectric") {
-        doc_.warn(node, type + " approximated by a smooth dielectric");
-        props.ignore({"alpha", "alphaU", "alphaV", "distribution"});
-      }
+    if (type == "dielectric" || type == "thindielectric") {
       const float int_ior = ior(props, "intIOR", 1.5046f, node);
       const float ext_ior = ior(props, "extIOR", 1.000277f, node);
-      return make_dielectric(int_ior, ext_ior, props.get_color("specularReflectance", Rgb(1.0f)),
-                             props.get_color("specularTransmittance", Rgb(1.0f)));
+      const Rgb reflectance = props.get_color("specularReflectance", Rgb(1.0f));
+      const Rgb transmittance = props.get_color("specularTransmittance", Rgb(1.0f));
+      return type == "dielectric"
+                 ? make_dielectric(int_ior, ext_ior, reflectance, transmittance)
+                 : make_thin_dielectric(int_ior, ext_ior, reflectance, transmittance);
+    }
+    if (type == "roughdielectric") {
+      const MicrofacetType dist = distribution(props, node);
+      TexturePtr a = alpha(props, node);
+      const float int_ior = ior(props, "intIOR", 1.5046f, node);
+      const float ext_ior = ior(props, "extIOR", 1.000277f, node);
+      return make_rough_dielectric(a, int_ior, ext_ior, dist,
+                                   props.get_color("specularReflectance", Rgb(1.0f)),
+                                   props.get_color("specularTransmittance", Rgb(1.0f)));
     }
     if (type == "conductor") {
       Rgb eta, k;
       conductor_ior(props, node, &eta, &k);
-      const Rgb specular = props.get_color("specularReflectance", Rgb(1.0f));
-      return loader::make_smooth_conductor(
-          eta, k, specular, doc_.path() + ": line " + std::to_string(doc_.line(node)), warnings_);
+      return make_conductor(eta, k, texture(props, "specularReflectance", Rgb(1.0f)));
     }
     if (type == "roughconductor") {
-      const float a = alpha(props, node);
+      const MicrofacetType dist = distribution(props, node);
+      TexturePtr a = alpha(props, node);
       Rgb eta, k;
       conductor_ior(props, node, &eta, &k);
-      return make_rough_conductor(a, eta, k, props.get_color("specularReflectance", Rgb(1.0f)));
+      return make_rough_conductor(a, eta, k, texture(props, "specularReflectance", Rgb(1.0f)),
+                                  dist);
     }
     if (type == "plastic" || type == "roughplastic") {
-      const float a = type == "plastic" ? 0.0f : alpha(props, node);
-      if (props.get_boolean("nonlinear", false))
-        doc_.warn(node, "nonlinear plastic is not supported; rendered as linear");
+      MicrofacetType dist = MicrofacetType::Ggx;
+      TexturePtr a = make_constant_texture(Rgb(0.0f));
+      if (type == "roughplastic") {
+        dist = distribution(props, node);
+        a = alpha(props, node);
+      }
+      const bool nonlinear = props.get_boolean("nonlinear", false);
       const float int_ior = ior(props, "intIOR", 1.49f, node);
       const float ext_ior = ior(props, "extIOR", 1.000277f, node);
-      return make_rough_plastic(a, props.get_color("diffuseReflectance", Rgb(0.5f)),
-                                props.get_color("specularReflectance", Rgb(1.0f)), int_ior,
-                                ext_ior);
+      TexturePtr diffuse = texture(props, "diffuseReflectance", Rgb(0.5f));
+      TexturePtr specular = texture(props, "specularReflectance", Rgb(1.0f));
+      return make_rough_plastic(a, diffuse, specular, int_ior, ext_ior, nonlinear, dist);
     }
     doc_.warn(node, "unsupported BSDF type '" + type + "'; using a diffuse of reflectance 0.5");
-    for (const char* name : {"reflectance", "diffuseReflectance"})
-      if (props.has(name)) {
-        const Rgb reflectance = props.get_color(name, Rgb(0.5f));
-        props.ignore({"specularReflectance", "exponent", "alpha", "alphaU", "alphaV"});
-        return make_lambertian(reflectance);
-      }
     props.ignore({"specularReflectance", "exponent", "alpha", "alphaU", "alphaV"});
+    for (const char* name : {"reflectance", "diffuseReflectance"})
+      if (props.has(name)) return make_lambertian(texture(props, name, Rgb(0.5f)));
     return make_lambertian(Rgb(0.5f));
   }
 
   const Document& doc_;
-  std::map<std::string, BsdfPtr>& named_;
-  std::vector<std::string>& warnings_;
+  NamedObjects& named_;
+  int varying_textures_ = 0;
 };
 
 }  // namespace
 
-BsdfPtr read_bsdf(const Document& doc, pugi::xml_node node, std::map<std::string, BsdfPtr>& named,
-                  std::vector<std::string>& warnings) {
-  return BsdfReader(doc, named, warnings).read(node);
+MaterialDesc read_bsdf(const Document& doc, pugi::xml_node node, NamedObjects& named,
+                       std::vector<std::string>&) {
+  return BsdfReader(doc, named).read(node);
 }
 
 }  // namespace emlt::mitsuba

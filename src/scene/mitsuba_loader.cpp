@@ -28,14 +28,15 @@ class MitsubaSceneReader {
     const pugi::xml_node scene = doc_.scene();
     for (pugi::xml_node child : scene.children("default"))
       doc_.add_default(child.attribute("name").as_string(), child.attribute("value").as_string());
-    // BSDFs first so a <ref> may precede the declaration it names.
+    // Textures, then BSDFs, first so a <ref> may precede the declaration it names.
+    for (pugi::xml_node child : scene.children("texture")) mitsuba::read_texture(doc_, child, named_);
     for (pugi::xml_node child : scene.children("bsdf"))
-      mitsuba::read_bsdf(doc_, child, named_bsdfs_, desc_.warnings);
+      mitsuba::read_bsdf(doc_, child, named_, desc_.warnings);
     bool has_sensor = false;
     for (pugi::xml_node child : scene.children()) {
       if (child.type() != pugi::node_element) continue;
       const std::string kind = child.name();
-      if (kind == "default" || kind == "bsdf") continue;
+      if (kind == "default" || kind == "bsdf" || kind == "texture") continue;
       if (kind == "shape")
         read_shape(child);
       else if (kind == "emitter")
@@ -160,11 +161,12 @@ class MitsubaSceneReader {
   }
 
   int material_of(pugi::xml_node node) {
-    const BsdfPtr bsdf = mitsuba::read_bsdf(doc_, node, named_bsdfs_, desc_.warnings);
-    const std::string name = doc_.has_attribute(node, "id")
-                                 ? doc_.attribute(node, "id")
-                                 : "bsdf at line " + std::to_string(doc_.line(node));
-    return loader::material_index(desc_, bsdf, name);
+    MaterialDesc material = mitsuba::read_bsdf(doc_, node, named_, desc_.warnings);
+    if (material.name.empty())
+      material.name = doc_.has_attribute(node, "id")
+                          ? doc_.attribute(node, "id")
+                          : "bsdf at line " + std::to_string(doc_.line(node));
+    return loader::material_index(desc_, material);
   }
 
   void read_shape(pugi::xml_node node) {
@@ -180,6 +182,12 @@ class MitsubaSceneReader {
     const Mat4 to_world = props.get_transform("toWorld");
     int material = -1;
     Rgb emission(0.0f);
+    // <ref name="bsdf" id=...>: a named reference is a parameter, not an object.
+    for (const std::string& ref : props.names_of_kind("ref")) {
+      props.ignore({ref.c_str()});
+      for (pugi::xml_node child : node.children("ref"))
+        if (child.attribute("name").as_string() == ref) material = material_of(child);
+    }
     for (pugi::xml_node child : props.objects()) {
       const std::string kind = child.name();
       if (kind == "bsdf" || kind == "ref") {
@@ -216,8 +224,9 @@ class MitsubaSceneReader {
       const std::string file = loader::resolve_path(doc_.path(), props.get_string("filename", ""));
       // Mitsuba uses the file's normals (or computes smooth ones) unless faceNormals is set.
       const bool face_normals = props.get_boolean("faceNormals", false);
-      props.ignore({"flipTexCoords"});  // no textures, so uv orientation does not matter
-      mesh = load_obj_mesh(file, to_world, !face_normals, &desc_.warnings);
+      // Mitsuba flips OBJ texture coordinates by default (v = 0 at the image's top).
+      const bool flip_uv = props.get_boolean("flipTexCoords", true);
+      mesh = load_obj_mesh(file, to_world, !face_normals, &desc_.warnings, flip_uv);
     } else if (type == "rectangle") {
       mesh = make_rectangle_mesh(to_world);
     } else if (type == "cube") {
@@ -265,7 +274,7 @@ class MitsubaSceneReader {
 
   SceneDescription desc_;  // before doc_, which appends to its warnings
   Document doc_;
-  std::map<std::string, BsdfPtr> named_bsdfs_;
+  mitsuba::NamedObjects named_;
 };
 
 }  // namespace

@@ -130,7 +130,8 @@ Properties::Properties(const Document& doc, pugi::xml_node owner) : doc_(doc), o
   for (pugi::xml_node child : owner.children()) {
     if (child.type() != pugi::node_element) continue;
     const std::string kind = child.name();
-    if (kValueKinds.count(kind) && child.attribute("name")) {
+    // A <ref> with a name passes a declared object as a parameter (a texture, mostly).
+    if ((kValueKinds.count(kind) || kind == "ref") && child.attribute("name")) {
       const std::string name = child.attribute("name").as_string();
       if (values_.count(name))
         doc_.warn(child, "parameter '" + name + "' given twice; the last wins");
@@ -231,7 +232,7 @@ Rgb Properties::get_color(const std::string& name, const Rgb& fallback) {
   Rgb c;
   if (v.size() == 1)
     c = Rgb(v[0]);
-  else if (v.size() == 3 && kind != "spectrum" && kind != "float")
+  else if (v.size() == 3 && kind != "float")  // a 3-value <spectrum> is read as RGB
     c = Rgb(v[0], v[1], v[2]);
   else
     doc_.fail(node, "'" + text + "' is not a valid <" + kind + "> value");
@@ -312,6 +313,13 @@ Mat4 Properties::get_transform(const std::string& name) {
     m = step * m;
   }
   return m;
+}
+
+std::vector<std::string> Properties::names_of_kind(const std::string& kind) const {
+  std::vector<std::string> names;
+  for (const auto& [name, node] : values_)
+    if (kind == node.name()) names.push_back(name);
+  return names;
 }
 
 void Properties::ignore(std::initializer_list<const char*> names) {

@@ -10,6 +10,7 @@
 
 #include "emlt/scene/description.h"
 #include "emlt/scene/loader.h"
+#include "emlt/scene/texture.h"
 
 namespace emlt::mitsuba {
 
@@ -50,6 +51,12 @@ class Document {
   std::vector<std::string>& warnings_;
 };
 
+// Objects declared with an id, for <ref id=...>.
+struct NamedObjects {
+  std::map<std::string, MaterialDesc> bsdfs;
+  std::map<std::string, TexturePtr> textures;
+};
+
 // The named parameters of one element. Object children (bsdf, emitter, film, ref ...)
 // are listed separately. Every parameter a reader does not ask for is reported by
 // warn_unused(), so nothing in the file is dropped silently.
@@ -68,6 +75,11 @@ class Properties {
   bool get_boolean(const std::string& name, bool fallback);
   std::string get_string(const std::string& name, const std::string& fallback);
   Rgb get_color(const std::string& name, const Rgb& fallback);
+  // A colour or a texture (<texture>, or <ref name= id=> naming a declared one); plain
+  // colours become constant textures. Defined in mitsuba_texture.cpp.
+  TexturePtr get_texture(const std::string& name, const Rgb& fallback, NamedObjects& named);
+  // Names of the parameters given as the element `kind` ("ref", "texture" ...).
+  std::vector<std::string> names_of_kind(const std::string& kind) const;
   Vec3 get_point(const std::string& name, const Vec3& fallback);
   Mat4 get_transform(const std::string& name);  // identity when absent
   // Marks parameters that change nothing in this renderer (e.g. a film's pixel format).
@@ -86,8 +98,14 @@ class Properties {
   std::vector<pugi::xml_node> objects_;
 };
 
-// BSDF element (or <ref id=>) to a BSDF; `named` holds the ones declared with an id.
-BsdfPtr read_bsdf(const Document& doc, pugi::xml_node node, std::map<std::string, BsdfPtr>& named,
-                  std::vector<std::string>& warnings);
+// BSDF element (or <ref id=>) to a material: the BSDF, with `mask` and `bumpmap`
+// wrappers unwrapped into the material's opacity and bump textures. Declarations with an
+// id are added to `named`.
+MaterialDesc read_bsdf(const Document& doc, pugi::xml_node node, NamedObjects& named,
+                       std::vector<std::string>& warnings);
+
+// <texture> element (or <ref id=>) to a texture; declarations with an id are added to
+// `named`.
+TexturePtr read_texture(const Document& doc, pugi::xml_node node, NamedObjects& named);
 
 }  // namespace emlt::mitsuba

@@ -49,7 +49,7 @@ void compute_smooth_normals(MeshDesc& mesh) {
 }  // namespace
 
 MeshDesc load_obj_mesh(const std::string& path, const Mat4& to_world, bool smooth_normals,
-                       std::vector<std::string>* warnings) {
+                       std::vector<std::string>* warnings, bool flip_v) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw file_error(path, "OBJ file not found");
 
@@ -116,7 +116,7 @@ MeshDesc load_obj_mesh(const std::string& path, const Mat4& to_world, bool smoot
       }
       if (use_uvs) {
         const float* t = &attrib.texcoords[2 * size_t(index.texcoord_index)];
-        mesh.uvs.push_back(Vec2(t[0], t[1]));
+        mesh.uvs.push_back(Vec2(t[0], flip_v ? 1.0f - t[1] : t[1]));
       }
     }
     return it->second;

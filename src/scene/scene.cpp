@@ -1,12 +1,14 @@
 #include "emlt/scene/scene.h"
 
 #include <algorithm>
+#include <bit>
 #include <mutex>
 #include <string>
 
 #include "emlt/core/error.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/shape_builders.h"
+#include "emlt/scene/texture.h"
 
 namespace emlt {
 
@@ -14,6 +16,8 @@ struct Scene::Geometry {
   enum class Kind { Triangles, Sphere } kind = Kind::Triangles;
   std::string name;
   const Bsdf* bsdf = nullptr;
+  const Texture* opacity = nullptr;  // Mitsuba `mask`: alpha-tested in Embree's filter
+  const Texture* bump = nullptr;     // Mitsuba `bumpmap`: applied when a hit is filled
   // Triangles (degenerate ones already removed).
   std::vector<Vec3> positions, normals;
   std::vector<Vec2> uvs;
@@ -23,6 +27,21 @@ struct Scene::Geometry {
   Vec3 center{0.0f};
   float radius = 0.0f;
   bool flip_normals = false;
+
+  // Texture coordinates at a hit: interpolated from the vertices, per-triangle
+  // barycentrics when the mesh has none, or Mitsuba's sphere parametrisation
+  // (u = phi / 2pi, v = theta / pi).
+  Vec2 uv_at(uint32_t primitive, float b1, float b2, const Vec3& position) const {
+    if (kind == Kind::Sphere) {
+      const Vec3 d = glm::normalize(position - center);
+      float phi = std::atan2(d.y, d.x);
+      if (phi < 0.0f) phi += kTwoPi;
+      return {phi * kInvTwoPi, safe_acos(d.z) * kInvPi};
+    }
+    if (uvs.empty()) return {b1, b2};
+    const uint32_t* tri = &indices[3 * size_t(primitive)];
+    return (1.0f - b1 - b2) * uvs[tri[0]] + b1 * uvs[tri[1]] + b2 * uvs[tri[2]];
+  }
 };
 
 Rgb SurfaceHit::emitted(const Vec3& w) const {
@@ -30,6 +49,89 @@ Rgb SurfaceHit::emitted(const Vec3& w) const {
 }
 
 namespace {
+
+uint64_t mix_bits(uint64_t h, uint64_t value) {
+  // splitmix64's finaliser over the running state: every input bit affects every output bit.
+  h ^= value + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+  h ^= h >> 30;
+  h *= 0xbf58476d1ce4e5b9ull;
+  h ^= h >> 27;
+  h *= 0x94d049bb133111ebull;
+  h ^= h >> 31;
+  return h;
+}
+
+// The "random" number an alpha test compares the opacity against: a hash of the ray and
+// the primitive it hit. Stochastic transparency (Mitsuba's mask) without a sampler
+// dimension, and identical however the image is split across threads.
+float alpha_test_threshold(const Vec3& origin, const Vec3& direction, uint32_t geometry,
+                           uint32_t primitive) {
+  uint64_t h = 0x5eedf00dull;
+  for (int i = 0; i < 3; ++i) {
+    h = mix_bits(h, std::bit_cast<uint32_t>(origin[i]));
+    h = mix_bits(h, std::bit_cast<uint32_t>(direction[i]));
+  }
+  h = mix_bits(h, (uint64_t(geometry) << 32) | primitive);
+  return float(h >> 40) * 0x1p-24f;
+}
+
+// Local uv derivatives of a triangle (pbrt's construction); a tangent pair of the plane
+// when its uvs are degenerate.
+void triangle_uv_derivatives(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec2& t0,
+                             const Vec2& t1, const Vec2& t2, const Vec3& normal, Vec3* dpdu,
+                             Vec3* dpdv) {
+  const Vec2 duv02 = t0 - t2, duv12 = t1 - t2;
+  const Vec3 dp02 = p0 - p2, dp12 = p1 - p2;
+  const float det = duv02.x * duv12.y - duv02.y * duv12.x;
+  if (std::abs(det) > 1e-12f) {
+    const float inv = 1.0f / det;
+    *dpdu = (duv12.y * dp02 - duv02.y * dp12) * inv;
+    *dpdv = (duv02.x * dp12 - duv12.x * dp02) * inv;
+    if (is_finite(*dpdu) && is_finite(*dpdv) && glm::length(glm::cross(*dpdu, *dpdv)) > 0.0f)
+      return;
+  }
+  const Frame frame(normal);
+  *dpdu = frame.s;
+  *dpdv = frame.t;
+}
+
+// Tilts the shading normal as if the surface were displaced along it by the texture's
+// height (Blinn 1978, in Mitsuba 0.6's form: the tangents lose their normal component
+// and gain the height gradient instead). Central differences over about one texel.
+void apply_bump(const Texture& height, SurfaceHit& hit) {
+  const Vec2 step = height.gradient_step();
+  const Vec2 du(step.x, 0.0f), dv(0.0f, step.y);
+  const float d_du =
+      (height.eval_luminance(hit.uv + du) - height.eval_luminance(hit.uv - du)) / (2.0f * step.x);
+  const float d_dv =
+      (height.eval_luminance(hit.uv + dv) - height.eval_luminance(hit.uv - dv)) / (2.0f * step.y);
+  const Vec3 n = hit.shading_normal;
+  const Vec3 dpdu = hit.dpdu + n * (d_du - glm::dot(n, hit.dpdu));
+  const Vec3 dpdv = hit.dpdv + n * (d_dv - glm::dot(n, hit.dpdv));
+  Vec3 bumped = glm::cross(dpdu, dpdv);
+  const float length = glm::length(bumped);
+  if (!(length > 0.0f) || !std::isfinite(length)) return;
+  bumped /= length;
+  if (glm::dot(bumped, n) < 0.0f) bumped = -bumped;
+  hit.shading_normal = bumped;
+}
+
+// uv for a mesh that has none but needs some: the positions projected onto the plane of
+// the bounding box's two longest sides, scaled to [0, 1].
+std::vector<Vec2> planar_uvs(const std::vector<Vec3>& positions) {
+  Vec3 lower(kInfinity), upper(-kInfinity);
+  for (const Vec3& p : positions) lower = glm::min(lower, p), upper = glm::max(upper, p);
+  const Vec3 extent = glm::max(upper - lower, Vec3(1e-20f));
+  int a = 0, b = 1, c = 2;  // sorted by extent, longest first
+  if (extent[b] > extent[a]) std::swap(a, b);
+  if (extent[c] > extent[b]) std::swap(b, c);
+  if (extent[b] > extent[a]) std::swap(a, b);
+  std::vector<Vec2> uvs;
+  uvs.reserve(positions.size());
+  for (const Vec3& p : positions)
+    uvs.emplace_back((p[a] - lower[a]) / extent[a], (p[b] - lower[b]) / extent[b]);
+  return uvs;
+}
 
 constexpr int kMaxResolution = 16384;
 constexpr int64_t kMaxPixels = int64_t(1) << 28;
@@ -97,18 +199,27 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
 
   // Shapes without a material get Mitsuba's default BSDF (diffuse, reflectance 0.5).
   int default_material = -1;
-  auto material_for = [&](int index, const std::string& shape) -> const Bsdf* {
+  auto material_for = [&](int index, const std::string& shape) -> const MaterialDesc* {
     if (index >= int(d.materials.size()) || (index >= 0 && !d.materials[size_t(index)].bsdf))
       throw file_error(d.source, "shape '" + shape + "' refers to a missing material");
-    if (index >= 0) return d.materials[size_t(index)].bsdf.get();
+    if (index >= 0) return &d.materials[size_t(index)];
     if (default_material < 0) {
       default_material = int(d.materials.size());
       d.materials.push_back({"default diffuse", make_two_sided(make_lambertian(Rgb(0.5f)))});
     }
     d.warnings.push_back(d.source + ": shape '" + shape +
                          "' has no material; using a two-sided diffuse of reflectance 0.5");
-    return d.materials[size_t(default_material)].bsdf.get();
+    return &d.materials[size_t(default_material)];
   };
+  auto assign_material = [&](Geometry& g, int index, const std::string& shape) {
+    const MaterialDesc* material = material_for(index, shape);
+    g.bsdf = material->bsdf.get();
+    g.opacity = material->opacity.get();
+    g.bump = material->bump.get();
+  };
+  // The default material may be appended while shapes are read; reserving keeps the
+  // MaterialDesc pointers above valid.
+  d.materials.reserve(d.materials.size() + 1);
 
   Vec3 lower(kInfinity), upper(-kInfinity);
   std::vector<LightPtr> lights;
@@ -127,10 +238,16 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
     Geometry g;
     g.kind = Geometry::Kind::Triangles;
     g.name = mesh.name;
-    g.bsdf = material_for(mesh.material, mesh.name);
+    assign_material(g, mesh.material, mesh.name);
     g.positions = mesh.positions;
     g.normals = mesh.normals;
     g.uvs = mesh.uvs;
+    if (g.uvs.empty() && mesh.material >= 0 && d.materials[size_t(mesh.material)].textured) {
+      g.uvs = planar_uvs(mesh.positions);
+      d.warnings.push_back(d.source + ": mesh '" + mesh.name +
+                           "' has no texture coordinates but a textured material; using a "
+                           "planar projection onto its bounding box's two longest sides");
+    }
     const bool emissive = !is_black(mesh.emission);
     for (size_t i = 0; i < mesh.indices.size(); i += 3) {
       const uint32_t a = mesh.indices[i], b = mesh.indices[i + 1], c = mesh.indices[i + 2];
@@ -167,7 +284,7 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
     Geometry g;
     g.kind = Geometry::Kind::Sphere;
     g.name = sphere.name;
-    g.bsdf = material_for(sphere.material, sphere.name);
+    assign_material(g, sphere.material, sphere.name);
     g.center = sphere.center;
     g.radius = sphere.radius;
     g.flip_normals = sphere.flip_normals;
@@ -248,6 +365,36 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
       if (!sphere) throw file_error(d.source, "out of memory building the BVH");
       sphere[0] = g.center.x, sphere[1] = g.center.y, sphere[2] = g.center.z, sphere[3] = g.radius;
     }
+    if (g.opacity) {
+      // Alpha test: Embree calls this for every candidate hit, before accepting it, in
+      // both closest-hit and occlusion queries. A lambda in a member function may name
+      // the private Geometry type.
+      rtcSetGeometryUserData(geometry, const_cast<Geometry*>(&g));
+      const RTCFilterFunctionN alpha_test = [](const RTCFilterFunctionNArguments* args) {
+        const auto* surface = static_cast<const Geometry*>(args->geometryUserPtr);
+        for (unsigned i = 0; i < args->N; ++i) {
+          if (args->valid[i] != -1) continue;
+          const Vec3 origin(RTCRayN_org_x(args->ray, args->N, i),
+                            RTCRayN_org_y(args->ray, args->N, i),
+                            RTCRayN_org_z(args->ray, args->N, i));
+          const Vec3 direction(RTCRayN_dir_x(args->ray, args->N, i),
+                               RTCRayN_dir_y(args->ray, args->N, i),
+                               RTCRayN_dir_z(args->ray, args->N, i));
+          const uint32_t primitive = RTCHitN_primID(args->hit, args->N, i);
+          const Vec3 position = origin + RTCRayN_tfar(args->ray, args->N, i) * direction;
+          const Vec2 uv = surface->uv_at(primitive, RTCHitN_u(args->hit, args->N, i),
+                                         RTCHitN_v(args->hit, args->N, i), position);
+          const float opacity = surface->opacity->eval_luminance(uv);
+          if (opacity >= 1.0f) continue;
+          if (!(opacity > 0.0f) ||
+              alpha_test_threshold(origin, direction, RTCHitN_geomID(args->hit, args->N, i),
+                                   primitive) >= opacity)
+            args->valid[i] = 0;  // passes through: Embree looks for the next hit
+        }
+      };
+      rtcSetGeometryIntersectFilterFunction(geometry, alpha_test);
+      rtcSetGeometryOccludedFilterFunction(geometry, alpha_test);
+    }
     rtcCommitGeometry(geometry);
     rtcAttachGeometryByID(s.rtc_scene_, geometry, unsigned(id));
     rtcReleaseGeometry(geometry);
@@ -292,7 +439,18 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
     // correct side of the surface.
     Vec3 n = glm::normalize(ray.origin + hit.t * ray.direction - g.center);
     hit.position = g.center + g.radius * n;
-    hit.uv = Vec2(std::atan2(n.y, n.x) * kInvTwoPi + 0.5f, safe_acos(n.z) * kInvPi);
+    hit.uv = g.uv_at(0, 0.0f, 0.0f, hit.position);
+    // d/du and d/dv of center + r (sin v' cos u', sin v' sin u', cos v'), u' = 2 pi u,
+    // v' = pi v; at the poles the tangent pair of the normal's frame.
+    const float sin_theta = std::sqrt(n.x * n.x + n.y * n.y);
+    if (sin_theta > 1e-6f) {
+      const float cos_phi = n.x / sin_theta, sin_phi = n.y / sin_theta;
+      hit.dpdu = kTwoPi * g.radius * Vec3(-n.y, n.x, 0.0f);
+      hit.dpdv = kPi * g.radius * Vec3(n.z * cos_phi, n.z * sin_phi, -sin_theta);
+    } else {
+      const Frame frame(n);
+      hit.dpdu = frame.s, hit.dpdv = frame.t;
+    }
     if (g.flip_normals) n = -n;
     hit.geometric_normal = hit.shading_normal = n;
   } else {
@@ -314,9 +472,15 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
       }
     }
     hit.shading_normal = ns;
-    hit.uv = g.uvs.empty() ? Vec2(u, v) : w * g.uvs[tri[0]] + u * g.uvs[tri[1]] + v * g.uvs[tri[2]];
+    hit.uv = g.uv_at(hit.primitive_id, u, v, hit.position);
+    if (g.uvs.empty())
+      hit.dpdu = p1 - p0, hit.dpdv = p2 - p0;  // uv are the barycentrics themselves
+    else
+      triangle_uv_derivatives(p0, p1, p2, g.uvs[tri[0]], g.uvs[tri[1]], g.uvs[tri[2]], ng,
+                              &hit.dpdu, &hit.dpdv);
     if (!g.lights.empty()) hit.light = g.lights[hit.primitive_id];
   }
+  if (g.bump) apply_bump(*g.bump, hit);
   hit.shading = Frame(hit.shading_normal);
   return true;
 }

@@ -4,12 +4,14 @@
 // same description, which keeps format-specific code out of the renderer.
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "emlt/core/math.h"
 #include "emlt/render/image.h"
 #include "emlt/render/settings.h"
 #include "emlt/scene/bsdf.h"
+#include "emlt/scene/texture.h"
 
 namespace emlt {
 
@@ -32,9 +34,28 @@ struct SphereDesc {
   bool flip_normals = false;
 };
 
+// A surface's appearance: the BSDF plus what changes the surface itself rather than how
+// it scatters (Mitsuba's `mask` and `bumpmap` wrappers, which the loaders unwrap here).
 struct MaterialDesc {
+  MaterialDesc() = default;
+  // Not an aggregate, so that the common {name, bsdf} form stays free of
+  // missing-initialiser warnings.
+  MaterialDesc(std::string name_, BsdfPtr bsdf_, TexturePtr opacity_ = nullptr,
+               TexturePtr bump_ = nullptr, bool textured_ = false)
+      : name(std::move(name_)), bsdf(std::move(bsdf_)), opacity(std::move(opacity_)),
+        bump(std::move(bump_)), textured(textured_) {}
+
   std::string name;
   BsdfPtr bsdf;
+  // Opacity in [0, 1] (texture luminance): a hit is kept with this probability, decided
+  // by a hash of the ray so renders stay deterministic; null = opaque.
+  TexturePtr opacity;
+  // Bump height (texture luminance, in world units per unit of uv); perturbs the
+  // shading normal at hit time. Null = none.
+  TexturePtr bump;
+  // Some parameter varies over uv: a mesh without texture coordinates then gets a
+  // planar projection (with a warning) instead of per-triangle barycentrics.
+  bool textured = false;
 };
 
 struct EnvironmentDesc {

@@ -1,24 +1,58 @@
 #pragma once
 // Factories for the built-in BSDFs. Parameters follow Mitsuba 0.6 naming where one exists.
+// Every colour or roughness that Mitsuba lets a texture drive has an overload taking a
+// TexturePtr; the Rgb/float forms wrap their value in a constant texture.
 #include "emlt/scene/bsdf.h"
+#include "emlt/scene/texture.h"
 
 namespace emlt {
+
+// Microfacet normal distributions (Mitsuba's `distribution`: "ggx", "beckmann").
+enum class MicrofacetType { Ggx, Beckmann };
 
 // One-sided BSDFs are black when wo or wi is below the surface; two_sided() mirrors the
 // frame so the back behaves like the front (Mitsuba's `twosided`).
 BsdfPtr make_lambertian(const Rgb& reflectance);
+BsdfPtr make_lambertian(TexturePtr reflectance);
 BsdfPtr make_mirror(const Rgb& reflectance = Rgb(1.0f));  // ideal specular reflection
 // Smooth dielectric interface; int_ior inside (against the normal), ext_ior outside.
 BsdfPtr make_dielectric(float int_ior = 1.5046f, float ext_ior = 1.000277f,
                         const Rgb& specular_reflectance = Rgb(1.0f),
                         const Rgb& specular_transmittance = Rgb(1.0f));
-// GGX microfacet conductor with visible-normal sampling; eta/k are per-channel complex IOR.
+// Rough dielectric interface (Walter et al. 2007): microfacet reflection and refraction,
+// both sides, both transport modes. GGX samples visible normals, Beckmann the full
+// distribution.
+BsdfPtr make_rough_dielectric(TexturePtr alpha, float int_ior = 1.5046f,
+                              float ext_ior = 1.000277f,
+                              MicrofacetType distribution = MicrofacetType::Ggx,
+                              const Rgb& specular_reflectance = Rgb(1.0f),
+                              const Rgb& specular_transmittance = Rgb(1.0f));
+// Thin dielectric slab (window pane): delta reflection with the slab's multiple-bounce
+// reflectance R' = R + T^2 R / (1 - R^2), and transmission straight through.
+BsdfPtr make_thin_dielectric(float int_ior = 1.5046f, float ext_ior = 1.000277f,
+                             const Rgb& specular_reflectance = Rgb(1.0f),
+                             const Rgb& specular_transmittance = Rgb(1.0f));
+// Smooth conductor: delta reflection weighted by the exact conductor Fresnel term of the
+// incident angle. One-sided.
+BsdfPtr make_conductor(const Rgb& eta, const Rgb& k, const Rgb& specular_reflectance = Rgb(1.0f));
+BsdfPtr make_conductor(const Rgb& eta, const Rgb& k, TexturePtr specular_reflectance);
+// Microfacet conductor (GGX by default, with visible-normal sampling); eta/k are the
+// per-channel complex IOR.
 BsdfPtr make_rough_conductor(float alpha, const Rgb& eta, const Rgb& k,
                              const Rgb& specular_reflectance = Rgb(1.0f));
-// Diffuse base under a GGX dielectric coating (alpha == 0: smooth, delta coating lobe).
+BsdfPtr make_rough_conductor(TexturePtr alpha, const Rgb& eta, const Rgb& k,
+                             TexturePtr specular_reflectance,
+                             MicrofacetType distribution = MicrofacetType::Ggx);
+// Diffuse base under a dielectric coating (alpha == 0: smooth, delta coating lobe).
+// `nonlinear` is Mitsuba's: the base's internal reflections darken and saturate its
+// colour (Kd / (1 - Kd Fdr) instead of Kd / (1 - Fdr)).
 BsdfPtr make_rough_plastic(float alpha, const Rgb& diffuse_reflectance,
                            const Rgb& specular_reflectance = Rgb(1.0f), float int_ior = 1.49f,
                            float ext_ior = 1.000277f);
+BsdfPtr make_rough_plastic(TexturePtr alpha, TexturePtr diffuse_reflectance,
+                           TexturePtr specular_reflectance, float int_ior = 1.49f,
+                           float ext_ior = 1.000277f, bool nonlinear = false,
+                           MicrofacetType distribution = MicrofacetType::Ggx);
 BsdfPtr make_two_sided(BsdfPtr inner);
 
 }  // namespace emlt

@@ -12,8 +12,10 @@ namespace emlt {
 // normals are used only when `smooth_normals` is set (area-weighted vertex normals are
 // computed when the file has none); otherwise the mesh is flat shaded. Throws emlt::Error
 // "<path>: <problem>" for a missing or unparsable file, out-of-range indices or no faces.
-// Parser warnings are appended to `warnings` when given.
+// Parser warnings are appended to `warnings` when given. Texture coordinates (`vt`) are
+// kept when every corner has one; `flip_v` stores them as (u, 1 - v), the orientation
+// the textures use (Mitsuba's flipTexCoords, on by default).
 MeshDesc load_obj_mesh(const std::string& path, const Mat4& to_world, bool smooth_normals,
-                       std::vector<std::string>* warnings = nullptr);
+                       std::vector<std::string>* warnings = nullptr, bool flip_v = true);
 
 }  // namespace emlt

@@ -19,6 +19,9 @@ struct SurfaceHit {
   Vec3 shading_normal{0.0f};    // unit; interpolated normal, same side as geometric
   Frame shading;                // z = shading_normal
   Vec2 uv{0.0f};
+  // Surface derivatives with respect to uv (not normalised; an arbitrary tangent pair
+  // when the uv mapping is degenerate). Bump mapping tilts the shading frame with them.
+  Vec3 dpdu{0.0f}, dpdv{0.0f};
   float t = kInfinity;
   const Bsdf* bsdf = nullptr;   // never null for a valid hit
   const Light* light = nullptr; // the area light this point lies on, if emissive

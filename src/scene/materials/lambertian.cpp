@@ -1,17 +1,20 @@
-// Ideal diffuse reflector, one-sided.
+// Ideal diffuse reflector, one-sided; the reflectance may be a texture.
+#include <utility>
+
 #include "emlt/core/warp.h"
 #include "emlt/scene/materials.h"
+#include "src/scene/materials/texture_param.h"
 
 namespace emlt {
 namespace {
 
 class Lambertian final : public Bsdf {
  public:
-  explicit Lambertian(const Rgb& reflectance) : reflectance_(reflectance) {}
+  explicit Lambertian(TexturePtr reflectance) : reflectance_(std::move(reflectance)) {}
 
-  Rgb eval(const BsdfContext&, const Vec3& wo, const Vec3& wi) const override {
+  Rgb eval(const BsdfContext& ctx, const Vec3& wo, const Vec3& wi) const override {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return Rgb(0.0f);
-    return reflectance_ * kInvPi;
+    return reflectance_.at(ctx.uv) * kInvPi;
   }
 
   float pdf(const BsdfContext&, const Vec3& wo, const Vec3& wi) const override {
@@ -19,15 +22,16 @@ class Lambertian final : public Bsdf {
     return cosine_hemisphere_pdf(wi);
   }
 
-  std::optional<BsdfSample> sample(const BsdfContext&, const Vec3& wo, float,
+  std::optional<BsdfSample> sample(const BsdfContext& ctx, const Vec3& wo, float,
                                    const Vec2& u) const override {
     if (wo.z <= 0.0f) return std::nullopt;
     BsdfSample s;
     s.wi = square_to_cosine_hemisphere(u);
     s.pdf = cosine_hemisphere_pdf(s.wi);
     if (s.pdf <= 0.0f) return std::nullopt;
-    s.value = reflectance_ * kInvPi;
-    s.weight = reflectance_;  // (R / pi) * cos / (cos / pi)
+    const Rgb reflectance = reflectance_.at(ctx.uv);
+    s.value = reflectance * kInvPi;
+    s.weight = reflectance;  // (R / pi) * cos / (cos / pi)
     s.pdf_reverse = cosine_hemisphere_pdf(wo);
     s.lobe = kLobeDiffuse | kLobeReflection;
     return s;
@@ -37,13 +41,17 @@ class Lambertian final : public Bsdf {
   std::string name() const override { return "lambertian"; }
 
  private:
-  Rgb reflectance_;
+  TextureParam reflectance_;
 };
 
 }  // namespace
 
 BsdfPtr make_lambertian(const Rgb& reflectance) {
-  return std::make_shared<Lambertian>(glm::max(reflectance, Rgb(0.0f)));
+  return make_lambertian(make_constant_texture(glm::max(reflectance, Rgb(0.0f))));
+}
+
+BsdfPtr make_lambertian(TexturePtr reflectance) {
+  return std::make_shared<Lambertian>(std::move(reflectance));
 }
 
 }  // namespace emlt

@@ -50,4 +50,53 @@ float GgxDistribution::reflection_pdf(const Vec3& wo, const Vec3& wi) const {
   return G1(wo) * D(h) / (4.0f * wo.z);
 }
 
+float BeckmannDistribution::D(const Vec3& m) const {
+  if (m.z <= 0.0f) return 0.0f;
+  const float cos2 = m.z * m.z;
+  const float tan2 = (m.x * m.x + m.y * m.y) / cos2;
+  const float a2 = alpha_ * alpha_;
+  // exp(-x) / cos^4 is zero well before either part underflows (which would give 0 / 0).
+  if (!(tan2 / a2 < 80.0f)) return 0.0f;
+  return std::exp(-tan2 / a2) / (kPi * a2 * cos2 * cos2);
+}
+
+float BeckmannDistribution::lambda(const Vec3& w) const {
+  const float sin = std::sqrt(w.x * w.x + w.y * w.y);
+  if (sin == 0.0f) return 0.0f;
+  if (w.z == 0.0f) return kInfinity;
+  const float a = std::abs(w.z) / (alpha_ * sin);  // 1 / (alpha tan theta)
+  return 0.5f * (std::erf(a) - 1.0f) + std::exp(-a * a) / (2.0f * a * std::sqrt(kPi));
+}
+
+Vec3 BeckmannDistribution::sample_normal(const Vec2& u) const {
+  // Inverting the cdf of tan^2 theta, which is exponential with mean alpha^2.
+  const float tan2 = -alpha_ * alpha_ * std::log1p(-glm::min(u.x, kOneMinusEpsilon));
+  const float cos_theta = 1.0f / std::sqrt(1.0f + tan2);
+  const float sin_theta = safe_sqrt(1.0f - cos_theta * cos_theta);
+  const float phi = kTwoPi * u.y;
+  return {sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta};
+}
+
+namespace {
+Vec3 upper(const Vec3& w) { return w.z < 0.0f ? -w : w; }
+}  // namespace
+
+Vec3 MicrofacetDistribution::sample_normal(const Vec3& wo, const Vec2& u) const {
+  return type_ == MicrofacetType::Ggx ? ggx_.sample_visible_normal(upper(wo), u)
+                                      : beckmann_.sample_normal(u);
+}
+
+float MicrofacetDistribution::normal_pdf(const Vec3& wo, const Vec3& m) const {
+  if (type_ == MicrofacetType::Beckmann) return beckmann_.D(m) * glm::max(m.z, 0.0f);
+  return ggx_.visible_normal_pdf(upper(wo), m);
+}
+
+float MicrofacetDistribution::reflection_pdf(const Vec3& wo, const Vec3& wi) const {
+  if (wo.z * wi.z <= 0.0f) return 0.0f;
+  const Vec3 h = reflection_half_vector(upper(wo), upper(wi));
+  const float wo_dot_h = glm::dot(upper(wo), h);
+  if (wo_dot_h <= 0.0f) return 0.0f;
+  return normal_pdf(wo, h) / (4.0f * wo_dot_h);
+}
+
 }  // namespace emlt

@@ -2,6 +2,7 @@
 // Isotropic GGX (Trowbridge-Reitz) microfacet distribution in the local shading frame
 // (internal to the engine). Masking-shadowing is Smith's height-correlated form.
 #include "emlt/core/math.h"
+#include "emlt/scene/materials.h"
 
 namespace emlt {
 
@@ -35,6 +36,55 @@ class GgxDistribution {
 
  private:
   float alpha_;
+};
+
+// Beckmann (Gaussian slope) distribution, Mitsuba's default for rough materials. Smith's
+// Lambda in its exact erf form; sampling draws from the full distribution D(m) m.z (not
+// the visible normals), which is simple and exact.
+class BeckmannDistribution {
+ public:
+  static constexpr float kMinAlpha = 1e-4f;
+  explicit BeckmannDistribution(float alpha) : alpha_(glm::max(alpha, kMinAlpha)) {}
+  float alpha() const { return alpha_; }
+  float D(const Vec3& m) const;
+  float lambda(const Vec3& w) const;
+  // A normal with density D(m) m.z (solid angle of m), always above the macro surface.
+  Vec3 sample_normal(const Vec2& u) const;
+
+ private:
+  float alpha_;
+};
+
+// One of the two distributions, chosen at run time, with the sampling each does best:
+// GGX samples the normals visible from wo, Beckmann the full distribution. Directions may
+// lie on either side; the distribution is symmetric under z -> -z, so queries for a wo
+// below the surface use its mirror image above.
+class MicrofacetDistribution {
+ public:
+  MicrofacetDistribution(MicrofacetType type, float alpha)
+      : type_(type), ggx_(alpha), beckmann_(alpha) {}
+  MicrofacetType type() const { return type_; }
+
+  float D(const Vec3& m) const { return type_ == MicrofacetType::Ggx ? ggx_.D(m) : beckmann_.D(m); }
+  float lambda(const Vec3& w) const {
+    return type_ == MicrofacetType::Ggx ? ggx_.lambda(w) : beckmann_.lambda(w);
+  }
+  float G1(const Vec3& w) const { return 1.0f / (1.0f + lambda(w)); }
+  float G2(const Vec3& wo, const Vec3& wi) const {
+    return 1.0f / (1.0f + lambda(wo) + lambda(wi));
+  }
+
+  // A microfacet normal (m.z > 0) for the direction wo, and its density.
+  Vec3 sample_normal(const Vec3& wo, const Vec2& u) const;
+  float normal_pdf(const Vec3& wo, const Vec3& m) const;
+  // Density of wi = reflect(wo, m), m ~ sample_normal; zero unless wo, wi are on the
+  // same side.
+  float reflection_pdf(const Vec3& wo, const Vec3& wi) const;
+
+ private:
+  MicrofacetType type_;
+  GgxDistribution ggx_;
+  BeckmannDistribution beckmann_;
 };
 
 // Half vector of a reflection pair; (0,0,1) for the degenerate wo == -wi.

@@ -1,0 +1,71 @@
+#pragma once
+// Textures: colours (or scalars) that vary over a surface's (u, v) parametrisation. Every
+// material parameter that Mitsuba lets a texture drive (diffuse and specular reflectance,
+// roughness, bump height, mask opacity) takes a TexturePtr; a plain colour is a constant
+// texture, which the materials recognise and read without a virtual call.
+//
+// (u, v) convention (Mitsuba 0.6's): v = 0 is the image's top row, u grows to the right,
+// and the pattern repeats with period 1. OBJ files are the other way up in v, so the
+// loaders flip their `vt` (Mitsuba's default `flipTexCoords`).
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "emlt/core/math.h"
+#include "emlt/render/image.h"
+
+namespace emlt {
+
+// Mitsuba's uoffset/voffset/uscale/vscale (uvscale sets both scales): uv' = uv * scale +
+// offset, applied before the lookup.
+struct UvTransform {
+  Vec2 scale{1.0f};
+  Vec2 offset{0.0f};
+  Vec2 apply(const Vec2& uv) const { return uv * scale + offset; }
+};
+
+class Texture {
+ public:
+  virtual ~Texture() = default;
+  virtual Rgb eval(const Vec2& uv) const = 0;
+  // Scalar readings of the colour, as Mitsuba takes them: the channel mean for
+  // roughness, the luminance for bump heights and mask opacity.
+  float eval_average(const Vec2& uv) const {
+    const Rgb c = eval(uv);
+    return (c.x + c.y + c.z) / 3.0f;
+  }
+  float eval_luminance(const Vec2& uv) const { return luminance(eval(uv)); }
+  // The value when the texture does not vary over the surface; nullopt otherwise.
+  virtual std::optional<Rgb> constant() const { return std::nullopt; }
+  // A uv step small enough to resolve the texture's detail (about one texel), used for
+  // finite-difference gradients in bump mapping.
+  virtual Vec2 gradient_step() const { return Vec2(1e-3f); }
+  virtual std::string name() const = 0;
+};
+
+using TexturePtr = std::shared_ptr<const Texture>;
+
+TexturePtr make_constant_texture(const Rgb& value);
+
+enum class WrapMode { Repeat, Mirror, Clamp };
+
+// Bilinear lookup with texel centres at ((i + 0.5) / width, (j + 0.5) / height). The
+// image holds linear values.
+TexturePtr make_bitmap_texture(Image image, const UvTransform& transform = {},
+                               WrapMode wrap = WrapMode::Repeat, std::string name = "bitmap");
+// Reads the file with read_image (PNG/JPG are decoded from sRGB to linear). With `raw`
+// the 8-bit values of a PNG/JPG are used as they are (value / 255, Mitsuba's gamma = 1);
+// float formats (EXR, HDR, PFM) are always linear. Throws emlt::Error naming the file.
+TexturePtr load_bitmap_texture(const std::string& path, bool raw = false,
+                               const UvTransform& transform = {},
+                               WrapMode wrap = WrapMode::Repeat);
+
+// Mitsuba's `scale`: the nested texture times a factor.
+TexturePtr make_scale_texture(TexturePtr inner, const Rgb& factor);
+
+// Mitsuba's `checkerboard`: color0 on cells where floor(2u) and floor(2v) have the same
+// parity, color1 elsewhere (2 x 2 cells per unit square before the uv transform).
+TexturePtr make_checkerboard_texture(const Rgb& color0, const Rgb& color1,
+                                     const UvTransform& transform = {});
+
+}  // namespace emlt

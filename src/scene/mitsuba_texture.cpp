@@ -1,0 +1,114 @@
+// Mitsuba 0.6 <texture> elements: bitmap, checkerboard, scale, and references to
+// textures declared with an id.
+#include <filesystem>
+
+#include "emlt/core/error.h"
+#include "src/scene/loader_common.h"
+#include "src/scene/mitsuba_parser.h"
+
+namespace emlt::mitsuba {
+
+namespace {
+
+UvTransform uv_transform(Properties& props) {
+  const float uniform = props.get_float("uvscale", 1.0f);
+  UvTransform t;
+  t.scale = Vec2(props.get_float("uscale", uniform), props.get_float("vscale", uniform));
+  t.offset = Vec2(props.get_float("uoffset", 0.0f), props.get_float("voffset", 0.0f));
+  return t;
+}
+
+WrapMode wrap_mode(const Document& doc, pugi::xml_node node, Properties& props) {
+  const std::string both = props.get_string("wrapMode", "repeat");
+  const std::string u = props.get_string("wrapModeU", both), v = props.get_string("wrapModeV", both);
+  if (u != v) doc.warn(node, "different wrap modes in u and v; using '" + u + "' for both");
+  if (u == "repeat") return WrapMode::Repeat;
+  if (u == "mirror") return WrapMode::Mirror;
+  if (u == "clamp") return WrapMode::Clamp;
+  doc.warn(node, "wrap mode '" + u + "' is not supported; using 'clamp'");
+  return WrapMode::Clamp;
+}
+
+TexturePtr read_bitmap(const Document& doc, pugi::xml_node node, Properties& props) {
+  if (!props.has("filename")) doc.fail(node, "<texture type=\"bitmap\"> needs a 'filename'");
+  const std::string file = loader::resolve_path(doc.path(), props.get_string("filename", ""));
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec))
+    doc.fail(node, "texture image '" + file + "' not found");
+  // gamma -1 (Mitsuba's default) means "as the format says": sRGB for 8-bit images,
+  // linear for float ones; gamma 1 reads 8-bit values linearly.
+  const float gamma = props.get_float("gamma", -1.0f);
+  const bool raw = gamma > 0.0f;
+  if (raw && gamma != 1.0f)
+    doc.warn(node, "bitmap gamma " + std::to_string(gamma) + " is not supported; read as linear");
+  // Filtering quality only: bilinear lookups averaged over many samples per pixel.
+  props.ignore({"filterType", "maxAnisotropy", "cache"});
+  const WrapMode wrap = wrap_mode(doc, node, props);
+  const UvTransform transform = uv_transform(props);
+  if (props.has("channel")) {
+    doc.warn(node, "bitmap 'channel' is not supported; using the RGB channels");
+    props.ignore({"channel"});
+  }
+  try {
+    return load_bitmap_texture(file, raw, transform, wrap);
+  } catch (const Error& e) {
+    doc.fail(node, e.what());
+  }
+}
+
+TexturePtr nested_texture(const Document& doc, pugi::xml_node node, Properties& props,
+                          NamedObjects& named) {
+  TexturePtr inner;
+  for (const std::string& name : props.names_of_kind("texture"))
+    if (!inner) inner = props.get_texture(name, Rgb(0.0f), named);
+  for (pugi::xml_node child : props.objects()) {
+    const std::string kind = child.name();
+    if ((kind == "texture" || kind == "ref") && !inner)
+      inner = read_texture(doc, child, named);
+    else
+      doc.warn(child, "unsupported element <" + kind + "> inside " + doc.describe(node) + " ignored");
+  }
+  if (!inner) doc.fail(node, doc.describe(node) + " needs a nested <texture>");
+  return inner;
+}
+
+}  // namespace
+
+TexturePtr read_texture(const Document& doc, pugi::xml_node node, NamedObjects& named) {
+  if (std::string(node.name()) == "ref") {
+    const std::string id = doc.attribute(node, "id");
+    auto it = named.textures.find(id);
+    if (it == named.textures.end()) doc.fail(node, "unknown texture id '" + id + "'");
+    return it->second;
+  }
+  const std::string type = doc.attribute(node, "type");
+  Properties props(doc, node);
+  TexturePtr texture;
+  if (type == "bitmap") {
+    texture = read_bitmap(doc, node, props);
+  } else if (type == "checkerboard") {
+    const Rgb color0 = props.get_color("color0", Rgb(0.4f));
+    const Rgb color1 = props.get_color("color1", Rgb(0.2f));
+    texture = make_checkerboard_texture(color0, color1, uv_transform(props));
+  } else if (type == "scale") {
+    const Rgb factor = props.get_color("scale", Rgb(1.0f));
+    texture = make_scale_texture(nested_texture(doc, node, props, named), factor);
+  } else {
+    doc.warn(node, "unsupported texture type '" + type + "'; using a constant 0.5");
+    texture = make_constant_texture(Rgb(0.5f));
+    if (doc.has_attribute(node, "id")) named.textures[doc.attribute(node, "id")] = texture;
+    return texture;  // its parameters mean nothing here; one warning is enough
+  }
+  props.warn_unused();
+  if (doc.has_attribute(node, "id")) named.textures[doc.attribute(node, "id")] = texture;
+  return texture;
+}
+
+TexturePtr Properties::get_texture(const std::string& name, const Rgb& fallback,
+                                   NamedObjects& named) {
+  const std::string kind = kind_of(name);
+  if (kind != "texture" && kind != "ref") return make_constant_texture(get_color(name, fallback));
+  return read_texture(doc_, take(name, {"texture", "ref"}), named);
+}
+
+}  // namespace emlt::mitsuba

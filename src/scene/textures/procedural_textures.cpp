@@ -1,0 +1,71 @@
+// Textures that need no image: constant, scale and checkerboard.
+#include <utility>
+
+#include "emlt/scene/texture.h"
+
+namespace emlt {
+namespace {
+
+class ConstantTexture final : public Texture {
+ public:
+  explicit ConstantTexture(const Rgb& value) : value_(value) {}
+  Rgb eval(const Vec2&) const override { return value_; }
+  std::optional<Rgb> constant() const override { return value_; }
+  std::string name() const override { return "constant"; }
+
+ private:
+  Rgb value_;
+};
+
+class ScaleTexture final : public Texture {
+ public:
+  ScaleTexture(TexturePtr inner, const Rgb& factor) : inner_(std::move(inner)), factor_(factor) {}
+  Rgb eval(const Vec2& uv) const override { return inner_->eval(uv) * factor_; }
+  std::optional<Rgb> constant() const override {
+    if (auto c = inner_->constant()) return *c * factor_;
+    return std::nullopt;
+  }
+  Vec2 gradient_step() const override { return inner_->gradient_step(); }
+  std::string name() const override { return "scale(" + inner_->name() + ")"; }
+
+ private:
+  TexturePtr inner_;
+  Rgb factor_;
+};
+
+class CheckerboardTexture final : public Texture {
+ public:
+  CheckerboardTexture(const Rgb& color0, const Rgb& color1, const UvTransform& transform)
+      : color0_(color0), color1_(color1), transform_(transform) {}
+
+  // floor rather than Mitsuba's truncation towards zero, so that cells keep their size
+  // across u = 0 or v = 0 (Mitsuba's cells around zero are twice as wide).
+  Rgb eval(const Vec2& uv) const override {
+    const Vec2 p = transform_.apply(uv) * 2.0f;
+    const auto parity = [](float x) { return int64_t(std::floor(x)) & 1; };
+    return parity(p.x) == parity(p.y) ? color0_ : color1_;
+  }
+  Vec2 gradient_step() const override { return Vec2(1e-3f) / glm::max(glm::abs(transform_.scale), Vec2(1e-6f)); }
+  std::string name() const override { return "checkerboard"; }
+
+ private:
+  Rgb color0_, color1_;
+  UvTransform transform_;
+};
+
+}  // namespace
+
+TexturePtr make_constant_texture(const Rgb& value) {
+  return std::make_shared<ConstantTexture>(value);
+}
+
+TexturePtr make_scale_texture(TexturePtr inner, const Rgb& factor) {
+  return std::make_shared<ScaleTexture>(std::move(inner), factor);
+}
+
+TexturePtr make_checkerboard_texture(const Rgb& color0, const Rgb& color1,
+                                     const UvTransform& transform) {
+  return std::make_shared<CheckerboardTexture>(color0, color1, transform);
+}
+
+}  // namespace emlt

@@ -1,0 +1,224 @@
+// Textures (bitmap filtering, wrapping, uv transform, sRGB/raw decoding, checkerboard,
+// scale) and the surface modifiers they drive in the scene: mask opacity in Embree's
+// filter, bump mapping of the shading normal, and uvs for meshes that have none.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "emlt/core/error.h"
+#include "emlt/render/image.h"
+#include "emlt/scene/materials.h"
+#include "emlt/scene/scene.h"
+#include "emlt/scene/texture.h"
+#include "support/test_support.h"
+
+using namespace emlt;
+
+namespace {
+
+// 2 x 2 image: red, green (top row); blue, white (bottom row).
+Image quad_image() {
+  Image image(2, 2);
+  image.at(0, 0) = Rgb(1, 0, 0);
+  image.at(1, 0) = Rgb(0, 1, 0);
+  image.at(0, 1) = Rgb(0, 0, 1);
+  image.at(1, 1) = Rgb(1, 1, 1);
+  return image;
+}
+
+void expect_rgb_near(const Rgb& actual, const Rgb& expected, float tolerance, const std::string& what) {
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(actual[c], expected[c], tolerance) << what << " channel " << c;
+}
+
+TEST(BitmapTexture, TexelCentresAreExactAndBilinearInBetween) {
+  const TexturePtr t = make_bitmap_texture(quad_image());
+  expect_rgb_near(t->eval(Vec2(0.25f, 0.25f)), Rgb(1, 0, 0), 1e-6f, "top left centre");
+  expect_rgb_near(t->eval(Vec2(0.75f, 0.25f)), Rgb(0, 1, 0), 1e-6f, "top right centre");
+  expect_rgb_near(t->eval(Vec2(0.25f, 0.75f)), Rgb(0, 0, 1), 1e-6f, "bottom left centre");
+  // Midway between all four centres: their mean.
+  expect_rgb_near(t->eval(Vec2(0.5f, 0.5f)), Rgb(0.5f, 0.5f, 0.5f), 1e-6f, "middle");
+  // A quarter of the way from red to green along u.
+  expect_rgb_near(t->eval(Vec2(0.375f, 0.25f)), Rgb(0.75f, 0.25f, 0.0f), 1e-6f, "between");
+  EXPECT_FALSE(t->constant());
+}
+
+TEST(BitmapTexture, WrapModes) {
+  const TexturePtr repeat = make_bitmap_texture(quad_image());
+  // Repeat: u = 0 lies between the last and the first column.
+  expect_rgb_near(repeat->eval(Vec2(0.0f, 0.25f)), Rgb(0.5f, 0.5f, 0.0f), 1e-6f, "repeat seam");
+  expect_rgb_near(repeat->eval(Vec2(3.25f, -1.75f)), Rgb(1, 0, 0), 1e-5f, "repeat period");
+  const TexturePtr clamp = make_bitmap_texture(quad_image(), {}, WrapMode::Clamp);
+  expect_rgb_near(clamp->eval(Vec2(0.0f, 0.25f)), Rgb(1, 0, 0), 1e-6f, "clamp edge");
+  expect_rgb_near(clamp->eval(Vec2(7.0f, 0.25f)), Rgb(0, 1, 0), 1e-6f, "clamp far");
+  const TexturePtr mirror = make_bitmap_texture(quad_image(), {}, WrapMode::Mirror);
+  expect_rgb_near(mirror->eval(Vec2(1.25f, 0.25f)), Rgb(0, 1, 0), 1e-5f, "mirror");
+}
+
+TEST(BitmapTexture, UvTransformScalesThenOffsets) {
+  UvTransform transform;
+  transform.scale = Vec2(2.0f, 1.0f);
+  transform.offset = Vec2(0.5f, 0.0f);
+  const TexturePtr t = make_bitmap_texture(quad_image(), transform);
+  // u' = 2 * 0.125 + 0.5 = 0.75: the green centre.
+  expect_rgb_near(t->eval(Vec2(0.125f, 0.25f)), Rgb(0, 1, 0), 1e-6f, "transformed");
+  EXPECT_NEAR(t->gradient_step().x, 0.25f, 1e-6f);  // one texel in the untransformed uv
+}
+
+TEST(BitmapTexture, PngIsDecodedFromSrgbUnlessRaw) {
+  const auto dir = test::scratch_dir("texture-png");
+  Image image(2, 1);
+  // Linear values whose sRGB encodings are exactly 8-bit levels 128 and 64.
+  const auto decode = [](float v) {
+    return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+  };
+  image.at(0, 0) = Rgb(decode(128.0f / 255.0f));
+  image.at(1, 0) = Rgb(decode(64.0f / 255.0f));
+  const std::string path = (dir / "levels.png").string();
+  write_image(path, image);
+  const TexturePtr srgb = load_bitmap_texture(path, false, {}, WrapMode::Clamp);
+  const TexturePtr raw = load_bitmap_texture(path, true, {}, WrapMode::Clamp);
+  EXPECT_NEAR(srgb->eval(Vec2(0.25f, 0.5f)).x, decode(128.0f / 255.0f), 1e-5f);
+  EXPECT_NEAR(raw->eval(Vec2(0.25f, 0.5f)).x, 128.0f / 255.0f, 1e-6f);
+  EXPECT_NEAR(raw->eval(Vec2(0.75f, 0.5f)).y, 64.0f / 255.0f, 1e-6f);
+  EXPECT_THROW(load_bitmap_texture((dir / "absent.png").string()), Error);
+}
+
+TEST(Checkerboard, MitsubaCellLayoutAndUvScale) {
+  const Rgb c0(0.4f), c1(0.2f);
+  const TexturePtr t = make_checkerboard_texture(c0, c1);
+  EXPECT_EQ(t->eval(Vec2(0.1f, 0.1f)), c0);
+  EXPECT_EQ(t->eval(Vec2(0.6f, 0.1f)), c1);
+  EXPECT_EQ(t->eval(Vec2(0.1f, 0.6f)), c1);
+  EXPECT_EQ(t->eval(Vec2(0.6f, 0.6f)), c0);
+  EXPECT_EQ(t->eval(Vec2(-0.1f, 0.1f)), c1);  // cells keep their size across zero
+  UvTransform four;
+  four.scale = Vec2(4.0f);
+  const TexturePtr fine = make_checkerboard_texture(c0, c1, four);
+  EXPECT_EQ(fine->eval(Vec2(0.05f, 0.05f)), c0);
+  EXPECT_EQ(fine->eval(Vec2(0.15f, 0.05f)), c1);  // 8 cells per unit
+}
+
+TEST(ScaleTexture, MultipliesAndKeepsConstantsConstant) {
+  const TexturePtr scaled = make_scale_texture(make_checkerboard_texture(Rgb(0.5f), Rgb(0.25f)),
+                                               Rgb(2.0f, 1.0f, 0.5f));
+  EXPECT_EQ(scaled->eval(Vec2(0.1f, 0.1f)), Rgb(1.0f, 0.5f, 0.25f));
+  EXPECT_FALSE(scaled->constant());
+  const TexturePtr constant = make_scale_texture(make_constant_texture(Rgb(0.5f)), Rgb(3.0f));
+  ASSERT_TRUE(constant->constant());
+  EXPECT_EQ(*constant->constant(), Rgb(1.5f));
+  EXPECT_NEAR(constant->eval_average(Vec2(0.0f)), 1.5f, 1e-6f);
+  EXPECT_NEAR(make_constant_texture(Rgb(1, 0, 0))->eval_luminance(Vec2(0.0f)), 0.2126f, 1e-6f);
+}
+
+// ---------------------------------------------------------------------------------------
+// Scene-level: mask, bump, default uvs.
+
+// A square [-1,1]^2 at height z facing +z (towards the camera/rays from above), with
+// uv = ((x+1)/2, (y+1)/2).
+MeshDesc square(float z, int material, float half = 1.0f) {
+  MeshDesc m;
+  m.name = "square z=" + std::to_string(z);
+  m.positions = {{-half, -half, z}, {half, -half, z}, {half, half, z}, {-half, half, z}};
+  m.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  m.indices = {0, 1, 2, 0, 2, 3};
+  m.material = material;
+  return m;
+}
+
+std::unique_ptr<Scene> masked_scene(float opacity) {
+  SceneDescription d;
+  d.source = "masked";
+  d.materials.push_back({"floor", make_lambertian(Rgb(0.5f))});
+  d.materials.push_back(
+      MaterialDesc("masked", make_lambertian(Rgb(0.5f)), make_constant_texture(Rgb(opacity))));
+  d.meshes.push_back(square(0.0f, 0, 10.0f));
+  d.meshes.push_back(square(1.0f, 1));
+  d.environment.kind = EnvironmentDesc::Kind::Constant;
+  d.environment.radiance = Rgb(1.0f);
+  return Scene::build(std::move(d));
+}
+
+// Fraction of vertical rays through the masked square that stop on it.
+double blocked_fraction(const Scene& scene, int rays, bool use_occluded) {
+  int blocked = 0;
+  for (int i = 0; i < rays; ++i) {
+    const float x = -0.9f + 1.8f * float(i % 97) / 97.0f, y = -0.9f + 1.8f * float(i / 97) / float(rays / 97 + 1);
+    const Ray ray{Vec3(x, y, 3.0f), Vec3(0, 0, -1), 0.0f, 2.5f};  // ends above the floor
+    if (use_occluded) {
+      blocked += scene.occluded(ray) ? 1 : 0;
+    } else {
+      SurfaceHit hit;
+      blocked += scene.intersect(ray, hit) ? 1 : 0;
+    }
+  }
+  return double(blocked) / rays;
+}
+
+TEST(Mask, TransparentSurfaceNeitherOccludesNorIsHit) {
+  const auto scene = masked_scene(0.0f);
+  EXPECT_EQ(blocked_fraction(*scene, 2000, true), 0.0);
+  EXPECT_EQ(blocked_fraction(*scene, 2000, false), 0.0);
+  SurfaceHit hit;
+  ASSERT_TRUE(scene->intersect(Ray{Vec3(0.2f, 0.3f, 3.0f), Vec3(0, 0, -1), 0.0f, kInfinity}, hit));
+  EXPECT_NEAR(hit.position.z, 0.0f, 1e-5f);  // went through to the floor
+  const auto opaque = masked_scene(1.0f);
+  EXPECT_EQ(blocked_fraction(*opaque, 2000, true), 1.0);
+}
+
+TEST(Mask, PartialOpacityStopsThatFractionOfRaysReproducibly) {
+  const auto scene = masked_scene(0.3f);
+  const int rays = 20000;
+  const double occluded = blocked_fraction(*scene, rays, true);
+  const double hit = blocked_fraction(*scene, rays, false);
+  const double sigma = std::sqrt(0.3 * 0.7 / rays);
+  EXPECT_NEAR(occluded, 0.3, 4.0 * sigma);
+  EXPECT_EQ(occluded, hit);  // both queries make the same decision for the same ray
+  EXPECT_EQ(blocked_fraction(*scene, rays, true), occluded);  // and again next time
+}
+
+TEST(Bump, LinearRampTiltsTheShadingNormalByItsSlope) {
+  // Height h(u, v) = 0.5 u over a square of side 2: dh/dx = 0.5 * du/dx = 0.25, so the
+  // normal tilts by atan(0.25) towards -x. A ramp image sampled at texel centres is linear
+  // in between, so finite differences are exact there.
+  Image ramp(64, 1);
+  for (int x = 0; x < 64; ++x) ramp.at(x, 0) = Rgb(0.5f * (float(x) + 0.5f) / 64.0f);
+  SceneDescription d;
+  d.source = "bump";
+  d.materials.push_back(MaterialDesc("bumped", make_lambertian(Rgb(0.5f)), nullptr,
+                                     make_bitmap_texture(ramp, {}, WrapMode::Clamp), true));
+  d.meshes.push_back(square(0.0f, 0));
+  d.environment.kind = EnvironmentDesc::Kind::Constant;
+  d.environment.radiance = Rgb(1.0f);
+  const auto scene = Scene::build(std::move(d));
+  SurfaceHit hit;
+  ASSERT_TRUE(scene->intersect(Ray{Vec3(0.1f, 0.2f, 2.0f), Vec3(0, 0, -1), 0.0f, kInfinity}, hit));
+  EXPECT_EQ(hit.geometric_normal, Vec3(0, 0, 1));
+  const float expected = std::atan(0.25f);
+  EXPECT_NEAR(std::acos(hit.shading_normal.z), expected, 1e-3f);
+  EXPECT_LT(hit.shading_normal.x, 0.0f);
+  EXPECT_NEAR(hit.shading_normal.y, 0.0f, 1e-4f);
+  EXPECT_NEAR(glm::dot(hit.shading.n, hit.shading_normal), 1.0f, 1e-6f);
+  EXPECT_NEAR(glm::length(hit.dpdu - Vec3(2, 0, 0)), 0.0f, 1e-5f);
+}
+
+TEST(DefaultUvs, TexturedMeshWithoutUvsGetsAPlanarProjectionAndAWarning) {
+  SceneDescription d;
+  d.source = "no-uv";
+  d.materials.push_back(MaterialDesc(
+      "checker", make_lambertian(make_checkerboard_texture(Rgb(0.8f), Rgb(0.2f))), nullptr,
+      nullptr, true));
+  MeshDesc mesh = square(0.0f, 0, 2.0f);
+  mesh.uvs.clear();
+  d.meshes.push_back(mesh);
+  d.environment.kind = EnvironmentDesc::Kind::Constant;
+  d.environment.radiance = Rgb(1.0f);
+  const auto scene = Scene::build(std::move(d));
+  ASSERT_EQ(scene->warnings().size(), 1u);
+  EXPECT_NE(scene->warnings()[0].find("no texture coordinates"), std::string::npos);
+  SurfaceHit hit;
+  ASSERT_TRUE(scene->intersect(Ray{Vec3(1.0f, -1.0f, 1.0f), Vec3(0, 0, -1), 0.0f, kInfinity}, hit));
+  EXPECT_NEAR(hit.uv.x, 0.75f, 1e-5f);
+  EXPECT_NEAR(hit.uv.y, 0.25f, 1e-5f);
+}
+
+}  // namespace
