@@ -15,18 +15,8 @@ import tempfile
 
 import numpy as np
 
-
-def read_pfm(path):
-    with open(path, "rb") as f:
-        header = f.readline().strip()
-        if header not in (b"PF", b"Pf"):
-            raise ValueError(f"{path}: not a PFM file")
-        width, height = map(int, f.readline().split())
-        scale = float(f.readline())
-        data = np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4")
-    channels = 3 if header == b"PF" else 1
-    image = data.reshape(height, width, channels)
-    return np.flipud(image)  # PFM stores the bottom row first
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from emlt_images import read_pfm  # noqa: E402  (shared with ablation.py)
 
 
 def render(emlt, scene, out, integrator, spp, seed, extra):

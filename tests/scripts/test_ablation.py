@@ -1,0 +1,200 @@
+#!/usr/bin/python3
+"""CTest 'ablation_scripts': runs the tiny ablation (scripts/experiments/ci-tiny.json) and checks it.
+
+    EMLT_BINARY=build/emlt /usr/bin/python3 tests/scripts/test_ablation.py
+    /usr/bin/python3 tests/scripts/test_ablation.py --emlt build/emlt
+
+Checks that every output exists, that results.csv and table.md equal `emlt compare --json`
+on the saved images (recomputed here, and the MSE once more with numpy), that a second
+run skips every run, and that an unknown method fails with a one-line error.
+"""
+import csv
+import json
+import math
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import unittest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+SCRIPT = os.path.join(ROOT, "scripts", "ablation.py")
+CONFIG = os.path.join(ROOT, "scripts", "experiments", "ci-tiny.json")
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+from emlt_images import mse as numpy_mse, read_pfm  # noqa: E402
+
+EMLT = os.environ.get("EMLT_BINARY", os.path.join(ROOT, "build", "emlt"))
+PYTHON = "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable
+
+
+def run_ablation(config, out, cache):
+    """Run scripts/ablation.py; returns the CompletedProcess (text, stdout and stderr captured)."""
+    return subprocess.run([PYTHON, SCRIPT, config, "--out", out, "--emlt", EMLT, "--cache", cache],
+                          capture_output=True, text=True, timeout=300)
+
+
+def within_rounding(text, exact):
+    """True when the printed number text is exact rounded to text's significant digits."""
+    printed = float(text)
+    mantissa = text.lower().split("e")[0]
+    digits = len(mantissa.replace("-", "").replace(".", "").lstrip("0")) or 1
+    if exact == 0:
+        return printed == 0
+    ulp = 10.0 ** (math.floor(math.log10(abs(exact))) - digits + 1)
+    return abs(printed - exact) <= 0.5 * ulp * (1 + 1e-9) + 1e-300
+
+
+def parse_table_md(path):
+    """table.md -> {section title: {scene: {method: (mean text, std text, bold)}}}."""
+    sections, title, header = {}, None, None
+    with open(path) as f:
+        for line in f:
+            line = line.rstrip("\n")
+            if line.startswith("## "):
+                title, header = line[3:], None
+                sections[title] = {}
+            elif line.startswith("|") and title is not None:
+                cells = [c.strip() for c in line.strip("|").split("|")]
+                if header is None:
+                    header = cells
+                elif not set(cells[0]) <= set("-:"):
+                    row = {}
+                    for method, cell in zip(header[1:], cells[1:]):
+                        bold = cell.startswith("**")
+                        match = re.fullmatch(r"\**([-+0-9.e]+) ± ([-+0-9.e]+)\**", cell)
+                        if match:
+                            row[method] = (match.group(1), match.group(2), bold)
+                    sections[title][cells[0]] = row
+    return sections
+
+
+class AblationTest(unittest.TestCase):
+    """The tiny ablation, run once for all tests of the class."""
+
+    @classmethod
+    def setUpClass(cls):
+        if not os.path.exists(EMLT):
+            raise unittest.SkipTest(f"emlt binary not found at {EMLT} (set EMLT_BINARY)")
+        cls.tmp = tempfile.TemporaryDirectory(prefix="emlt-ablation-")
+        cls.out = os.path.join(cls.tmp.name, "out")
+        cls.cache = os.path.join(cls.tmp.name, "cache")
+        cls.first = run_ablation(CONFIG, cls.out, cls.cache)
+        if cls.first.returncode != 0:
+            raise AssertionError(f"ablation failed:\n{cls.first.stderr}")
+        with open(os.path.join(cls.out, "results.csv"), newline="") as f:
+            cls.rows = list(csv.DictReader(f))
+        with open(CONFIG) as f:
+            cls.config = json.load(f)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def expected_runs(self):
+        """(method, seed, budget tag) of every run the config names."""
+        budgets = [f"pp-{b}" for b in self.config["budgets"].get("per_pixel", [])]
+        budgets += [f"time-{b:g}s" for b in self.config["budgets"].get("seconds", [])]
+        return [(m, s, b) for b in budgets for m in self.config["methods"] for s in self.config["seeds"]]
+
+    def test_outputs_exist(self):
+        for name in ("results.csv", "table.md", "convergence.png", "convergence_time.png", "strip.png",
+                     "report.html", "references/cornell-box.pfm"):
+            path = os.path.join(self.out, name)
+            self.assertTrue(os.path.isfile(path) and os.path.getsize(path) > 0, name)
+        for method, seed, budget in self.expected_runs():
+            run_dir = os.path.join(self.out, "runs", "cornell-box", method, budget, f"seed-{seed}")
+            files = ["image.pfm", "image.png", "run.csv", "run.json"] + (["stats.json"] if method == "mlt" else [])
+            for name in files:
+                self.assertTrue(os.path.isfile(os.path.join(run_dir, name)), f"{run_dir}/{name}")
+        self.assertEqual(len(self.rows), len(self.expected_runs()))
+        with open(os.path.join(self.out, "report.html")) as f:
+            page = f.read()
+        for name in ("convergence.png", "convergence_time.png", "strip.png", "results.csv"):
+            self.assertIn(name, page)
+
+    def compare(self):
+        """`emlt compare --json --scene` on every saved image: {relative image path: metrics}."""
+        reference = os.path.join(self.out, "references", "cornell-box.pfm")
+        images = [os.path.join(self.out, row["image"]) for row in self.rows]
+        scene = os.path.join(ROOT, "scenes", "cornell-box", "scene.json")
+        result = subprocess.run([EMLT, "compare", reference] + images + ["--json", "--scene", scene],
+                                capture_output=True, text=True, check=True)
+        objects = [json.loads(line) for line in result.stdout.splitlines() if line.startswith("{")]
+        self.assertEqual(len(objects), len(images))
+        return {row["image"]: obj for row, obj in zip(self.rows, objects)}
+
+    def test_results_equal_compare(self):
+        metrics = self.compare()
+        reference = read_pfm(os.path.join(self.out, "references", "cornell-box.pfm"))
+        for row in self.rows:
+            m = metrics[row["image"]]
+            for key in ("mse", "relmse", "mse_no_emitter", "mean_ratio"):
+                self.assertEqual(float(row[key]), m[key], f"{row['image']} {key}")
+            image = read_pfm(os.path.join(self.out, row["image"]))
+            self.assertAlmostEqual(numpy_mse(image, reference) / m["mse"], 1.0, places=4)
+            if row["method"] == "mlt":
+                self.assertTrue(row["acceptance_bidir"], "MLT rows carry acceptance rates")
+
+    def test_table_equals_compare(self):
+        metrics = self.compare()
+        sections = parse_table_md(os.path.join(self.out, "table.md"))
+        budgets = [("per_pixel", b, f"{b} samples/mutations per pixel") for b in self.config["budgets"]["per_pixel"]]
+        budgets += [("seconds", b, f"equal time, {b:g} s") for b in self.config["budgets"]["seconds"]]
+        for metric, title in (("mse", "MSE"), ("relmse", "relMSE")):
+            for kind, value, caption in budgets:
+                section = sections[f"{title} at {caption}"]["cornell-box"]
+                means = {}
+                for method in self.config["methods"]:
+                    values = [metrics[r["image"]][metric] for r in self.rows if r["method"] == method
+                              and r["budget_kind"] == kind and float(r["budget"]) == value]
+                    self.assertEqual(len(values), len(self.config["seeds"]))
+                    mean = sum(values) / len(values)
+                    std = math.sqrt(sum((v - mean) ** 2 for v in values) / (len(values) - 1))
+                    mean_text, std_text, _bold = section[method]
+                    self.assertTrue(within_rounding(mean_text, mean), f"{title} {caption} {method}: {mean_text} vs {mean}")
+                    self.assertTrue(within_rounding(std_text, std), f"{title} {caption} {method}: {std_text} vs {std}")
+                    means[method] = mean
+                best = min(means, key=means.get)
+                self.assertEqual([m for m, cell in section.items() if cell[2]], [best], f"{title} {caption}: bold")
+
+    def test_second_run_skips_everything(self):
+        images = [os.path.join(self.out, row["image"]) for row in self.rows]
+        before = {p: os.stat(p).st_mtime_ns for p in images}
+        again = run_ablation(CONFIG, self.out, self.cache)
+        self.assertEqual(again.returncode, 0, again.stderr)
+        n = len(self.expected_runs())
+        self.assertIn(f"0 runs rendered, {n} skipped", again.stderr)
+        self.assertIn("cached", again.stderr)  # the reference comes from the cache
+        self.assertEqual(before, {p: os.stat(p).st_mtime_ns for p in images})
+
+    def bad_method(self, methods, name):
+        """Run a copy of the tiny config with methods; assert a one-line error naming name."""
+        config = dict(self.config, methods=methods)
+        config["scenes"] = [dict(self.config["scenes"][0], path=os.path.join(ROOT, "scenes/cornell-box/scene.json"))]
+        path = os.path.join(self.tmp.name, f"bad-{name}.json")
+        with open(path, "w") as f:
+            json.dump(config, f)
+        result = run_ablation(path, os.path.join(self.tmp.name, "bad-out"), self.cache)
+        self.assertNotEqual(result.returncode, 0)
+        lines = [line for line in result.stderr.splitlines() if line.strip()]
+        errors = [line for line in lines if "error" in line]
+        self.assertEqual(len(errors), 1, result.stderr)
+        self.assertIn(f"'{name}'", errors[0])
+        self.assertNotIn("Traceback", result.stderr)
+
+    def test_unknown_method_fails_with_one_line(self):
+        self.bad_method(["pt", "no-such-method"], "no-such-method")
+
+    def test_unavailable_method_fails_with_one_line(self):
+        self.bad_method(["pt", "emlt"], "emlt")
+
+    def test_method_the_engine_rejects_fails_with_one_line(self):
+        self.bad_method({"pt": {}, "odd-mix": {"mutations": "no-such-strategy=1"}}, "odd-mix")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) > 2 and sys.argv[1] == "--emlt":
+        EMLT = sys.argv[2]
+        del sys.argv[1:3]
+    unittest.main(verbosity=2)
