@@ -77,7 +77,8 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
   command.add_option("--direct", o.direct_mode,
                      "mlt: direct light rendered separately or by the chains")
       ->check(CLI::IsMember({"separate", "mlt"}));
-  command.add_option("--direct-spp", s.direct_spp, "mlt: samples of the separate direct image")
+  command.add_option("--direct-spp", s.direct_spp,
+                     "mlt: samples of the separate direct image (default: the mutations per pixel)")
       ->check(CLI::Range(1, 1 << 20));
   command.add_option("--stats", s.stats_path, "mlt: write statistics as JSON to this file");
   command.add_option("--reference", o.reference, "Reference image for error metrics");

@@ -124,7 +124,10 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   // integrator, as Mitsuba does by default; the chains then never visit them.
   if (settings.direct_separate) {
     RenderSettings direct = settings;
-    direct.spp = settings.direct_spp;
+    const bool time_only = settings.time_limit_s > 0.0 && !(settings.mutations_per_pixel > 0.0);
+    direct.spp = settings.direct_spp > 0 ? settings.direct_spp
+                 : time_only             ? 16
+                                         : std::max(1, int(std::ceil(settings.mutations_per_pixel)));
     direct.time_limit_s = 0.0;
     direct.snapshots = nullptr;  // the log follows the chains, not this pass
     ProgressReporter quiet(false);

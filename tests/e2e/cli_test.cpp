@@ -246,7 +246,7 @@ TEST(Cli, MltWritesStatisticsAndRejectsUnknownStrategies) {
   const fs::path dir = test::scratch_dir("mlt");
   std::string text;
   ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "mlt.pfm").string() +
-                                          " --integrator mlt --mpp 4 --bootstrap 5000 --width 16 --height 16 --quiet"
+                                          " --integrator mlt --mutations bidir=1 --mpp 4 --bootstrap 5000 --width 16 --height 16 --quiet"
                                           " --stats " + (dir / "stats.json").string()), &text)) << text;
   EXPECT_TRUE(fs::exists(dir / "mlt.pfm"));
   std::ifstream in(dir / "stats.json");
@@ -278,7 +278,7 @@ std::vector<std::vector<std::string>> read_csv(const fs::path& path) {
 
 TEST(CliConvergenceLog, RowsAtPowersOfTwoAndTheImageIsUnchanged) {
   const fs::path dir = test::scratch_dir("log");
-  const std::string common = " --width 16 --height 16 --quiet --spp 8 --mpp 8 --bootstrap 5000";
+  const std::string common = " --width 16 --height 16 --quiet --spp 8 --mpp 8 --bootstrap 5000 --mutations bidir=1";
   ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "ref.pfm").string() +
                                           " --integrator bdpt --spp 64 --width 16 --height 16 --quiet")));
   for (const std::string integrator : {"pt", "bdpt", "mlt"}) {

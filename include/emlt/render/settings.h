@@ -30,7 +30,9 @@ struct RenderSettings {
   int bootstrap_samples = 100000;          // BDPT samples for b and the chains' seeds
   std::string mutations = "bidir=1";       // --mutations name=weight,...
   bool direct_separate = true;             // --direct separate|mlt
-  int direct_spp = 16;                     // samples of the separate direct image
+  // Samples of the separate direct image; 0: as many as mutations per pixel (at least 1),
+  // so the direct part converges with the chains, or 16 under a pure time budget.
+  int direct_spp = 0;
   std::string stats_path;                  // --stats FILE.json
 
   // Receives images at power-of-two samples (mutations) per pixel; not owned. Null: none.
