@@ -413,7 +413,10 @@ TEST(ObjLoader, FansPolygonsAndHandlesNormals) {
 
 TEST(ShippedScenes, LoadAndBuildWithoutWarnings) {
   for (const char* file : {"scenes/cornell-glass/scene.json", "scenes/env-sky/scene.json",
-                           "scenes/env-sky/scene.xml"}) {
+                           "scenes/env-sky/scene.xml", "scenes/staircase/scene.json",
+                           "scenes/bedroom/scene.json", "scenes/kitchen/scene.json",
+                           "scenes/classroom/scene.json", "scenes/breakfast-room/scene.json",
+                           "scenes/sponza-like/scene.json"}) {
     const SceneDescription desc = load_scene_description(test::source_path(file));
     EXPECT_TRUE(desc.warnings.empty()) << file << ": " << desc.warnings.front();
     const auto scene = Scene::build(desc);
