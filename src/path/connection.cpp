@@ -97,11 +97,15 @@ float pdf_towards(const Scene& scene, const PathVertex* before, const PathVertex
   if (!from.is_surface() || !from.bsdf) return 0.0f;
   float pdf = 0.0f;
   if (from.delta) {
-    // Crossing a refraction from side a to side b: the density carries n_b / n_a (vertex.h).
-    const auto relative_ior = [&](const Vec3& w) {
-      return glm::dot(from.normal, w) > 0.0f ? from.delta_ior_ratio : 1.0f;
+    // Crossing from side a (towards `before`) to side b (towards `to`): the density carries
+    // the crossing factor g(a -> b) (vertex.h).
+    const auto ior = [&](const Vec3& dir) {
+      return glm::dot(from.normal, dir) > 0.0f ? from.delta_ior_ratio : 1.0f;
     };
-    pdf = from.delta_probability * relative_ior(w) / relative_ior(direction_between(from, *before));
+    const Vec3 w_before = direction_between(from, *before);
+    pdf = from.delta_probability *
+          dirac_crossing_factor(ior(w) / ior(w_before), std::abs(glm::dot(from.normal, w_before)),
+                                std::abs(glm::dot(from.normal, w)));
   } else {
     const Vec3 w_before = direction_between(from, *before);
     const Vec3 before_local = from.shading.to_local(w_before), to_local = from.shading.to_local(w);

@@ -73,13 +73,14 @@ int random_walk(const Scene& scene, Rng& rng, TransportMode mode, int steps, int
       // Dirac lobe: f's factor is the sampled value with the light side's shading cosine
       // moved into it (Veach 1997 §5.3); its density is the lobe probability.
       // bs->eta = n(wi side) / n(wo side), 1 for a reflection (see vertex.h).
+      const float crossing = dirac_crossing_factor(bs->eta, cos_wo_geometric, cos_segment_geometric);
       v.delta_probability = bs->pdf;
       v.delta_ior_ratio = glm::dot(v.normal, wi) > 0.0f ? bs->eta : 1.0f / bs->eta;
-      v.delta_value = bs->value * bs->eta *
+      v.delta_value = bs->value * crossing *
                       (importance ? cos_wo_shading / cos_wo_geometric
                                   : std::abs(bs->wi.z) / cos_segment_geometric);
-      forward_solid_angle = bs->pdf * bs->eta;
-      reverse_solid_angle = bs->pdf_reverse / bs->eta;
+      forward_solid_angle = bs->pdf * crossing;
+      reverse_solid_angle = bs->pdf_reverse / crossing;
       weight = v.delta_value * (cos_segment_geometric / forward_solid_angle);
     } else {
       const BsdfContext context{v.uv, TransportMode::Radiance};

@@ -59,6 +59,20 @@ Ray Camera::generate_ray(const Vec2& raster, const Vec2& u_lens) const {
   return ray;
 }
 
+Ray Camera::generate_ray_from_lens_point(const Vec2& raster, const Vec3& lens_point) const {
+  const Vec3 local = film_direction_local(raster);
+  const Vec3 through = local.x * right_ + local.y * up_ + forward_;
+  Ray ray;
+  if (is_pinhole()) {
+    ray.origin = position_;
+    ray.direction = glm::normalize(through);
+    return ray;
+  }
+  ray.origin = lens_point;
+  ray.direction = glm::normalize(position_ + through * focus_distance_ - lens_point);
+  return ray;
+}
+
 std::optional<Vec2> Camera::raster_position(const Vec3& p, const Vec3& w) const {
   const float cos_theta = glm::dot(w, forward_);
   if (cos_theta <= 0.0f) return std::nullopt;

@@ -1,15 +1,20 @@
 // Speed figures (not tests): Embree rays/s for coherent camera rays and incoherent bounce
-// rays, and path-tracer samples/s, on the Cornell box at 256x256.
+// rays, and path-tracer samples/s, on the Cornell box at 256x256; MLT mutations/s per
+// strategy mix on the Cornell box and the door-ajar scene (and multi-chain on cornell-glass,
+// the only shipped scene of the three where it applies).
 //   build/tests/emlt_bench                      (all threads)
 //   build/tests/emlt_bench --benchmark_filter=PathTracer
 #include <benchmark/benchmark.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <map>
 #include <memory>
+#include <mutex>
 
 #include "emlt/core/rng.h"
 #include "emlt/core/warp.h"
+#include "emlt/mcmc/mlt_integrator.h"
 #include "emlt/render/bdpt.h"
 #include "emlt/render/path_tracer.h"
 #include "emlt/scene/loader.h"
@@ -106,10 +111,68 @@ void IntegratorSamples(benchmark::State& state, const Integrator& integrator) {
 void PathTracerSamples(benchmark::State& state) { IntegratorSamples(state, PathTracer()); }
 void BdptSamples(benchmark::State& state) { IntegratorSamples(state, BidirectionalPathTracer()); }
 
+const Scene& shipped_scene_256(const std::string& name) {
+  static std::map<std::string, std::unique_ptr<Scene>> scenes;
+  static std::mutex lock;
+  const std::lock_guard guard(lock);
+  auto& scene = scenes[name];
+  if (!scene) {
+    SceneDescription desc =
+        load_scene_description(std::string(EMLT_SOURCE_DIR) + "/scenes/" + name + "/scene.json", {});
+    desc.camera.width = desc.camera.height = 256;
+    scene = Scene::build(std::move(desc));
+  }
+  return *scene;
+}
+
+// MLT at 256x256 with 4 mutations per pixel (262144 mutations, 64 chains). The rate
+// divides the mutations by the whole render's time, which includes a small bootstrap
+// (10000 BDPT samples) and a 1-spp direct image: a slight underestimate of the chains' rate.
+void MltMutations(benchmark::State& state, const std::string& scene_name, const std::string& mix) {
+  const Scene& scene = shipped_scene_256(scene_name);
+  RenderSettings settings;
+  settings.threads = int(state.range(0));
+  settings.progress = false;
+  settings.mutations = mix;
+  settings.mutations_per_pixel = 4;
+  settings.chains = 64;
+  settings.bootstrap_samples = 10000;
+  settings.direct_spp = 1;
+  ProgressReporter progress(false);
+  uint64_t mutations = 0;
+  double acceptance_sum = 0.0, proposed = 0.0;
+  for (auto _ : state) {
+    const MltIntegrator mlt;
+    mlt.render(scene, settings, progress);
+    mutations += mlt.statistics().mutations;
+    for (const auto& s : mlt.statistics().strategies) {
+      acceptance_sum += s.acceptance_sum;
+      proposed += double(s.proposed);
+    }
+    settings.seed++;
+  }
+  state.counters["mutations/s"] = benchmark::Counter(double(mutations), benchmark::Counter::kIsRate);
+  state.counters["acceptance"] = proposed > 0.0 ? acceptance_sum / proposed : 0.0;
+  state.counters["threads"] = settings.threads;
+}
+
 }  // namespace
 
 BENCHMARK(CameraRays)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BounceRays)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(PathTracerSamples)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BdptSamples)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+#define EMLT_MLT_BENCH(name, scene, mix)                                                     \
+  BENCHMARK_CAPTURE(MltMutations, name, std::string(scene), std::string(mix))              \
+      ->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()
+EMLT_MLT_BENCH(cornell_bidir, "cornell-box", "bidir=1");
+EMLT_MLT_BENCH(cornell_lens, "cornell-box", "lens=1");
+EMLT_MLT_BENCH(cornell_caustic, "cornell-box", "caustic=1");
+EMLT_MLT_BENCH(cornell_default_mix, "cornell-box", "bidir=3,lens=2,caustic=2,multichain=2");
+EMLT_MLT_BENCH(door_bidir, "door-ajar", "bidir=1");
+EMLT_MLT_BENCH(door_lens, "door-ajar", "lens=1");
+EMLT_MLT_BENCH(door_caustic, "door-ajar", "caustic=1");
+EMLT_MLT_BENCH(door_default_mix, "door-ajar", "bidir=3,lens=2,caustic=2,multichain=2");
+EMLT_MLT_BENCH(glass_bidir_multichain, "cornell-glass", "bidir=1,multichain=4");
+EMLT_MLT_BENCH(glass_default_mix, "cornell-glass", "bidir=3,lens=2,caustic=2,multichain=2");
 BENCHMARK_MAIN();

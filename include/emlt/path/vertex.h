@@ -53,12 +53,15 @@ struct PathVertex {
   float pdf_from_eye = 0.0f;
 
   // Filled by a walk that sampled a Dirac lobe here: the lobe's probability and its value
-  // (shading-normal corrected), since eval() returns zero. At a refraction the radiance and
-  // importance values differ by (n_eye/n_light)^2, which would make f depend on which side
-  // sampled the vertex. Both are therefore stored in the symmetric convention
-  // value_radiance * n_light/n_eye = value_importance * n_eye/n_light, and the Dirac
-  // density of crossing from side a to side b carries the factor n_b/n_a, so that f is a
-  // function of the path alone and f/p_s is right for every split s (MLT needs both).
+  // (shading-normal corrected), since eval() returns zero. A Dirac interaction has no
+  // density of its own; the walk's value and lobe probability are relative to the measure
+  // on the side it leaves towards. At a refraction the two sides' measures differ (the
+  // value of a radiance walk and an importance walk differ by (n_eye/n_light)^2 and by
+  // cos(eye side)/cos(light side)), which would make f depend on which walk crossed the
+  // vertex. Values and Dirac densities are therefore both rescaled by the crossing factor
+  // g(a -> b) = (n_b/n_a) sqrt(cos_b/cos_a) (dirac_crossing_factor): the walk's f/p is
+  // unchanged, the stored value is the same from either side, so f is a function of the
+  // path alone and f/p_s is right for every split s (MLT needs both).
   float delta_probability = 0.0f;
   Rgb delta_value{0.0f};
   float delta_ior_ratio = 1.0f;  // n(side of +normal) / n(side of -normal); 1 unless refracting
@@ -82,6 +85,13 @@ struct InvalidCounter {
     return false;
   }
 };
+
+// The factor g(a -> b) = (n_b/n_a) sqrt(cos_b/cos_a) by which a Dirac value and density are
+// rescaled when a walk crosses from side a to side b (see PathVertex::delta_value);
+// relative_ior = n_b/n_a (1 for a reflection), cosines against the geometric normal.
+inline float dirac_crossing_factor(float relative_ior, float cos_from, float cos_to) {
+  return cos_from > 0.0f ? relative_ior * std::sqrt(cos_to / cos_from) : relative_ior;
+}
 
 // Unit direction from `from` towards `to`; environment vertices lie at infinity.
 Vec3 direction_between(const PathVertex& from, const PathVertex& to);

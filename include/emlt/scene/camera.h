@@ -35,6 +35,11 @@ class Camera {
 
   // Primary ray through raster position `raster` using lens sample `u_lens`.
   Ray generate_ray(const Vec2& raster, const Vec2& u_lens) const;
+  // The ray from a given point on the lens through raster position `raster` (thin lens:
+  // aimed at that position's point on the focus plane; pinhole: the lens point is the
+  // camera position). MLT's lens perturbation moves the image point and keeps the lens
+  // point, so the path's lens vertex does not change.
+  Ray generate_ray_from_lens_point(const Vec2& raster, const Vec3& lens_point) const;
 
   // Raster position of the ray leaving lens point p in direction w, if it lands on film.
   std::optional<Vec2> raster_position(const Vec3& p, const Vec3& w) const;

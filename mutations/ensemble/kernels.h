@@ -1,0 +1,229 @@
+#pragma once
+// The guided transition kernels of Ensemble MLT (Bashford-Rogers, Santos, Marnerides,
+// Debattista, ACM TOG 41(1), 2021, section 3.2) as standalone mathematics: each kernel
+// proposes a new single-vertex (or single-direction) state from the current one and from
+// guides taken from the complementary ensemble, and reports what Metropolis-Hastings needs:
+//
+//     log T(y -> x) - log T(x -> y)    ("log density ratio", reverse over forward)
+//
+// so that a = min(1, f(y)/f(x) * exp(log ratio) * [P(n|y)/P(n|x) if a guide was drawn with
+// state-dependent probabilities, see similarity.h]). Densities are with respect to area
+// (R^2 / tangent plane / surface) or solid angle (S^2). The paper's typos and ambiguities,
+// and the corrections applied here, are listed in docs of each section below and in
+// shared/design/notes/emlt-notes.md. Every ratio is verified by running the kernel alone as
+// an MH chain on a known target (tests/statistical/ensemble_kernel_test.cpp).
+//
+// Numerics: the interface uses emlt's float vectors; all arithmetic is in double.
+#include <optional>
+#include <span>
+
+#include "emlt/core/math.h"
+#include "emlt/core/rng.h"
+#include "mutations/ensemble/similarity.h"
+
+namespace emlt::ensemble {
+
+// ---------------------------------------------------------------------------------------
+// Stretch factor lambda, shared by the linear (R^2) and the great-arc (S^2) kernels.
+
+enum class StretchDistribution {
+  InverseSqrt,        // Goodman-Weare: g(l) ~ 1/sqrt(l) on [1/a, a], a = 1 + alpha
+  UniformReciprocal,  // uniform on [1/a, a], a = 1 + alpha (support closed under l -> 1/l)
+  UniformSymmetric,   // uniform on [1 - alpha, 1 + alpha], alpha < 1 (the paper's example);
+                      // its support is not closed under inversion, so some moves are
+                      // irreversible and must be rejected (ratio 0)
+};
+
+struct StretchParams {
+  double alpha = 0.5;
+  StretchDistribution distribution = StretchDistribution::InverseSqrt;
+};
+
+double sample_stretch(const StretchParams& params, Rng& rng);
+// log g(lambda); -inf outside the support.
+double stretch_log_pdf(double lambda, const StretchParams& params);
+// Whether lambda lies in g's support, up to a relative tolerance (for lambdas recovered
+// from rounded end points).
+bool stretch_in_support(double lambda, const StretchParams& params, double relative_tolerance = 1e-6);
+
+// ---------------------------------------------------------------------------------------
+// Linear kernel in R^N (the paper uses N = 2: image plane / lens): x' = v + l (x - v).
+// Reverse over forward density ratio: g(1/l) / g(l) * l^(N-2). For the Goodman-Weare g,
+// g(1/l) = l g(l), so the ratio is l^(N-1) = l in 2-D; for a uniform g on [1/a, a] it is
+// l^(N-2) = 1 in 2-D (derivation in linear_kernel.cpp).
+
+struct LinearProposal {
+  Vec2 state{0.0f};
+  double lambda = 1.0;
+  double log_density_ratio = 0.0;  // log T(y -> x) - log T(x -> y); -inf: reject
+  bool valid = false;              // false: current == guide (no line), or reverse impossible
+};
+
+double linear_log_density_ratio(double lambda, const StretchParams& params, int dimension = 2);
+LinearProposal propose_linear(const Vec2& current, const Vec2& guide, const StretchParams& params,
+                              Rng& rng);
+// Ratio of a move `from -> to` along the line through `guide`, recovering lambda from the
+// distances; used to evaluate a move given only its end points (e.g. after a ray-cast).
+double linear_log_density_ratio_between(const Vec2& from, const Vec2& to, const Vec2& guide,
+                                        const StretchParams& params);
+
+// ---------------------------------------------------------------------------------------
+// Great-arc ("linear hemispherical") kernel on S^2. With the guide w2 and the current w1 at
+// angle W = acos(w1.w2), the proposal is the point of the great circle through w2 and w1
+// at angle l*W from w2, on w1's side: slerp(w1, w2; t = 1 - l) =
+//     sin(l W)/sin W * w1 + sin((1 - l) W)/sin W * w2
+// (the paper prints the dot product where the angle W belongs). Reverse over forward:
+//     g(1/l)/g(l) * (1/l) * sin(l W) / sin W  ==  sin(l W) / sin W  for Goodman-Weare g,
+// i.e. sqrt(1 - (w_new.w2)^2) / sqrt(1 - (w1.w2)^2): the INVERSE of the paper's eq. 10
+// (derivation in hemispherical_kernel.cpp). Moves with l W >= pi (past the guide's
+// antipode) are not invertible by the same map and are reported invalid (reject).
+
+struct GreatArcProposal {
+  Vec3 direction{0.0f, 0.0f, 1.0f};
+  double lambda = 1.0;
+  double angle_current = 0.0;   // W: angle between current and guide
+  double angle_proposed = 0.0;  // l W: angle between proposal and guide
+  double log_density_ratio = 0.0;
+  bool valid = false;
+};
+
+// The point of the great arc at stretch `lambda` (unit vectors in, unit vector out).
+std::optional<Vec3> great_arc_point(const Vec3& current, const Vec3& guide, double lambda);
+double great_arc_log_density_ratio(double lambda, double angle_current, double angle_proposed,
+                                   const StretchParams& params);
+// The same ratio for a move `from -> to` given only its end points (lambda and the angles
+// recovered from them; `to` must lie on the great circle through `from` and `guide`).
+double great_arc_log_density_ratio_between(const Vec3& from, const Vec3& to, const Vec3& guide,
+                                           const StretchParams& params);
+GreatArcProposal propose_great_arc(const Vec3& current, const Vec3& guide,
+                                   const StretchParams& params, Rng& rng);
+
+// ---------------------------------------------------------------------------------------
+// Guides of the kernels that fit a distribution to all M guides (anisotropic, directional):
+// per-guide points (vertex positions / directions) and optional per-guide log weights that
+// do not depend on the perturbed vertex (e.g. log S(x_{j+1}, v_{j+1}) of eq. 11 for an
+// unmoved neighbour). Empty context = all zero.
+struct GuideSet {
+  std::span<const Vec3> points;
+  std::span<const double> log_context_weights;
+};
+
+// ---------------------------------------------------------------------------------------
+// Anisotropic kernel (eqs. 11-12). At a vertex x with normal N: weights w(n) proportional
+// to S(x, v^n) * context(n) (eq. 11), guides projected orthogonally onto the tangent plane
+// at x, weighted 2x2 covariance (reliability weights, the analogue of the paper's
+// 1/(M-1)), scaled, plus an isotropic floor; recentred at x. When the fit is degenerate
+// (Kish effective number of guides below a threshold, or the raw covariance's determinant
+// below a threshold) an isotropic Gaussian of fixed width is used instead. The decision
+// is a deterministic function of (x, N, guides), so the reverse evaluation at x' makes it
+// again for x'.
+
+struct AnisotropicParams {
+  SimilarityParams similarity;
+  double covariance_scale = 1.0;      // multiplies the fitted covariance
+  double floor_sigma = 1e-3;          // + floor_sigma^2 * I (keeps Sigma positive definite)
+  double fallback_sigma = 0.05;       // width of the isotropic fallback Gaussian
+  double min_effective_guides = 2.0;  // Kish effective count below this -> fallback
+  double min_determinant = 1e-12;     // det of the unfloored covariance below this -> fallback
+};
+
+// A Gaussian on the tangent plane of `centre`, mean at the centre.
+struct TangentGaussian {
+  DVec3 centre{0.0}, axis_s{1, 0, 0}, axis_t{0, 1, 0}, normal{0, 0, 1};
+  double cov_ss = 1.0, cov_st = 0.0, cov_tt = 1.0;     // covariance in (s, t) coordinates
+  double chol_ss = 1.0, chol_ts = 0.0, chol_tt = 1.0;  // lower Cholesky factor
+  double log_normaliser = 0.0;                         // -log(2 pi) - log(det) / 2
+  double effective_guides = 0.0;
+  bool fallback = true;
+};
+
+TangentGaussian fit_tangent_gaussian(const Vec3& centre, const Vec3& normal, const GuideSet& guides,
+                                     const AnisotropicParams& params);
+// A sample z' on the plane.
+Vec3 sample_tangent_gaussian(const TangentGaussian& gaussian, Rng& rng);
+// log density per unit plane area at a point of the plane (its normal component is ignored).
+double tangent_gaussian_log_pdf(const TangentGaussian& gaussian, const Vec3& point_on_plane);
+
+// General surfaces. The real strategy casts a ray from the previous vertex `origin` through
+// z' and takes the first hit x' (normal N'). Per unit area of the surface, the density is
+//     N(z') * |dA_plane / dA_surface| = N(z') * G(x' <-> origin) / G(z' <-> origin)
+// with G = |cos at the receiving point| / distance^2 (the cosine at `origin` cancels).
+double log_plane_to_surface_jacobian(double cos_at_surface, double distance_to_surface,
+                                     double cos_at_plane, double distance_to_plane);
+// The point where the line from `origin` through `through` meets the plane, if it does in
+// front of the origin.
+std::optional<Vec3> project_through_onto_plane(const Vec3& origin, const Vec3& through,
+                                               const Vec3& plane_point, const Vec3& plane_normal);
+// log area density of reaching `surface_point` (normal `surface_normal`) by sampling
+// `gaussian` and casting from `origin`: finds z by central projection of surface_point
+// onto the Gaussian's plane, then log N(z) + log Jacobian. Use it for both directions:
+//   forward: fit at x_j,  origin x'_{j-1}, surface point x'_j
+//   reverse: fit at x'_j, origin x_{j-1},  surface point x_j
+// (the reverse z is the central, not the orthogonal, projection of x_j: see the .cpp).
+double ray_cast_log_area_density(const TangentGaussian& gaussian, const Vec3& origin,
+                                 const Vec3& surface_point, const Vec3& surface_normal);
+
+// Standalone planar version: the surface is the tangent plane itself, so the ray-cast is
+// the identity and the Jacobian is 1.
+struct AnisotropicProposal {
+  Vec3 state{0.0f};
+  double log_forward_density = 0.0;  // log T(x -> y) per unit area
+  double log_reverse_density = 0.0;  // log T(y -> x) per unit area, Sigma refitted at y
+  bool forward_fallback = false;
+  bool reverse_fallback = false;
+  double log_density_ratio() const { return log_reverse_density - log_forward_density; }
+};
+
+AnisotropicProposal propose_anisotropic_on_plane(const Vec3& current, const Vec3& normal,
+                                                 const GuideSet& guides,
+                                                 const AnisotropicParams& params, Rng& rng);
+// log T(from -> to) for the planar kernel (fit at `from`).
+double anisotropic_on_plane_log_density(const Vec3& from, const Vec3& normal, const Vec3& to,
+                                        const GuideSet& guides, const AnisotropicParams& params);
+
+// ---------------------------------------------------------------------------------------
+// Directional kernel on S^2: a von Mises-Fisher distribution fitted to the weighted guide
+// directions (mean direction and the concentration from the mean resultant length), then
+// recentred on the current direction: the proposal is vMF(current, kappa(current)). The
+// reverse refits at the proposed direction: kappa(proposed).
+
+struct DirectionalParams {
+  SimilarityParams similarity;
+  bool weight_by_direction_similarity = true;  // w(n) ~ S(w, w_n) * context(n)
+  double concentration_scale = 1.0;            // multiplies the fitted kappa
+  double min_concentration = 1e-3;
+  double max_concentration = 1e6;
+  double fallback_concentration = 100.0;  // "a high concentration" (paper, fallback)
+  double min_effective_guides = 2.0;
+};
+
+struct VmfFit {
+  Vec3 mean_direction{0.0f, 0.0f, 1.0f};  // of the weighted guides (not used by the kernel)
+  double mean_resultant_length = 0.0;
+  double concentration = 1.0;  // the kappa the kernel uses (scaled, clamped or fallback)
+  double effective_guides = 0.0;
+  bool fallback = true;
+};
+
+VmfFit fit_vmf(const Vec3& current, const GuideSet& directions, const DirectionalParams& params);
+// Banerjee et al. (2005) estimate of kappa on S^2 from the mean resultant length.
+double vmf_concentration_from_resultant(double mean_resultant_length);
+Vec3 sample_vmf(const Vec3& mean, double concentration, Rng& rng);
+// log density per unit solid angle at a direction whose cosine to the mean is cos_to_mean.
+double vmf_log_pdf(double concentration, double cos_to_mean);
+
+struct DirectionalProposal {
+  Vec3 direction{0.0f, 0.0f, 1.0f};
+  double log_forward_density = 0.0;
+  double log_reverse_density = 0.0;
+  bool forward_fallback = false;
+  bool reverse_fallback = false;
+  double log_density_ratio() const { return log_reverse_density - log_forward_density; }
+};
+
+DirectionalProposal propose_directional(const Vec3& current, const GuideSet& directions,
+                                        const DirectionalParams& params, Rng& rng);
+double directional_log_density(const Vec3& from, const Vec3& to, const GuideSet& directions,
+                               const DirectionalParams& params);
+
+}  // namespace emlt::ensemble
