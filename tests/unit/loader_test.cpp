@@ -416,7 +416,8 @@ TEST(ShippedScenes, LoadAndBuildWithoutWarnings) {
                            "scenes/env-sky/scene.xml", "scenes/staircase/scene.json",
                            "scenes/bedroom/scene.json", "scenes/kitchen/scene.json",
                            "scenes/classroom/scene.json", "scenes/breakfast-room/scene.json",
-                           "scenes/sponza-like/scene.json"}) {
+                           "scenes/sponza-like/scene.json", "scenes/door-ajar/scene.json",
+                           "scenes/caustic-pool/scene.json"}) {
     const SceneDescription desc = load_scene_description(test::source_path(file));
     EXPECT_TRUE(desc.warnings.empty()) << file << ": " << desc.warnings.front();
     const auto scene = Scene::build(desc);
