@@ -9,7 +9,7 @@
 // so that a = min(1, f(y)/f(x) * exp(log ratio) * [P(n|y)/P(n|x) if a guide was drawn with
 // state-dependent probabilities, see similarity.h]). Densities are with respect to area
 // (R^2 / tangent plane / surface) or solid angle (S^2). The paper's typos and ambiguities,
-// and the corrections applied here, are listed in docs of each section below and in
+// and the corrections applied here, are noted in each section below and in
 // shared/design/notes/emlt-notes.md. Every ratio is verified by running the kernel alone as
 // an MH chain on a known target (tests/statistical/ensemble_kernel_test.cpp).
 //
@@ -44,7 +44,8 @@ double sample_stretch(const StretchParams& params, Rng& rng);
 double stretch_log_pdf(double lambda, const StretchParams& params);
 // Whether lambda lies in g's support, up to a relative tolerance (for lambdas recovered
 // from rounded end points).
-bool stretch_in_support(double lambda, const StretchParams& params, double relative_tolerance = 1e-6);
+bool stretch_in_support(double lambda, const StretchParams& params,
+                        double relative_tolerance = 1e-6);
 
 // ---------------------------------------------------------------------------------------
 // Linear kernel in R^N (the paper uses N = 2: image plane / lens): x' = v + l (x - v).
