@@ -60,7 +60,7 @@ TEST(TexturedScene, CheckerboardPlaneUnderConstantSkyHasAlbedoTimesSkyPerCell) {
   // Which cell a pixel block sees, from the camera's own centre ray (so the test does not
   // restate the camera convention); blocks stay 2 px clear of the cell boundaries.
   int checked = 0;
-  for (const auto [x0, y0] : {std::pair{1, 1}, std::pair{10, 1}, std::pair{1, 10}, std::pair{10, 10}}) {
+  for (const auto& [x0, y0] : {std::pair{1, 1}, std::pair{10, 1}, std::pair{1, 10}, std::pair{10, 10}}) {
     const Ray ray = scene->camera().generate_ray(Vec2(x0 + 2.5f, y0 + 2.5f), Vec2(0.5f));
     SurfaceHit hit;
     ASSERT_TRUE(scene->intersect(ray, hit));

@@ -15,7 +15,9 @@ void add_quad(SceneDescription& d, Vec3 a, Vec3 b, Vec3 c, Vec3 e, int material,
 }
 
 int add_material(SceneDescription& d, BsdfPtr bsdf) {
-  d.materials.push_back({"m" + std::to_string(d.materials.size()), std::move(bsdf)});
+  std::string name = "m";  // built in two steps: GCC 12 warns falsely (-Wrestrict) on "m" + string
+  name += std::to_string(d.materials.size());
+  d.materials.push_back({name, std::move(bsdf)});
   return int(d.materials.size()) - 1;
 }
 
