@@ -2,7 +2,9 @@
 // The clamped two-tailed geometric distribution P(i) proportional to 2^-|i - centre| on
 // [low, high] (Mitsuba's choice for the bidirectional mutation's lengths): small changes
 // are likely, any change within the range is possible.
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include "emlt/core/rng.h"
 
@@ -25,7 +27,12 @@ class TwoTailedGeometric {
   }
 
  private:
-  double weight(int i) const { return std::ldexp(1.0, -std::abs(i - centre_)); }
+  // 2^-|i - centre| built from its exponent bits: exact, and far cheaper than ldexp in the
+  // mutation loop (it showed up in MLT profiles).
+  double weight(int i) const {
+    const int n = std::abs(i - centre_);
+    return n < 1022 ? std::bit_cast<double>(uint64_t(1023 - n) << 52) : 0.0;
+  }
   int centre_, low_, high_;
   double total_ = 0.0;
 };
