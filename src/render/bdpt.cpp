@@ -1,13 +1,12 @@
 #include "emlt/render/bdpt.h"
 
-#include "emlt/render/snapshot.h"
+#include "emlt/render/pass_schedule.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
-#include <chrono>
 #include <filesystem>
 #include <fmt/core.h>
 
@@ -184,9 +183,6 @@ RenderResult BidirectionalPathTracer::render(const Scene& scene, const RenderSet
   const Camera& camera = scene.camera();
   const int width = camera.width(), height = camera.height();
   const uint64_t pixels = uint64_t(width) * uint64_t(height);
-  const bool timed = settings.time_limit_s > 0.0;
-  const int max_spp = timed && settings.spp <= 0 ? std::numeric_limits<int>::max()
-                                                 : std::max(settings.spp, 1);
   const bool strategy_images = !settings.bdpt_strategies_dir.empty();
   const int strategies = strategy_images ? strategy_image_count() : 0;
 
@@ -197,17 +193,6 @@ RenderResult BidirectionalPathTracer::render(const Scene& scene, const RenderSet
   std::vector<TileOutput> outputs(tiles.size());
   const BdptSampler sampler(scene, settings, options_, film, strategy_images);
 
-  const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
-  tbb::task_arena arena(threads);
-  progress.start("rendering", timed ? 0 : pixels * uint64_t(max_spp), settings.time_limit_s);
-  const auto start = std::chrono::steady_clock::now();
-  const auto elapsed = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  };
-
-  RenderResult result;
-  const int bounded_pass = int(std::max<uint64_t>(1, kSamplesPerPass / std::max<uint64_t>(pixels, 1)));
-  int done = 0, pass_spp = timed ? 1 : bounded_pass;
   // Camera-side estimates average over the pixel's samples. A splat carries W_e of the
   // whole film (camera.h), so the light-tracing image is scaled by pixels / light paths;
   // there is one light path per pixel sample.
@@ -220,17 +205,18 @@ RenderResult BidirectionalPathTracer::render(const Scene& scene, const RenderSet
       image.pixels[i] = Rgb(camera_sums[i] * camera_scale + film.sums()[i] * splat_scale);
     return image;
   };
-  double snapshot_seconds = 0.0;
-  const auto take_snapshot = [&](int samples) {
-    const auto begin = std::chrono::steady_clock::now();
-    settings.snapshots->snapshot(samples, elapsed() - snapshot_seconds, average(samples), {});
-    snapshot_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-  };
-  while (done < max_spp) {
-    // Passes end at power-of-two sample counts whether or not a log listens (snapshot.h).
-    const int first = done;
-    const int last = int(std::min<uint64_t>(uint64_t(done + std::min(pass_spp, max_spp - done)),
-                                            next_checkpoint(uint64_t(done))));
+
+  const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
+  tbb::task_arena arena(threads);
+  // Passes are bounded so the splat lists stay small.
+  const int bounded_pass = int(std::max<uint64_t>(1, kSamplesPerPass / std::max<uint64_t>(pixels, 1)));
+  PassSchedule schedule(settings, bounded_pass);
+  const bool timed = settings.time_limit_s > 0.0;
+  progress.start("rendering", timed ? 0 : pixels * uint64_t(schedule.max_samples()), settings.time_limit_s);
+
+  RenderResult result;
+  while (schedule.more()) {
+    const int first = schedule.pass_begin(), last = schedule.pass_end();
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
         SampleScratch scratch;
@@ -270,19 +256,13 @@ RenderResult BidirectionalPathTracer::render(const Scene& scene, const RenderSet
       outputs[i].invalid.count = 0;
     }
     film.add_in_order(lists);
-    done = last;
-    if (settings.snapshots && is_checkpoint(uint64_t(done))) take_snapshot(done);
-    if (!timed) continue;
-    const double used = elapsed() - snapshot_seconds, left = settings.time_limit_s - used;
-    if (left <= 0.0) break;
-    const double seconds_per_spp = used / done;
-    pass_spp = int(std::clamp(left / seconds_per_spp / 4.0, 1.0, double(bounded_pass)));
-    if (left < seconds_per_spp) break;
+    schedule.complete_pass(average);
   }
-  if (settings.snapshots && !is_checkpoint(uint64_t(done))) take_snapshot(done);
+  schedule.finish(average);
   progress.finish();
 
-  result.seconds = elapsed() - snapshot_seconds;
+  const int done = schedule.samples();
+  result.seconds = schedule.seconds();
   result.samples_per_pixel = done;
   result.samples = pixels * uint64_t(done);
   result.image = average(done);

@@ -1,6 +1,6 @@
 #include "emlt/render/pixel_renderer.h"
 
-#include "emlt/render/snapshot.h"
+#include "emlt/render/pass_schedule.h"
 
 #include <tbb/blocked_range2d.h>
 #include <tbb/combinable.h>
@@ -8,7 +8,6 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
-#include <chrono>
 
 namespace emlt {
 
@@ -58,61 +57,35 @@ RenderResult render_pixels(const Scene& scene, const RenderSettings& settings,
   const Camera& camera = scene.camera();
   const int width = camera.width(), height = camera.height();
   const uint64_t pixels = uint64_t(width) * uint64_t(height);
-  const bool timed = settings.time_limit_s > 0.0;
-  // A time budget with no explicit sample cap runs until the time is up.
-  const int max_spp = timed && settings.spp <= 0 ? std::numeric_limits<int>::max()
-                                                 : std::max(settings.spp, 1);
   std::vector<DVec3> sums(pixels, DVec3(0.0));
-
-  const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
-  tbb::task_arena arena(threads);
-  progress.start("rendering", timed ? 0 : pixels * uint64_t(max_spp), settings.time_limit_s);
-  const auto start = std::chrono::steady_clock::now();
-  const auto elapsed = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  };
-
   const auto average = [&](int samples) {
     Image image(width, height);
     const double scale = samples > 0 ? 1.0 / samples : 0.0;
     for (uint64_t i = 0; i < pixels; ++i) image.pixels[i] = Rgb(sums[i] * scale);
     return image;
   };
-  double snapshot_seconds = 0.0;  // time spent in snapshots, not rendering
-  const auto take_snapshot = [&](int samples) {
-    const auto begin = std::chrono::steady_clock::now();
-    settings.snapshots->snapshot(samples, elapsed() - snapshot_seconds, average(samples), {});
-    snapshot_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-  };
+
+  const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
+  tbb::task_arena arena(threads);
+  PassSchedule schedule(settings, std::numeric_limits<int>::max());
+  const bool timed = settings.time_limit_s > 0.0;
+  progress.start("rendering", timed ? 0 : pixels * uint64_t(schedule.max_samples()), settings.time_limit_s);
 
   RenderResult result;
-  int done = 0, pass_spp = timed ? 1 : max_spp;
-  while (done < max_spp) {
-    // Passes always end at power-of-two sample counts (checkpoints), so a convergence log
-    // changes nothing about how the samples are summed.
-    const int last = int(std::min<uint64_t>(uint64_t(done + std::min(pass_spp, max_spp - done)),
-                                            next_checkpoint(uint64_t(done))));
+  while (schedule.more()) {
+    const int first = schedule.pass_begin(), last = schedule.pass_end();
     arena.execute([&] {
-      result.invalid_samples += render_pass(scene, settings, progress, radiance, done, last, sums);
+      result.invalid_samples += render_pass(scene, settings, progress, radiance, first, last, sums);
     });
-    done = last;
-    if (settings.snapshots && is_checkpoint(uint64_t(done))) take_snapshot(done);
-    if (!timed) continue;
-    const double used = elapsed() - snapshot_seconds, left = settings.time_limit_s - used;
-    if (left <= 0.0) break;
-    // Size the next pass to about a quarter of the remaining time, so the budget is met
-    // closely without many tiny passes.
-    const double seconds_per_spp = used / done;
-    pass_spp = int(std::clamp(left / seconds_per_spp / 4.0, 1.0, 1e6));
-    if (left < seconds_per_spp) break;
+    schedule.complete_pass(average);
   }
-  if (settings.snapshots && !is_checkpoint(uint64_t(done))) take_snapshot(done);
+  schedule.finish(average);
   progress.finish();
 
-  result.seconds = elapsed() - snapshot_seconds;
-  result.samples_per_pixel = done;
-  result.samples = pixels * uint64_t(done);
-  result.image = average(done);
+  result.seconds = schedule.seconds();
+  result.samples_per_pixel = schedule.samples();
+  result.samples = pixels * uint64_t(schedule.samples());
+  result.image = average(schedule.samples());
   return result;
 }
 
