@@ -26,7 +26,7 @@ METHODS = {
     "pt": (["--integrator", "pt"], "--spp"),
     "bdpt": (["--integrator", "bdpt"], "--spp"),
     "mlt": (["--integrator", "mlt"], "--mpp"),  # the engine's default mutation mix
-    "gamlt": None,      # gradient-aware MLT (EMLT paper's GAMLT-like baseline)
+    "gamlt": (["--integrator", "gamlt"], "--mpp"),  # geometry-aware MLT (issue 7)
     "emlt": None,       # ensemble MLT
     "emlt-ani": None,   # EMLT, anisotropic variant
     "emlt-lin": None,   # EMLT, linear variant

@@ -45,7 +45,7 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
   RenderSettings& s = o.settings;
   command.add_option("scene", o.scene, "Scene file (.json or Mitsuba .xml)")->required();
   command.add_option("-o,--output", o.output, "Output image (.exr, .pfm, .png, .hdr)");
-  command.add_option("--integrator", s.integrator, "direct | pt | bdpt | mlt");
+  command.add_option("--integrator", s.integrator, "direct | pt | bdpt | mlt | gamlt");
   command.add_option("--spp", s.spp, "Samples per pixel")->check(CLI::Range(1, 1 << 24));
   command.add_option("--time", s.time_limit_s, "Time budget in seconds (renders until spent)")
       ->check(CLI::PositiveNumber);
@@ -73,7 +73,8 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
       ->check(CLI::Range(0, 1 << 20));
   command.add_option("--bootstrap", s.bootstrap_samples, "mlt: BDPT samples for b and the seeds")
       ->check(CLI::Range(1, 1 << 30));
-  command.add_option("--mutations", s.mutations, "mlt: strategy mix, e.g. bidir=1");
+  command.add_option("--mutations", s.mutations,
+                     "mlt/gamlt: strategy mix, e.g. bidir=3,lens=2 (default: the integrator's own)");
   command.add_option("--direct", o.direct_mode,
                      "mlt: direct light rendered separately or by the chains")
       ->check(CLI::IsMember({"separate", "mlt"}));

@@ -106,7 +106,9 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   const int width = camera.width(), height = camera.height();
   const uint64_t pixels = uint64_t(width) * uint64_t(height);
   const std::shared_ptr<const StrategyMix> mix_holder =
-      options_.mix ? options_.mix : std::make_shared<const StrategyMix>(StrategyMix::parse(settings.mutations));
+      options_.mix ? options_.mix
+                   : std::make_shared<const StrategyMix>(StrategyMix::parse(
+                         settings.mutations.empty() ? options_.default_mix : settings.mutations));
   const StrategyMix& mix = *mix_holder;
   stats_ = MltStatistics{};
   for (size_t i = 0; i < mix.size(); ++i) stats_.strategy_names.push_back(mix.name(i));

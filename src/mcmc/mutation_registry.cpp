@@ -2,18 +2,22 @@
 #include "emlt/mcmc/strategy_mix.h"
 #include "mutations/bidirectional.h"
 #include "mutations/caustic_perturbation.h"
+#include "mutations/geometry_aware/ga_perturbations.h"
 #include "mutations/lens_perturbation.h"
 #include "mutations/multichain_perturbation.h"
 
 namespace emlt {
 
-std::vector<std::string> mutation_names() { return {"bidir", "lens", "caustic", "multichain"}; }
+std::vector<std::string> mutation_names() { return {"bidir", "lens", "caustic", "multichain", "ga-lens", "ga-caustic", "ga-multichain"}; }
 
 std::unique_ptr<Mutation> make_mutation(const std::string& name) {
   if (name == "bidir" || name == "bidirectional") return std::make_unique<BidirectionalMutation>();
   if (name == "lens") return std::make_unique<LensPerturbation>();
   if (name == "caustic") return std::make_unique<CausticPerturbation>();
   if (name == "multichain" || name == "multi-chain") return std::make_unique<MultiChainPerturbation>();
+  if (name == "ga-lens") return std::make_unique<GaLensPerturbation>();
+  if (name == "ga-caustic") return std::make_unique<GaCausticPerturbation>();
+  if (name == "ga-multichain" || name == "ga-multi-chain") return std::make_unique<GaMultiChainPerturbation>();
   std::string known;
   for (const auto& n : mutation_names()) known += (known.empty() ? "" : ", ") + n;
   throw Error("unknown mutation '" + name + "' (available: " + known + ")");

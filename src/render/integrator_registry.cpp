@@ -7,13 +7,19 @@
 
 namespace emlt {
 
-std::vector<std::string> integrator_names() { return {"direct", "pt", "bdpt", "mlt"}; }
+std::vector<std::string> integrator_names() { return {"direct", "pt", "bdpt", "mlt", "gamlt"}; }
 
 std::unique_ptr<Integrator> make_integrator(const std::string& name) {
   if (name == "direct") return std::make_unique<DirectIntegrator>();
   if (name == "pt" || name == "path") return std::make_unique<PathTracer>();
   if (name == "bdpt") return std::make_unique<BidirectionalPathTracer>();
   if (name == "mlt") return std::make_unique<MltIntegrator>();
+  if (name == "gamlt") {  // MLT with the geometry-aware perturbations as its default mix
+    MltOptions options;
+    options.name = "gamlt";
+    options.default_mix = kGamltMix;
+    return std::make_unique<MltIntegrator>(std::move(options));
+  }
   std::string known;
   for (const auto& n : integrator_names()) known += (known.empty() ? "" : ", ") + n;
   throw Error("unknown integrator '" + name + "' (available: " + known + ")");

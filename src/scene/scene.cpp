@@ -511,4 +511,84 @@ bool Scene::visible(const Vec3& a, const Vec3& na, const Vec3& b, const Vec3& nb
   return !occluded(Ray{origin, delta / distance, 0.0f, distance * (1.0f - 1e-4f)});
 }
 
+namespace {
+
+// Closest point of triangle (a, b, c) to p, by the Voronoi regions of its vertices, edges
+// and face (the barycentric case analysis of Ericson, Real-Time Collision Detection §5.1.5,
+// written out here from the region tests).
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const float d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+  if (d1 <= 0.0f && d2 <= 0.0f) return a;
+  const Vec3 bp = p - b;
+  const float d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+  if (d3 >= 0.0f && d4 <= d3) return b;
+  const float vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) return a + ab * (d1 / (d1 - d3));
+  const Vec3 cp = p - c;
+  const float d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+  if (d6 >= 0.0f && d5 <= d6) return c;
+  const float vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) return a + ac * (d2 / (d2 - d6));
+  const float va = d3 * d6 - d5 * d4;
+  if (va <= 0.0f && (d4 - d3) >= 0.0f && (d5 - d6) >= 0.0f)
+    return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const float denominator = 1.0f / (va + vb + vc);
+  return a + ab * (vb * denominator) + ac * (vc * denominator);
+}
+
+}  // namespace
+
+float Scene::clearance(const Vec3& p, float max_distance, const Vec3* ignore, int ignore_count,
+                       float ignore_eps) const {
+  struct Query {
+    const Scene* scene;
+    const Vec3* ignore;
+    int ignore_count;
+    float ignore_eps;
+  } query_data{this, ignore, ignore_count, ignore_eps};
+  RTCPointQuery query;
+  query.x = p.x, query.y = p.y, query.z = p.z;
+  query.radius = max_distance;
+  query.time = 0.0f;
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  // Embree visits every primitive whose bounds meet the current ball; the callback shrinks
+  // the ball to the nearest non-skipped surface found so far.
+  const RTCPointQueryFunction nearest = [](RTCPointQueryFunctionArguments* args) -> bool {
+    const auto* q = static_cast<const Query*>(args->userPtr);
+    const Geometry& g = q->scene->geometries_[args->geomID];
+    const Vec3 centre(args->query->x, args->query->y, args->query->z);
+    float distance = kInfinity;
+    if (g.kind == Geometry::Kind::Triangles) {
+      const uint32_t* index = &g.indices[3 * size_t(args->primID)];
+      const Vec3 &a = g.positions[index[0]], &b = g.positions[index[1]], &c = g.positions[index[2]];
+      const Vec3 n = glm::cross(b - a, c - a);
+      const float n_length = glm::length(n);
+      if (!(n_length > 0.0f)) return false;
+      for (int i = 0; i < q->ignore_count; ++i)
+        if (std::abs(glm::dot(n, q->ignore[i] - a)) < q->ignore_eps * n_length) return false;
+      distance = glm::length(closest_point_on_triangle(centre, a, b, c) - centre);
+    } else {
+      for (int i = 0; i < q->ignore_count; ++i)
+        if (std::abs(glm::length(q->ignore[i] - g.center) - g.radius) < q->ignore_eps) return false;
+      distance = std::abs(glm::length(centre - g.center) - g.radius);
+    }
+    if (!(distance < args->query->radius)) return false;
+    args->query->radius = distance;
+    return true;
+  };
+  rtcPointQuery(rtc_scene_, &query, &context, nearest, &query_data);
+  // Embree 3's point queries do not visit RTC_GEOMETRY_TYPE_SPHERE_POINT primitives
+  // (found by the cone test); spheres are few, so they are checked here directly.
+  for (const Geometry& g : geometries_) {
+    if (g.kind != Geometry::Kind::Sphere) continue;
+    bool own = false;
+    for (int i = 0; i < ignore_count; ++i)
+      own = own || std::abs(glm::length(ignore[i] - g.center) - g.radius) < ignore_eps;
+    if (!own) query.radius = std::min(query.radius, std::abs(glm::length(p - g.center) - g.radius));
+  }
+  return std::min(query.radius, max_distance);
+}
+
 }  // namespace emlt

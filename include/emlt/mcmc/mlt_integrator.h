@@ -26,15 +26,27 @@ struct MltStatistics {
 // Diagnostics and tests: a strategy mix built in code (instead of settings.mutations),
 // and a switch that drops the selection-probability term from the acceptance ratio, to
 // show that the tests notice.
+// The EMLT paper's MLT: the bidirectional mutation with probability 1/3, the three
+// perturbations sharing the rest.
+inline constexpr const char* kMltMix = "bidir=3,lens=2,caustic=2,multichain=2";
+// Geometry-aware MLT (project issue 7): the bidirectional mutation with the geometry-aware
+// perturbations (mutations/geometry_aware/ga_perturbations.h), in plain MLT's proportions.
+inline constexpr const char* kGamltMix = "bidir=3,ga-lens=2,ga-caustic=2,ga-multichain=2";
+
 struct MltOptions {
   std::shared_ptr<const StrategyMix> mix;
   bool ignore_selection_probability = false;
+  // A named variant with its own default mix (used when settings.mutations is empty, i.e.
+  // --mutations was not given): `--integrator gamlt` is this integrator named "gamlt" with
+  // kGamltMix.
+  std::string name = "mlt";
+  std::string default_mix = kMltMix;
 };
 
 class MltIntegrator final : public Integrator {
  public:
   explicit MltIntegrator(MltOptions options = {}) : options_(std::move(options)) {}
-  std::string name() const override { return "mlt"; }
+  std::string name() const override { return options_.name; }
   RenderResult render(const Scene& scene, const RenderSettings& settings,
                       ProgressReporter& progress) const override;
 

@@ -28,8 +28,8 @@ struct RenderSettings {
   double mutations_per_pixel = 16.0;      // --mpp: total mutations = mpp * width * height
   int chains = 0;                          // 0: chosen from the budget (reported)
   int bootstrap_samples = 100000;          // BDPT samples for b and the chains' seeds
-  // EMLT paper's MLT: bidirectional 1/3, the three perturbations sharing the rest.
-  std::string mutations = "bidir=3,lens=2,caustic=2,multichain=2";  // --mutations name=weight,...
+  // --mutations name=weight,...; empty: the integrator's own default mix (mlt_integrator.h).
+  std::string mutations;
   bool direct_separate = true;             // --direct separate|mlt
   // Samples of the separate direct image; 0: as many as mutations per pixel (at least 1),
   // so the direct part converges with the chains, or 16 under a pure time budget.

@@ -1,0 +1,113 @@
+#include "support/mlt_test_helpers.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+
+#include "emlt/mcmc/bootstrap.h"
+#include "emlt/render/bdpt.h"
+#include "emlt/scene/loader.h"
+#include "support/test_support.h"
+
+namespace emlt::test {
+
+namespace {
+double luminance(const DVec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+}  // namespace
+
+std::unique_ptr<Scene> shipped_scene(const std::string& name, int size) {
+  SceneDescription desc = load_scene_description(test::source_path("scenes/" + name + "/scene.json"), {});
+  desc.camera.width = desc.camera.height = size;
+  return Scene::build(std::move(desc));
+}
+
+std::vector<Path> bootstrap_paths(const Scene& scene, int count, int max_edges) {
+  BootstrapParams params;
+  params.seed = 5;
+  params.samples = 20000;
+  params.min_edges = 3;
+  params.max_edges = max_edges;
+  params.threads = 1;
+  const Bootstrap bootstrap = run_bootstrap(scene, params);
+  std::vector<Path> paths;
+  Rng rng(3, 3);
+  for (int i = 0; i < count * 4 && int(paths.size()) < count; ++i) {
+    const auto path = rebuild_candidate(scene, params, bootstrap.candidates[bootstrap.choose(rng.uniform_double())]);
+    if (path && path_luminance(scene, *path) > 0.0) paths.push_back(*path);
+  }
+  return paths;
+}
+
+Image render(const Integrator& integrator, const Scene& scene, RenderSettings settings) {
+  settings.progress = false;
+  ProgressReporter quiet(false);
+  return integrator.render(scene, settings, quiet).image;
+}
+
+RenderSettings base_settings() {
+  RenderSettings s;
+  s.max_depth = 6;
+  s.threads = 2;
+  s.seed = 7;
+  return s;
+}
+
+Image bdpt_reference(const Scene& scene, int spp) {
+  RenderSettings s = base_settings();
+  s.spp = spp;
+  return render(BidirectionalPathTracer(), scene, s);
+}
+
+Image mlt_image(const Scene& scene, const std::string& mix, double mpp, MltStatistics* stats) {
+  RenderSettings s = base_settings();
+  s.mutations = mix;
+  s.mutations_per_pixel = mpp;
+  s.chains = 64;
+  s.bootstrap_samples = 50000;
+  s.direct_spp = 256;
+  const MltIntegrator mlt;
+  Image image = render(mlt, scene, s);
+  if (stats) *stats = mlt.statistics();
+  return image;
+}
+
+void expect_converged_to(const Image& image, const Image& reference, int blocks, double tile_tolerance,
+                         double total_tolerance) {
+  const int tile = image.width / blocks;
+  std::vector<double> sums, reference_sums;
+  double total = 0.0, total_reference = 0.0;
+  for (int by = 0; by < blocks; ++by)
+    for (int bx = 0; bx < blocks; ++bx) {
+      double sum = 0.0, sum_reference = 0.0;
+      for (int y = by * tile; y < (by + 1) * tile; ++y)
+        for (int x = bx * tile; x < (bx + 1) * tile; ++x) {
+          sum += luminance(DVec3(image.at(x, y)));
+          sum_reference += luminance(DVec3(reference.at(x, y)));
+        }
+      sums.push_back(sum);
+      reference_sums.push_back(sum_reference);
+      total += sum;
+      total_reference += sum_reference;
+    }
+  const double scale = total / total_reference;
+  EXPECT_NEAR(scale, 1.0, total_tolerance);
+  double worst = 0.0;
+  for (size_t i = 0; i < sums.size(); ++i) {
+    const double ratio = sums[i] / (reference_sums[i] * scale);
+    worst = std::max(worst, std::abs(ratio - 1.0));
+    EXPECT_NEAR(ratio, 1.0, tile_tolerance) << "tile (" << i % size_t(blocks) << ", " << i / size_t(blocks) << ")";
+  }
+  std::printf("[ info     ] total ratio %.4f, worst tile deviation %.4f\n", scale, worst);
+}
+
+double share_of(const MltStatistics& stats, const std::string& name) {
+  uint64_t total = 0, mine = 0;
+  for (size_t i = 0; i < stats.strategies.size(); ++i) {
+    total += stats.strategies[i].proposed;
+    if (stats.strategy_names[i] == name) mine = stats.strategies[i].accepted;
+  }
+  return total ? double(mine) / double(total) : 0.0;
+}
+
+}  // namespace emlt::test
