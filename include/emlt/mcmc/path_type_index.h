@@ -1,0 +1,42 @@
+#pragma once
+// EMLT's path-type tree: the paths of the frozen ensemble Y grouped by Heckbert type
+// (length and which interior vertices are specular), rebuilt at every swap. A chain asks
+// for Upsilon, the M guide paths of its current path's type. The choice depends only on
+// (type, seed, chain, step), never on the current path's vertices or on the proposal, so
+// T(x->y | Y) and T(y->x | Y) are evaluated against the same Upsilon (emlt-notes.md §2).
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "emlt/path/path_type.h"
+
+namespace emlt {
+
+class PathTypeIndex {
+ public:
+  // Groups ensemble members by type, in parallel; member i is types[i]. Deterministic:
+  // each group lists its members in ensemble order, whatever the thread count.
+  void build(std::span<const PathType> types);
+
+  size_t type_count() const { return groups_.size(); }
+  // The members (ensemble indices) of this type, in ensemble order; empty if none.
+  std::span<const uint32_t> members(const PathType& type) const;
+  // Up to m members of this type: m consecutive entries (cyclically) of the type's list,
+  // starting at an offset hashed from (seed, chain, step). Fewer than m when the type has
+  // fewer members.
+  std::vector<uint32_t> guides(const PathType& type, uint64_t seed, uint64_t chain, uint64_t step,
+                               int m) const;
+
+ private:
+  struct Group {
+    uint64_t mask = 0;
+    uint8_t vertices = 0;
+    uint32_t begin = 0, end = 0;  // range in members_
+  };
+  const Group* find(const PathType& type) const;
+
+  std::vector<uint32_t> members_;  // grouped by type
+  std::vector<Group> groups_;      // sorted by (vertices, mask): binary search
+};
+
+}  // namespace emlt
