@@ -87,3 +87,24 @@ TEST(PathTypeIndex, BuildIsTheSameOnOneAndTwoThreads) {
     EXPECT_EQ(one.guides(t, 7, 3, 9, 16), two.guides(t, 7, 3, 9, 16));
   }
 }
+
+#include "mutations/ensemble/adaptive_alpha.h"
+
+TEST(EnsembleAdaptiveAlpha, FollowsThePapersSigmoidBetweenTheBounds) {
+  using namespace emlt::ensemble;
+  // Coverage: a 10 x 20 px box in a 100 x 100 image is 2 %.
+  const std::vector<Vec2> clustered = {{10, 10}, {20, 30}, {15, 12}};
+  EXPECT_NEAR(image_coverage(clustered, 100, 100), 0.02, 1e-9);
+  EXPECT_EQ(image_coverage(std::vector<Vec2>{{5, 5}}, 100, 100), 0.0);
+  // At the centre c = 0.1 the weight is 1/2: alpha is the mean of the bounds.
+  EXPECT_NEAR(adaptive_alpha(0.1), 0.5 * (0.5 + 0.05), 1e-12);
+  // Clustered guides get (nearly) the large step, spread ones the small.
+  EXPECT_NEAR(adaptive_alpha(0.0), 0.5, 0.01);
+  EXPECT_NEAR(adaptive_alpha(0.02), 0.5 - 0.45 / (1.0 + std::exp(4.0)), 1e-12);
+  EXPECT_NEAR(adaptive_alpha(1.0), 0.05, 1e-12);
+  double previous = 1.0;
+  for (double c = 0.0; c <= 1.0; c += 0.05) {
+    EXPECT_LE(adaptive_alpha(c), previous);
+    previous = adaptive_alpha(c);
+  }
+}
