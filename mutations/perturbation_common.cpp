@@ -154,14 +154,7 @@ double log_light_jacobian(const Path& path, int first, int last) {
   return log_jacobian;
 }
 
-double radians_per_pixel(const Camera& camera) {
-  const Vec2 centre(0.5f * float(camera.width()), 0.5f * float(camera.height()));
-  const Vec3 lens = camera.position();
-  const DVec3 d0(camera.generate_ray_from_lens_point(centre, lens).direction);
-  const DVec3 dx(camera.generate_ray_from_lens_point(centre + Vec2(1.0f, 0.0f), lens).direction);
-  const DVec3 dy(camera.generate_ray_from_lens_point(centre + Vec2(0.0f, 1.0f), lens).direction);
-  return std::min(angle_between(d0, dx), angle_between(d0, dy));
-}
+double radians_per_pixel(const Camera& camera) { return camera.radians_per_pixel(); }
 
 bool on_film(const Camera& camera, const Vec2& raster) {
   return raster.x >= 0.0f && raster.y >= 0.0f && raster.x < float(camera.width()) &&

@@ -81,7 +81,8 @@ double log_eye_jacobian(const Path& path, int first);
 // whose outgoing direction is the perturbed variable (the caustic perturbation).
 double log_light_jacobian(const Path& path, int first, int last);
 
-// Angular size of one pixel at the image centre (radians), for Veach's caustic heuristic.
+// Angular size of one pixel at the image centre (radians), for Veach's caustic heuristic;
+// the camera computes it once (Camera::radians_per_pixel).
 double radians_per_pixel(const Camera& camera);
 
 bool on_film(const Camera& camera, const Vec2& raster);

@@ -27,18 +27,24 @@ struct Chain {
   DVec3 contribution{0.0};  // F(x)
   double target = 0.0;      // f*(x)
   double carried = 0.0;     // expected-value weight not yet splatted for x
-  std::vector<uint8_t> applicable;
+  std::vector<uint8_t> applicable;           // which strategies apply to `current`
+  std::vector<uint8_t> proposal_applicable;  // the same for the latest proposal (reused buffer)
   Rng rng;
   std::vector<StrategyStats> stats;
 };
+
+// The film pixel a path lands in.
+size_t film_index(const Path& path, int width, int height) {
+  const Vec2 raster = path.raster();
+  const int x = std::clamp(int(raster.x), 0, width - 1), y = std::clamp(int(raster.y), 0, height - 1);
+  return size_t(y) * size_t(width) + size_t(x);
+}
 
 // Adds weight * F / f* at the path's pixel.
 void splat(std::vector<DVec3>& film, int width, int height, const Path& path,
            const DVec3& contribution, double target, double weight) {
   if (!(weight > 0.0) || !(target > 0.0)) return;
-  const Vec2 raster = path.raster();
-  const int x = std::clamp(int(raster.x), 0, width - 1), y = std::clamp(int(raster.y), 0, height - 1);
-  film[size_t(y) * size_t(width) + size_t(x)] += contribution * (weight / target);
+  film[film_index(path, width, height)] += contribution * (weight / target);
 }
 
 void run_chain(Chain& chain, uint64_t steps, const StrategyMix& mix, const MutationContext& ctx,
@@ -59,14 +65,17 @@ void run_chain(Chain& chain, uint64_t steps, const StrategyMix& mix, const Mutat
     auto proposal = mix.strategy(size_t(chosen)).propose(chain.current, chain.rng, ctx);
     DVec3 contribution(0.0);
     double target = 0.0;
-    std::vector<uint8_t> applicable;
     if (proposal) {
+      // Proposals land anywhere on the image, so the splat below would usually wait on
+      // memory (a block's film is larger than the caches): start loading the pixel now,
+      // while the contribution is evaluated.
+      __builtin_prefetch(&film[film_index(proposal->path, width, height)], 1);
       contribution = path_contribution(ctx.scene, proposal->path);
       target = luminance(contribution);
       if (target > 0.0 && std::isfinite(target)) {
-        applicable = mix.applicable(proposal->path, ctx);
-        const double p_reverse = ignore_selection ? p_forward
-                                                  : mix.selection_probability(size_t(chosen), applicable);
+        mix.applicable(proposal->path, ctx, chain.proposal_applicable);
+        const double p_reverse =
+            ignore_selection ? p_forward : mix.selection_probability(size_t(chosen), chain.proposal_applicable);
         const double ratio = target / chain.target * std::exp(proposal->log_reverse_over_forward) *
                              (p_reverse / p_forward);
         acceptance = std::isfinite(ratio) ? std::clamp(ratio, 0.0, 1.0) : (ratio > 0.0 ? 1.0 : 0.0);
@@ -83,7 +92,7 @@ void run_chain(Chain& chain, uint64_t steps, const StrategyMix& mix, const Mutat
       chain.current = std::move(proposal->path);
       chain.contribution = contribution;
       chain.target = target;
-      chain.applicable = std::move(applicable);
+      std::swap(chain.applicable, chain.proposal_applicable);
       chain.carried = 0.0;
       ++stats.accepted;
     }

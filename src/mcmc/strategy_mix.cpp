@@ -41,9 +41,14 @@ void StrategyMix::add(std::string name, std::unique_ptr<Mutation> strategy, doub
 }
 
 std::vector<uint8_t> StrategyMix::applicable(const Path& x, const MutationContext& ctx) const {
-  std::vector<uint8_t> flags(strategies_.size());
-  for (size_t i = 0; i < strategies_.size(); ++i) flags[i] = strategies_[i]->applies_to(x, ctx);
+  std::vector<uint8_t> flags;
+  applicable(x, ctx, flags);
   return flags;
+}
+
+void StrategyMix::applicable(const Path& x, const MutationContext& ctx, std::vector<uint8_t>& flags) const {
+  flags.resize(strategies_.size());
+  for (size_t i = 0; i < strategies_.size(); ++i) flags[i] = strategies_[i]->applies_to(x, ctx);
 }
 
 int StrategyMix::choose(const std::vector<uint8_t>& applicable, float u, double* probability) const {

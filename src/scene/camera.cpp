@@ -1,5 +1,7 @@
 #include "emlt/scene/camera.h"
 
+#include <algorithm>
+
 #include "emlt/core/error.h"
 #include "emlt/core/warp.h"
 
@@ -34,6 +36,17 @@ Camera::Camera(const CameraDesc& desc)
     tan_half_x_ = tan_half * aspect;
   }
   image_plane_area_ = 4.0f * tan_half_x_ * tan_half_y_;
+
+  // Angles between the centre's ray and its neighbours one pixel right and down, each as
+  // atan2(|a x b|, a . b) in double, which stays accurate for the tiny angles involved.
+  const Vec2 centre(0.5f * float(width_), 0.5f * float(height_));
+  const DVec3 d0(generate_ray_from_lens_point(centre, position_).direction);
+  const DVec3 dx(generate_ray_from_lens_point(centre + Vec2(1.0f, 0.0f), position_).direction);
+  const DVec3 dy(generate_ray_from_lens_point(centre + Vec2(0.0f, 1.0f), position_).direction);
+  const auto angle = [](const DVec3& a, const DVec3& b) {
+    return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+  };
+  radians_per_pixel_ = std::min(angle(d0, dx), angle(d0, dy));
 }
 
 Vec3 Camera::film_direction_local(const Vec2& raster) const {

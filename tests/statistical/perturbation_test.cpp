@@ -170,6 +170,143 @@ TEST(PerturbationDensity, CausticRatioMatchesTheHistogramOfLandingPoints) {
       << "without the Jacobian the reported ratio misses the measured one";
 }
 
+// Multi-chain: the shortest path of its form is L D S D E. Here the camera sees the grazing
+// floor (x3), the perturbed direction at x3 goes up to a downward-facing mirror in the
+// ceiling (x2) and back down to the floor (x1), which the fixed light x0 just above lights.
+// The image-point move gives x3 the lens perturbation's strongly varying Jacobian; the
+// angular step at x3 moves x1 through the mirror.
+std::unique_ptr<Scene> floor_mirror_scene() {
+  SceneDescription d;
+  d.source = "floor-mirror";
+  const int white = test::add_material(d, make_lambertian(Rgb(0.7f)));
+  const int mirror = test::add_material(d, make_mirror(Rgb(0.9f)));
+  test::add_quad(d, {-4, 0, -4}, {-4, 0, 8}, {4, 0, 8}, {4, 0, -4}, white, Rgb(0.0f));  // faces +y
+  test::add_quad(d, {-1.5f, 1, 0.5f}, {1.5f, 1, 0.5f}, {1.5f, 1, 2.5f}, {-1.5f, 1, 2.5f}, mirror,
+                 Rgb(0.0f));  // faces -y
+  const float h = 0.3f, s = 0.3f, zc = 3.2f;
+  test::add_quad(d, {-s, h, zc - s}, {s, h, zc - s}, {s, h, zc + s}, {-s, h, zc + s}, white, Rgb(5.0f));
+  d.camera = test::camera_at(Vec3(0.0f, 0.5f, -2.5f), Vec3(0.0f, 0.0f, -0.2f), 32);
+  return Scene::build(std::move(d));
+}
+
+// The L D S D E path seen through `raster` whose direction at the floor point aims at
+// `mirror_target`.
+Path floor_mirror_path(const Scene& scene, const Vec2& raster, const Vec3& mirror_target) {
+  const Camera& camera = scene.camera();
+  const Ray ray = camera.generate_ray(raster, Vec2(0.5f));
+  SurfaceHit seen_hit, mirror_hit, lit_hit, light_hit;
+  EXPECT_TRUE(scene.intersect(ray, seen_hit));
+  const Vec3 up = glm::normalize(mirror_target - seen_hit.position);
+  EXPECT_TRUE(scene.intersect(spawn_ray(seen_hit.position, seen_hit.geometric_normal, up), mirror_hit));
+  const Vec3 down = reflect_about(-up, mirror_hit.geometric_normal);
+  EXPECT_TRUE(scene.intersect(spawn_ray(mirror_hit.position, mirror_hit.geometric_normal, down), lit_hit));
+  EXPECT_TRUE(scene.intersect(spawn_ray(lit_hit.position, lit_hit.geometric_normal, Vec3(0, 1, 0)), light_hit));
+  Path path;
+  path.vertices = {make_surface_vertex(light_hit), make_surface_vertex(lit_hit), make_surface_vertex(mirror_hit),
+                   make_surface_vertex(seen_hit)};
+  PathVertex lens;
+  lens.kind = VertexKind::Camera;
+  lens.position = ray.origin;
+  lens.normal = camera.forward();
+  lens.shading = Frame(lens.normal);
+  lens.raster = raster;
+  path.vertices.push_back(lens);
+  auto& v = path.vertices;
+  EXPECT_TRUE(perturbation::fill_delta_record(v[2], v[3], v[1], TransportMode::Radiance, false));
+  path.type = compute_path_type(path.vertices);
+  recompute_densities(scene, path);
+  return path;
+}
+
+// The path layer's reference measure ν (perturbation_common.h) gives a specular chain the
+// product of its segments' solid-angle-to-area factors, while the histograms below measure
+// densities over the floor's area. For the chain x3 -> mirror x2 -> x1, a direction at x3
+// reaches x1 with dA(x1) = (|x3 - x2| + |x2 - x1|)² / cos(x1) dω (the mirror image of x3
+// is that far from x1), against ν's dν = |x3 - x2|² |x2 - x1|² / (cos(x2) cos(x1)) dω.
+// Returns log dν/dA at a path, from its positions alone.
+double log_nu_per_area_through_mirror(const Path& path) {
+  const auto& v = path.vertices;
+  const double d32 = glm::length(DVec3(v[3].position) - DVec3(v[2].position));
+  const double d21 = glm::length(DVec3(v[2].position) - DVec3(v[1].position));
+  const double cos2 = std::abs(glm::dot(DVec3(v[2].normal), perturbation::precise_direction(v[2], v[3])));
+  return std::log(cos2) + 2.0 * std::log(d32 + d21) - 2.0 * std::log(d32 * d21);
+}
+
+// Density (per unit floor area) of where `moved` lands near `target` among proposals made
+// by `propose_once`, which returns the proposed path or nothing.
+template <typename ProposeOnce>
+double landing_density_of(ProposeOnce propose_once, int moved, const Vec3& target, float radius, int proposals,
+                          uint64_t seed) {
+  Rng rng(seed, 7);
+  int hits = 0;
+  for (int i = 0; i < proposals; ++i) {
+    const std::optional<Proposal> y = propose_once(rng);
+    if (y && glm::length(y->path.vertices[size_t(moved)].position - target) < radius) ++hits;
+  }
+  EXPECT_GT(hits, 800) << "too few landings for a density estimate";
+  return double(hits) / (double(proposals) * kPi * radius * radius);
+}
+
+TEST(PerturbationDensity, MultiChainRatioMatchesTheHistogramOfLandingPoints) {
+  const auto scene = floor_mirror_scene();
+  MutationContext ctx{*scene};
+  // Narrow ranges around the move below keep the histograms' hit rates high; both moves
+  // lie inside them, which is all the ratio needs.
+  ctx.lens_min_radius = 3.0f;
+  ctx.lens_max_radius = 5.5f;
+  const double theta_min = 0.01, theta_max = 0.04;
+  const MultiChainPerturbation multichain(theta_min, theta_max),
+      multichain_without_jacobian(theta_min, theta_max, false);
+  const Path x = floor_mirror_path(*scene, Vec2(16.5f, 16.5f), Vec3(0.0f, 1.0f, 1.5f));
+  ASSERT_EQ(x.type.to_string(), "L D S D E");
+  ASSERT_EQ(MultiChainPerturbation::fixed_vertex(x.type), 0);
+  ASSERT_GT(path_luminance(*scene, x), 0.0);
+  ASSERT_TRUE(multichain.applies_to(x, ctx));
+
+  // y: the image point 4 pixels lower, the direction at the seen floor point turned by 0.02 rad.
+  const Vec3 x_direction = direction_between(x.vertices[3], x.vertices[2]);
+  const Vec3 axis = glm::normalize(glm::cross(x_direction, Vec3(1, 0, 0)));
+  const Vec3 y_direction = glm::normalize(x_direction * std::cos(0.02f) + axis * std::sin(0.02f));
+  const Vec2 y_raster = x.raster() + Vec2(0.0f, 4.0f);
+  const auto y = multichain.perturb_to(x, y_raster, {y_direction}, ctx);
+  ASSERT_TRUE(y.has_value());
+  ASSERT_EQ(y->path.type.to_string(), "L D S D E");
+  const Path& yp = y->path;
+
+  // The move's variables are independent (image point, then a direction drawn around the
+  // old direction), so its density over (x3, x1) is the density of the seen point x3 times
+  // that of x1 given x3: the first from whole proposals, the second from the angular step
+  // alone taken at the destination's image point, each a histogram of landing points.
+  const auto seen_point_density = [&](const Path& from, const Path& to, uint64_t seed) {
+    return landing_density_of([&](Rng& rng) { return multichain.propose(from, rng, ctx); }, 3,
+                              to.vertices[3].position, 0.06f, 2000000, seed);
+  };
+  const auto lit_point_density = [&](const Path& from, const Path& to, uint64_t seed) {
+    const Vec3 old_direction = direction_between(from.vertices[3], from.vertices[2]);
+    return landing_density_of(
+        [&](Rng& rng) {
+          const Vec3 direction = perturbation::perturb_direction(old_direction, theta_min, theta_max, rng.uniform2());
+          return multichain.perturb_to(from, to.raster(), {direction}, ctx);
+        },
+        1, to.vertices[1].position, 0.01f, 1000000, seed);
+  };
+  const double forward = seen_point_density(x, yp, 11) * lit_point_density(x, yp, 12);
+  const double reverse = seen_point_density(yp, x, 13) * lit_point_density(yp, x, 14);
+  const double measured = forward / reverse;  // T(x->y) / T(y->x) over floor area
+  // The reported ratio is over ν: convert it to floor area (see log_nu_per_area_through_mirror).
+  const double to_area = std::exp(log_nu_per_area_through_mirror(x) - log_nu_per_area_through_mirror(yp));
+  const double reported = std::exp(-y->log_reverse_over_forward) * to_area;
+  std::printf("[ info     ] T(x->y)/T(y->x): histogram %.4f, reported %.4f (nu->area factor %.4f)\n", measured,
+              reported, to_area);
+  EXPECT_NEAR(measured / reported, 1.0, 0.1) << "measured " << measured << " reported " << reported;
+
+  const auto wrong = multichain_without_jacobian.perturb_to(x, y_raster, {y_direction}, ctx);
+  ASSERT_TRUE(wrong.has_value());
+  const double reported_without_jacobian = std::exp(-wrong->log_reverse_over_forward) * to_area;
+  EXPECT_GT(std::abs(measured / reported_without_jacobian - 1.0), 0.5)
+      << "without the Jacobian the reported ratio " << reported_without_jacobian << " must miss the measured one";
+}
+
 // ---------------------------------------------------------------------------------------
 // 1b. Round trips on real paths (cornell-glass: refraction chains built by both walks).
 // For y proposed from x and x' the reverse move from y back onto x's image point and

@@ -49,6 +49,9 @@ class StrategyMix {
 
   // Which strategies apply to x (one flag per strategy).
   std::vector<uint8_t> applicable(const Path& x, const MutationContext& ctx) const;
+  // The same into `flags` (resized to size()), so that a chain can reuse one buffer for
+  // every proposal instead of allocating a vector per step.
+  void applicable(const Path& x, const MutationContext& ctx, std::vector<uint8_t>& flags) const;
   // Picks a strategy among the applicable ones; -1 when none applies.
   int choose(const std::vector<uint8_t>& applicable, float u, double* probability) const;
   double selection_probability(size_t i, const std::vector<uint8_t>& applicable) const;

@@ -18,6 +18,7 @@
 //   vertex have density zero.
 // * Throughput is the subpath's estimator weight up to and including the generation of
 //   this vertex, but not the scattering at it: f/p of the subpath so far.
+#include <cmath>
 #include <cstdint>
 
 #include "emlt/core/frame.h"
@@ -93,20 +94,50 @@ inline float dirac_crossing_factor(float relative_ior, float cos_from, float cos
   return cos_from > 0.0f ? relative_ior * std::sqrt(cos_to / cos_from) : relative_ior;
 }
 
+// The four helpers below are inline: the MLT mutation loop calls them several times per
+// vertex per step, and out of line the calls cost more than the arithmetic. (The build has
+// no FMA target and C++20 is compiled in ISO mode, so inlining cannot change the results.)
+
 // Unit direction from `from` towards `to`; environment vertices lie at infinity.
-Vec3 direction_between(const PathVertex& from, const PathVertex& to);
+inline Vec3 direction_between(const PathVertex& from, const PathVertex& to) {
+  if (to.is_environment()) return to.sky_direction;
+  if (from.is_environment()) return -from.sky_direction;
+  const Vec3 d = to.position - from.position;
+  const float length = glm::length(d);
+  return length > 0.0f ? d / length : Vec3(0.0f);
+}
 
 // |cos| between world direction w and the vertex's geometric normal (camera: its axis;
 // environment: 1, the sky has no surface).
-float abs_cos_at(const PathVertex& v, const Vec3& w);
+inline float abs_cos_at(const PathVertex& v, const Vec3& w) {
+  if (v.is_environment()) return 1.0f;
+  return std::abs(glm::dot(v.normal, w));
+}
 
 // G = |cos_a| |cos_b| / d^2 with geometric normals; with an environment end, only the
 // finite end's cosine (see the measure note above). Visibility is not included.
-float geometry_term(const PathVertex& a, const PathVertex& b);
+inline float geometry_term(const PathVertex& a, const PathVertex& b) {
+  if (a.is_environment() && b.is_environment()) return 0.0f;
+  const Vec3 w = direction_between(a, b);
+  if (a.is_environment() || b.is_environment()) return abs_cos_at(a, w) * abs_cos_at(b, w);
+  const Vec3 d = b.position - a.position;
+  const float distance_squared = glm::dot(d, d);
+  if (!(distance_squared > 0.0f)) return 0.0f;
+  const float g = abs_cos_at(a, w) * abs_cos_at(b, w) / distance_squared;
+  return std::isfinite(g) ? g : 0.0f;
+}
 
 // A solid-angle density at `from` for the direction towards `to`, in `to`'s measure.
-float solid_angle_to_vertex_measure(float pdf_solid_angle, const PathVertex& from,
-                                    const PathVertex& to);
+inline float solid_angle_to_vertex_measure(float pdf_solid_angle, const PathVertex& from,
+                                           const PathVertex& to) {
+  if (to.is_environment()) return pdf_solid_angle;  // the sky's measure is solid angle
+  const Vec3 d = to.position - from.position;
+  const float distance_squared = glm::dot(d, d);
+  if (!(distance_squared > 0.0f)) return 0.0f;
+  const float pdf =
+      pdf_solid_angle * abs_cos_at(to, d / std::sqrt(distance_squared)) / distance_squared;
+  return std::isfinite(pdf) ? pdf : 0.0f;
+}
 
 // A surface vertex from an intersection.
 PathVertex make_surface_vertex(const SurfaceHit& hit);

@@ -52,6 +52,11 @@ class Camera {
   // Connects a scene point to the lens (light tracing, t = 1 strategies).
   std::optional<CameraDirectSample> sample_direct(const Vec3& ref, const Vec2& u_lens) const;
 
+  // Angular size of one pixel at the image centre (radians, the smaller of its two sides),
+  // for MLT's caustic-perturbation heuristic. Computed once here: the perturbations ask for
+  // it at every step, and it costs three camera rays and two atan2.
+  double radians_per_pixel() const { return radians_per_pixel_; }
+
  private:
   Vec3 film_direction_local(const Vec2& raster) const;  // camera space, z = 1 plane
 
@@ -60,6 +65,7 @@ class Camera {
   float tan_half_x_, tan_half_y_;         // film half extents on the z = 1 plane
   float image_plane_area_;                // at distance 1
   float aperture_radius_, focus_distance_;
+  double radians_per_pixel_ = 0.0;
 };
 
 }  // namespace emlt
