@@ -3,33 +3,189 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 namespace emlt::geometry_aware {
+
+namespace {
+
+// Coordinates relative to the apex; u the unit axis; s = q·u the axial distance.
+struct Axis {
+  DVec3 u;
+  double s_lo, s_hi;  // the span the cone is checked over
+};
+
+// tan of the angle between q (s = q·u > 0) and the axis.
+double tan_from_axis(const DVec3& q, const Axis& axis) {
+  const double s = glm::dot(q, axis.u);
+  return glm::length(q - s * axis.u) / s;
+}
+
+// The smallest tan over the open segment p0 p1 (both with s > 0). With q(t) = p0 + t d,
+// cos θ(t) = (A + tB) / √(C + 2tD + t²E), A = p0·u, B = d·u, C = |p0|², D = p0·d, E = |d|².
+// Setting the derivative of cos² to zero (A + tB > 0 divides out) leaves a linear equation,
+//     (BC − AD) + t (BD − AE) = 0,
+// so the extremes are the ends and at most one interior point.
+// The ends' values are the caller's (each polygon vertex is evaluated once).
+double segment_interior_min_tan(const DVec3& p0, const DVec3& p1, const Axis& axis) {
+  double best = std::numeric_limits<double>::infinity();
+  const DVec3 d = p1 - p0;
+  const double a = glm::dot(p0, axis.u), b = glm::dot(d, axis.u), c = glm::dot(p0, p0), e = glm::dot(d, d),
+               dd = glm::dot(p0, d);
+  const double denominator = b * dd - a * e;
+  if (denominator != 0.0) {
+    const double t = (a * dd - b * c) / denominator;
+    if (t > 0.0 && t < 1.0) best = std::min(best, tan_from_axis(p0 + t * d, axis));
+  }
+  return best;
+}
+
+// Clips a convex polygon to s ≥ bound (sign = +1) or s ≤ bound (sign = −1) (Sutherland–Hodgman).
+int clip(const DVec3* in, int n, DVec3* out, const Axis& axis, double bound, double sign) {
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    const DVec3 &p = in[i], &q = in[(i + 1) % n];
+    const double dp = sign * (glm::dot(p, axis.u) - bound), dq = sign * (glm::dot(q, axis.u) - bound);
+    if (dp >= 0.0) out[m++] = p;
+    if ((dp >= 0.0) != (dq >= 0.0)) out[m++] = p + (dp / (dp - dq)) * (q - p);
+  }
+  return m;
+}
+
+// The smallest tan of the angle from the axis over the triangle's part in the span, or
+// +∞ when none of it is in the span. On a plane, θ has convex sublevel sets for θ < π/2
+// (a convex cone cut by a plane), so its only local minimum is where the axis meets the
+// plane (θ = 0): the minimum over a convex polygon is 0 if the polygon holds that point,
+// otherwise it lies on the boundary.
+double triangle_min_tan(const DVec3& q0, const DVec3& q1, const DVec3& q2, const Axis& axis) {
+  const DVec3 n = glm::cross(q1 - q0, q2 - q0);
+  const double nu = glm::dot(n, axis.u);
+  if (nu != 0.0) {
+    const double s = glm::dot(n, q0) / nu;
+    if (s >= axis.s_lo && s <= axis.s_hi) {
+      const DVec3 h = s * axis.u;
+      const double e0 = glm::dot(n, glm::cross(q1 - q0, h - q0)), e1 = glm::dot(n, glm::cross(q2 - q1, h - q1)),
+                   e2 = glm::dot(n, glm::cross(q0 - q2, h - q2));
+      if (e0 >= 0.0 && e1 >= 0.0 && e2 >= 0.0) return 0.0;
+    }
+  }
+  DVec3 a[5] = {q0, q1, q2}, b[5];
+  int count = clip(a, 3, b, axis, axis.s_lo, 1.0);
+  count = clip(b, count, a, axis, axis.s_hi, -1.0);
+  double best = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < count; ++i)
+    best = std::min({best, tan_from_axis(a[i], axis), segment_interior_min_tan(a[i], a[(i + 1) % count], axis)});
+  return best;
+}
+
+// The point-query visitor for one slab [s0, s1]: lowers tan α to each surface's smallest
+// angle and keeps the ball just large enough to hold the slab's part of the cone.
+struct ConeVisitor final : Scene::NearbyVisitor {
+  DVec3 apex;
+  Axis axis;
+  const Vec3* ends = nullptr;
+  float ignore_eps = 0.0f;
+  double tan_alpha = 0.0, half = 0.0, s1 = 0.0, guard = 0.0;
+
+  // The triangles seen so far, an open-addressing set of id + 1 (0: empty). When it is
+  // full a triangle is simply evaluated again (the same constraint).
+  std::array<uint64_t, 256> seen{};
+  size_t seen_count = 0;
+
+  bool first_visit(uint64_t id) {
+    if (seen_count >= seen.size() / 2) return true;
+    const uint64_t key = id + 1;
+    size_t slot = size_t((key * 0x9E3779B97F4A7C15ull) >> 56);
+    while (seen[slot] != 0) {
+      if (seen[slot] == key) return false;
+      slot = (slot + 1) % seen.size();
+    }
+    seen[slot] = key;
+    ++seen_count;
+    return true;
+  }
+
+  float need() const { return float(std::hypot(half, s1 * tan_alpha) + guard); }
+  double sin_alpha() const { return tan_alpha / std::sqrt(1.0 + tan_alpha * tan_alpha); }
+
+  float triangle(uint64_t id, const Vec3& a, const Vec3& b, const Vec3& c, float radius) override {
+    // Each triangle's constraint is applied once per estimate: the slabs' balls overlap
+    // the same large triangles (walls, floors) again and again.
+    if (!first_visit(id)) return radius;
+    // An endpoint's own surface: the triangle's plane holds it.
+    const Vec3 n = glm::cross(b - a, c - a);
+    const float n_length = glm::length(n);
+    if (!(n_length > 0.0f)) return radius;
+    for (int i = 0; i < 2; ++i)
+      if (std::abs(glm::dot(n, ends[i] - a)) < ignore_eps * n_length) return radius;
+    const DVec3 q0 = DVec3(a) - apex, q1 = DVec3(b) - apex, q2 = DVec3(c) - apex;
+    // Cheap rejections. Wholly before or beyond the span:
+    const double s0 = glm::dot(q0, axis.u), s1_ = glm::dot(q1, axis.u), s2 = glm::dot(q2, axis.u);
+    if (std::max({s0, s1_, s2}) < axis.s_lo || std::min({s0, s1_, s2}) > axis.s_hi) return radius;
+    // The whole plane outside the cone: with n̂ oriented away from the apex (n̂·q0 > 0), the
+    // plane's points are seen in directions w with n̂·w > 0; if n̂·u ≤ 0 the smallest angle
+    // from u among them is the angle to the plane n̂·w = 0, asin(−n̂·u). The plane is out
+    // of reach when that is at least α: −n̂·u ≥ sin α.
+    DVec3 nd = glm::normalize(DVec3(n));
+    if (glm::dot(nd, q0) < 0.0) nd = -nd;
+    if (-glm::dot(nd, axis.u) >= sin_alpha()) return radius;
+    const double t = triangle_min_tan(q0, q1, q2, axis);
+    if (!(t < tan_alpha)) return radius;
+    tan_alpha = t;
+    return std::min(radius, need());
+  }
+
+  float sphere(const Vec3& center, float sphere_radius, float radius) override {
+    for (int i = 0; i < 2; ++i)
+      if (std::abs(glm::length(ends[i] - center) - sphere_radius) < ignore_eps) return radius;
+    const DVec3 q = DVec3(center) - apex;
+    const double rho = double(sphere_radius), s = glm::dot(q, axis.u), distance = glm::length(q);
+    if (s - rho > axis.s_hi || s + rho < 0.0) return radius;  // wholly outside the span
+    // The whole sphere's smallest angle (a lower bound on its part in the span's).
+    double t = 0.0;
+    if (distance > rho) {
+      const double theta = std::atan2(glm::length(q - s * axis.u), s) - std::asin(rho / distance);
+      if (theta >= 0.5 * M_PI) return radius;
+      t = theta > 0.0 ? std::tan(theta) : 0.0;
+    }
+    if (!(t < tan_alpha)) return radius;
+    tan_alpha = t;
+    return std::min(radius, need());
+  }
+};
+
+}  // namespace
 
 double estimate_cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other,
                                 double alpha_min, double alpha_max) {
   if (apex.is_environment() || other.is_environment()) return alpha_max;
-  const Vec3 a = apex.position, b = other.position;
-  const Vec3 axis = b - a;
-  const float length = glm::length(axis);
-  if (!(length > 0.0f)) return alpha_min;
+  const DVec3 a(apex.position), b(other.position);
+  const double length = glm::length(b - a);
+  if (!(length > 0.0)) return alpha_min;
   // Surfaces within this distance of an endpoint are the endpoint's own (ray-hit positions
   // carry float error of about 1e-7 |p|; spawn offsets are 1e-4 |p|).
-  const float scale = std::max({1.0f, std::abs(a.x), std::abs(a.y), std::abs(a.z), std::abs(b.x),
-                                std::abs(b.y), std::abs(b.z)});
-  const float ignore_eps = 2e-4f * scale;
-  const Vec3 ends[2] = {a, b};
-  double best = std::min(alpha_max, 0.5 * M_PI);
-  for (const double t : kConeProbes) {
-    const double s = t * double(length);
-    const Vec3 p = a + float(t) * axis;
-    // Only surfaces nearer than s·tan(best) can lower the estimate (best < π/2 here).
-    const float radius = float(s * std::tan(std::min(best, 0.5 * M_PI - 1e-6)));
-    if (!(radius > 0.0f)) break;
-    const float r = scene.clearance(p, radius, ends, 2, ignore_eps);
-    if (r < radius) best = std::atan(double(r) / s);
+  const float scale = std::max({1.0f, std::abs(apex.position.x), std::abs(apex.position.y), std::abs(apex.position.z),
+                                std::abs(other.position.x), std::abs(other.position.y), std::abs(other.position.z)});
+  const Vec3 ends[2] = {apex.position, other.position};
+  ConeVisitor visitor;
+  visitor.apex = a;
+  visitor.axis = {(b - a) / length, 1e-9 * length, length * (1.0 - kConeEndMargin)};
+  visitor.ends = ends;
+  visitor.ignore_eps = 2e-4f * scale;
+  // Float rounding of the query ball (its centre and radius are floats).
+  visitor.guard = 1e-6 * double(scale);
+  // Below π/2 (a half-space) so that tan α stays finite.
+  visitor.tan_alpha = std::tan(std::min(alpha_max, 0.5 * M_PI - 1e-6));
+  const double tan_alpha_min = std::tan(alpha_min);
+  const double span = visitor.axis.s_hi;
+  for (int i = 0; i < kConeSlabs; ++i) {
+    const double s0 = span * i / kConeSlabs, s1 = span * (i + 1) / kConeSlabs;
+    visitor.half = 0.5 * (s1 - s0);
+    visitor.s1 = s1;
+    scene.visit_nearby(Vec3(a + (s0 + visitor.half) * visitor.axis.u), visitor.need(), visitor);
+    if (!(visitor.tan_alpha > tan_alpha_min)) return alpha_min;
   }
-  return std::clamp(best, alpha_min, alpha_max);
+  return std::clamp(std::atan(visitor.tan_alpha), alpha_min, alpha_max);
 }
 
 namespace {

@@ -1,5 +1,6 @@
 #include "mutations/geometry_aware/ga_perturbations.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -14,8 +15,13 @@ constexpr double kNegativeInfinity = -std::numeric_limits<double>::infinity();
 // Cone limits: below 1e-6 rad every step range is at its floor anyway; π/2 is a half-space.
 constexpr double kAlphaMin = 1e-6, kAlphaMax = 0.5 * M_PI;
 
-double cone(const Scene& scene, const PathVertex& apex, const PathVertex& other) {
-  return geometry_aware::cone_half_angle(scene, apex, other, kAlphaMin, kAlphaMax);
+// The cone of a segment, up to `saturation`: the angle beyond which the step range it
+// limits is at its upper clamp anyway, so that a wider cone changes nothing. The estimate
+// is exact up to its alpha_max, so passing the saturation angle gives the same ranges and
+// keeps the point queries' balls small (cone.h: their size grows with tan α).
+double cone(const Scene& scene, const PathVertex& apex, const PathVertex& other, double saturation = kAlphaMax) {
+  const double alpha_max = std::clamp(saturation * (1.0 + 1e-9), kAlphaMin, kAlphaMax);
+  return geometry_aware::cone_half_angle(scene, apex, other, kAlphaMin, alpha_max);
 }
 
 double distance(const PathVertex& a, const PathVertex& b) {
@@ -38,12 +44,16 @@ double image_radius_limit(const Path& z, int l, const MutationContext& ctx, doub
   const int k = z.edges();
   const double r1 = double(ctx.lens_min_radius), r2 = default_max_radius(ctx);
   const double rpp = perturbation::radians_per_pixel(ctx.scene.camera());
-  double rho = cone(ctx.scene, v[size_t(k)], v[size_t(k - 1)]) / rpp;
+  // ρ ≥ r2 / c saturates R at r2.
+  const double rho_max = r2 / step_scale;
+  double rho = cone(ctx.scene, v[size_t(k)], v[size_t(k - 1)], rho_max * rpp) / rpp;
   if (!v[size_t(l)].is_environment()) {
     double eye_length = 0.0;
     for (int j = l + 1; j <= k - 1; ++j) eye_length += distance(v[size_t(j + 1)], v[size_t(j)]);
-    const double alpha_connection = cone(ctx.scene, v[size_t(l)], v[size_t(l + 1)]);
-    rho = std::min(rho, alpha_connection * distance(v[size_t(l + 1)], v[size_t(l)]) / (rpp * eye_length));
+    const double connection_length = distance(v[size_t(l + 1)], v[size_t(l)]);
+    const double alpha_connection =
+        cone(ctx.scene, v[size_t(l)], v[size_t(l + 1)], rho_max * rpp * eye_length / connection_length);
+    rho = std::min(rho, alpha_connection * connection_length / (rpp * eye_length));
   }
   return std::clamp(step_scale * rho, std::min(r2, 3.0 * r1), r2);
 }
@@ -107,8 +117,12 @@ void GaCausticPerturbation::angle_range(const Path& z, const MutationContext& ct
   double chain_length = 0.0;
   for (int j = l; j <= k - 2; ++j) chain_length += distance(v[size_t(j + 1)], v[size_t(j)]);
   const double eye_distance = distance(v[size_t(k - 1)], v[size_t(k)]);
-  const double limit = std::min(cone(ctx.scene, v[size_t(l)], v[size_t(l + 1)]),
-                                cone(ctx.scene, v[size_t(k)], v[size_t(k - 1)]) * eye_distance / chain_length);
+  // limit ≥ veach_max / c saturates Θ at veach_max.
+  const double limit_max = veach_max / params_.step_scale;
+  const double limit =
+      std::min(cone(ctx.scene, v[size_t(l)], v[size_t(l + 1)], limit_max),
+               cone(ctx.scene, v[size_t(k)], v[size_t(k - 1)], limit_max * chain_length / eye_distance) *
+                   eye_distance / chain_length);
   *theta_max = std::clamp(params_.step_scale * limit, std::min(veach_max, 3.0 * *theta_min), veach_max);
 }
 
@@ -166,8 +180,9 @@ std::vector<double> GaMultiChainPerturbation::angle_limits(const Path& z, const 
   std::vector<double> limits;
   for (int i = z.edges() - 1; i >= l + 2; --i)
     if (!v[size_t(i)].delta)
-      limits.push_back(std::clamp(params_.step_scale * cone(ctx.scene, v[size_t(i)], v[size_t(i - 1)]), floor,
-                                  base_.theta_max()));
+      limits.push_back(std::clamp(
+          params_.step_scale * cone(ctx.scene, v[size_t(i)], v[size_t(i - 1)], base_.theta_max() / params_.step_scale),
+          floor, base_.theta_max()));
   return limits;
 }
 

@@ -591,4 +591,34 @@ float Scene::clearance(const Vec3& p, float max_distance, const Vec3* ignore, in
   return std::min(query.radius, max_distance);
 }
 
+void Scene::visit_nearby(const Vec3& p, float radius, NearbyVisitor& visitor) const {
+  struct Query {
+    const Scene* scene;
+    NearbyVisitor* visitor;
+  } query_data{this, &visitor};
+  RTCPointQuery query;
+  query.x = p.x, query.y = p.y, query.z = p.z;
+  query.radius = radius;
+  query.time = 0.0f;
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  // Embree visits every primitive whose bounds meet the current ball; the visitor may shrink it.
+  const RTCPointQueryFunction visit = [](RTCPointQueryFunctionArguments* args) -> bool {
+    const auto* q = static_cast<const Query*>(args->userPtr);
+    const Geometry& g = q->scene->geometries_[args->geomID];
+    if (g.kind != Geometry::Kind::Triangles) return false;  // spheres: below
+    const uint32_t* index = &g.indices[3 * size_t(args->primID)];
+    const float before = args->query->radius;
+    const uint64_t id = (uint64_t(args->geomID) << 32) | uint64_t(args->primID);
+    const float after =
+        q->visitor->triangle(id, g.positions[index[0]], g.positions[index[1]], g.positions[index[2]], before);
+    if (!(after < before)) return false;
+    args->query->radius = std::max(after, 0.0f);
+    return true;
+  };
+  rtcPointQuery(rtc_scene_, &query, &context, visit, &query_data);
+  for (const Geometry& g : geometries_)
+    if (g.kind == Geometry::Kind::Sphere) query.radius = std::min(query.radius, visitor.sphere(g.center, g.radius, query.radius));
+}
+
 }  // namespace emlt

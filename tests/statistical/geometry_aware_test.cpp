@@ -1,10 +1,13 @@
 // Geometry-aware (GAMLT-like) perturbations (mutations/geometry_aware/):
 //  1. the cone estimate on constructed geometry (a sphere beside a segment: the known
 //     angle), and a free-space property on real door-scene segments;
-//  2. the detailed-balance round trip of each strategy on real paths;
+//  2. the detailed-balance round trip of each strategy on real paths, and the proposal
+//     density ratio of one move against a histogram of landing points (lens, caustic) in
+//     a toy scene where x's and y's cones differ: the injected bug (reverse density with
+//     x's cones, GeometryAwareParams::reverse_uses_x_cones), invisible to the round trip,
+//     is off by a factor 1.6-2 there;
 //  3. unbiasedness of each strategy mixed with the bidirectional mutation against BDPT
-//     (cornell-box, caustic-pool, cornell-glass, door-ajar);
-//  4. an injected bug (reverse density with x's cones) that a convergence test catches.
+//     (cornell-box, caustic-pool, cornell-glass, door-ajar).
 // Fixed seeds; small images.
 #include <gtest/gtest.h>
 
@@ -101,12 +104,10 @@ TEST(GeometryAwareCone, SphereBesideASegmentGivesTheKnownAngle) {
   const PathVertex a = surface_point({0, 0, 0}, {0, 0, 1}), b = surface_point({0, 0, 4}, {0, 0, -1});
   const double alpha = geometry_aware::estimate_cone_half_angle(*scene, a, b, 1e-6, 0.5 * M_PI);
   // The exact largest free cone at apex a: the sphere's centre is atan(1/2) off the axis,
-  // its angular radius asin(0.5/√5); the probe estimate sees it at the midpoint probe as
-  // atan(0.5 / 2), 3 % larger (the approximation: free space checked at probes only).
+  // its angular radius asin(0.5/√5). The estimate is exact (up to rounding).
   const double exact = std::atan(0.5) - std::asin(0.5 / std::sqrt(5.0));
-  std::printf("[ info     ] cone %.5f rad, exact %.5f rad\n", alpha, exact);
-  EXPECT_NEAR(alpha, exact, 0.04 * exact);
-  EXPECT_NEAR(alpha, std::atan(0.25), 1e-4);
+  std::printf("[ info     ] cone %.6f rad, exact %.6f rad\n", alpha, exact);
+  EXPECT_NEAR(alpha, exact, 1e-5);
   // Symmetric geometry: the same from the other end; the own planes are not occluders.
   EXPECT_NEAR(geometry_aware::estimate_cone_half_angle(*scene, b, a, 1e-6, 0.5 * M_PI), alpha, 1e-5);
   // The cache returns the same bits.
@@ -115,26 +116,31 @@ TEST(GeometryAwareCone, SphereBesideASegmentGivesTheKnownAngle) {
   // Without the sphere in the way (a segment 3 units off it), the cone is much wider.
   const PathVertex c = surface_point({-3, 0, 0}, {0, 0, 1}), e = surface_point({-3, 0, 4}, {0, 0, -1});
   EXPECT_GT(geometry_aware::estimate_cone_half_angle(*scene, c, e, 1e-6, 0.5 * M_PI), 3.0 * alpha);
-  // Rays inside the cone used by the perturbations (half of it) miss the sphere; rays at
-  // the exact angle's edge towards the sphere hit it.
+  // Rays inside the whole cone, over the whole span, miss the sphere; rays just outside it
+  // towards the sphere hit it.
+  const double span = 1.0 - geometry_aware::kConeEndMargin;
   for (int i = 0; i < 64; ++i)
-    EXPECT_FALSE(probe_ray_blocked(*scene, a, b, 0.5 * alpha, 2.0 * M_PI * i / 64.0, 0.99)) << i;
-  EXPECT_TRUE(probe_ray_blocked(*scene, a, b, exact + 0.02, 0.0, 0.99));
+    EXPECT_FALSE(probe_ray_blocked(*scene, a, b, 0.999 * alpha, 2.0 * M_PI * i / 64.0, span)) << i;
+  EXPECT_TRUE(probe_ray_blocked(*scene, a, b, exact + 0.002, 0.0, span));
 }
 
-// Real segments of door-scene paths: rays from each apex within the perturbations' share of
-// the cone (c = 0.5) must be free of occluders along the segment. The estimate checks
-// free space at three probes only, so occluders between or beyond the probes slip through:
-// rays are checked over the probed span (3/4 of the segment). Measured: 7.8 % of such rays
-// blocked (first version), so this is a known weakness of the probe approximation, not a
-// guarantee; the bound (10 %) only guards against regressions. A conservative BVH cone
-// query (notes §9.5.1) would make it 0.
+// Real segments of door-scene paths: rays from each apex anywhere within the cone (up to
+// its half-angle α) must be free of occluders over the span the cone is defined on (all of
+// the segment but the end margin). Segments at the floor α = 1e-6 (alpha_min) are skipped:
+// the floor is not a claim (cone.h); they are segments that graze an edge, visible within
+// float error (measured: 8 segments, e.g. a camera connection passing the lintel's lower
+// edge at 0.3 mm). The remaining tolerance (a handful of rays in 10^4) is for rays that
+// cross an endpoint's own plane within float error of another surface at the far end;
+// measured 0. The first, three-probe estimate (free balls at 1/4, 1/2, 3/4 of the segment)
+// fails this test: 906 of 11600 rays (7.8 %) were blocked within half its cone over 3/4 of
+// the segment, and more over the whole cone and span.
 TEST(GeometryAwareCone, ConesAroundDoorSceneSegmentsAreFree) {
   const auto scene = shipped_scene("door-ajar", 16);
   const auto paths = bootstrap_paths(*scene, 300, 8);
   ASSERT_GT(paths.size(), 100u);
+  const double alpha_min = 1e-6, span = 1.0 - geometry_aware::kConeEndMargin;
   Rng rng(9, 1);
-  int rays = 0, blocked = 0, segments = 0, narrow = 0;
+  int rays = 0, blocked = 0, segments = 0, narrow = 0, at_floor = 0;
   for (const Path& path : paths) {
     const auto& v = path.vertices;
     for (size_t i = 0; i + 1 < v.size(); ++i) {
@@ -142,22 +148,26 @@ TEST(GeometryAwareCone, ConesAroundDoorSceneSegmentsAreFree) {
         const PathVertex& apex = forward ? v[i] : v[i + 1];
         const PathVertex& other = forward ? v[i + 1] : v[i];
         if (apex.is_environment() || other.is_environment()) continue;
-        const double alpha = geometry_aware::estimate_cone_half_angle(*scene, apex, other, 1e-6, 0.5 * M_PI);
+        const double alpha = geometry_aware::estimate_cone_half_angle(*scene, apex, other, alpha_min, 0.5 * M_PI);
         ++segments;
         if (alpha < 0.05) ++narrow;
+        if (alpha <= alpha_min) {
+          ++at_floor;
+          continue;
+        }
         for (int r = 0; r < 4; ++r) {
           const Vec2 u = rng.uniform2();
           ++rays;
-          if (probe_ray_blocked(*scene, apex, other, 0.5 * alpha * double(u.x), 2.0 * M_PI * double(u.y), 0.75))
-            ++blocked;
+          if (probe_ray_blocked(*scene, apex, other, alpha * double(u.x), 2.0 * M_PI * double(u.y), span)) ++blocked;
         }
       }
     }
   }
-  std::printf("[ info     ] %d segments (%d with α < 0.05), %d rays, %d blocked (%.3f %%)\n", segments, narrow, rays,
-              blocked, 100.0 * blocked / std::max(rays, 1));
+  std::printf("[ info     ] %d segments (%d with α < 0.05, %d at the floor), %d rays, %d blocked\n", segments,
+              narrow, at_floor, rays, blocked);
   EXPECT_GT(narrow, 0) << "the door scene must have segments near occluders";
-  EXPECT_LT(double(blocked), 0.10 * rays);
+  EXPECT_LT(at_floor, segments / 50);
+  EXPECT_LE(blocked, rays / 2000);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -230,6 +240,169 @@ TEST(GeometryAwareRoundTrip, EveryStrategySatisfiesTheDetailedBalanceIdentity) {
                     return multichain.perturb_to(y, x.raster(), directions, ctx);
                   }),
                   "ga-multichain", 4.0);
+}
+
+// ---------------------------------------------------------------------------------------
+// 2b. Proposal densities against a histogram of landing points. The round trip cannot see
+// a reverse density evaluated with x's cones (the two wrong terms cancel over x -> y -> x);
+// the density ratio of one move can. Toy scene: a floor (y = 0), a small light above it,
+// a camera looking down at the floor and a sphere beside the eye rays, so that R(z) (the
+// ga-lens range, limited by the eye ray's free cone) grows quickly with z's raster distance
+// from the sphere. x's eye ray passes close to the sphere, y's a step further away.
+
+std::unique_ptr<Scene> floor_beside_sphere_scene() {
+  SceneDescription d;
+  d.source = "floor-beside-sphere";
+  const int white = test::add_material(d, make_lambertian(Rgb(0.7f)));
+  test::add_quad(d, {-4, 0, -4}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, white, Rgb(0.0f));  // faces +y
+  const float h = 0.3f, s = 0.01f;
+  test::add_quad(d, {-s, h, -s}, {s, h, -s}, {s, h, s}, {-s, h, s}, white, Rgb(50.0f));  // faces -y
+  SphereDesc sphere;
+  sphere.center = Vec3(0.15f, 0.75f, -1.25f);
+  sphere.radius = 0.1f;
+  sphere.material = white;
+  d.spheres.push_back(sphere);
+  d.camera = test::camera_at(Vec3(0.0f, 1.5f, -2.5f), Vec3(0.0f, 0.0f, 0.0f), 32);
+  return Scene::build(std::move(d));
+}
+
+// The L D E path from the light's centre to the floor point seen through `raster`.
+Path light_floor_eye(const Scene& scene, const Vec2& raster) {
+  const Camera& camera = scene.camera();
+  const Ray ray = camera.generate_ray(raster, Vec2(0.5f));
+  SurfaceHit floor_hit, light_hit;
+  EXPECT_TRUE(scene.intersect(ray, floor_hit));
+  EXPECT_TRUE(scene.intersect(Ray{Vec3(0.0f, 0.01f, 0.0f), Vec3(0, 1, 0)}, light_hit));
+  Path path;
+  path.vertices.push_back(make_surface_vertex(light_hit));
+  path.vertices.push_back(make_surface_vertex(floor_hit));
+  PathVertex lens;
+  lens.kind = VertexKind::Camera;
+  lens.position = ray.origin;
+  lens.normal = camera.forward();
+  lens.shading = Frame(lens.normal);
+  lens.raster = raster;
+  path.vertices.push_back(lens);
+  path.type = compute_path_type(path.vertices);
+  recompute_densities(scene, path);
+  return path;
+}
+
+// Proposals from `from` whose floor vertex lands within `radius` of `target`, per proposal
+// and unit floor area: T(from -> .) at target in area measure, by histogram.
+double floor_landing_density(const Mutation& mutation, const Path& from, const Vec3& target, float radius,
+                             int proposals, const MutationContext& ctx, uint64_t seed, int* hits_out) {
+  Rng rng(seed, 3);
+  int hits = 0;
+  for (int i = 0; i < proposals; ++i) {
+    const auto y = mutation.propose(from, rng, ctx);
+    if (y && glm::length(y->path.vertices[1].position - target) < radius) ++hits;
+  }
+  *hits_out = hits;
+  return double(hits) / (double(proposals) * kPi * double(radius) * double(radius));
+}
+
+struct DensityEvidence {
+  double measured = 0.0;  // T(x->y)/T(y->x) from the landing histograms
+  double reported = 0.0;  // exp(−log_reverse_over_forward) of the move x -> y
+  double buggy = 0.0;     // the same with reverse_uses_x_cones
+};
+
+// x -> y by `move(mutation, x)` (a deterministic perturb_to), then the histograms of both
+// directions and the ratio the correct and the buggy variant report.
+template <typename Strategy, typename Move>
+DensityEvidence density_evidence(const Scene& scene, const MutationContext& ctx, GeometryAwareParams params,
+                                 const Path& x, Move move) {
+  const Strategy strategy(params);
+  const auto y = move(strategy, x);
+  EXPECT_TRUE(y.has_value());
+  if (!y) return {};
+  EXPECT_GT(path_luminance(scene, y->path), 0.0);
+  const float radius = 0.03f;
+  const int proposals = 400000;
+  int hits_forward = 0, hits_reverse = 0;
+  DensityEvidence e;
+  const double forward =
+      floor_landing_density(strategy, x, y->path.vertices[1].position, radius, proposals, ctx, 11, &hits_forward);
+  const double reverse =
+      floor_landing_density(strategy, y->path, x.vertices[1].position, radius, proposals, ctx, 12, &hits_reverse);
+  EXPECT_GT(hits_reverse, 1000) << "too few landings for a density estimate";
+  EXPECT_GT(hits_forward, 1000) << "too few landings for a density estimate";
+  e.measured = forward / reverse;
+  e.reported = std::exp(-y->log_reverse_over_forward);
+  params.reverse_uses_x_cones = true;
+  const auto buggy = move(Strategy(params), x);
+  EXPECT_TRUE(buggy.has_value());
+  if (buggy) e.buggy = std::exp(-buggy->log_reverse_over_forward);
+  std::printf("[ info     ] T(x->y)/T(y->x): histogram %.4f (%d, %d landings), reported %.4f, with x's cones %.4f\n",
+              e.measured, hits_forward, hits_reverse, e.reported, e.buggy);
+  return e;
+}
+
+MutationContext floor_sphere_context(const Scene& scene) {
+  MutationContext ctx{scene};
+  ctx.lens_min_radius = 0.5f;
+  ctx.lens_max_radius = 12.0f;
+  return ctx;
+}
+
+// Between two points a step apart, a range limited by a free cone can grow by at most a
+// factor 1 + c (c the step scale: the cone's edge moves by the step), so the default
+// c = 0.5 gives too small a difference between R(x) and R(y) for a histogram to resolve:
+// c = 4 makes it a factor ~4, so that the ratio of the ln terms the bug drops is ~2.
+GeometryAwareParams wide_steps() {
+  GeometryAwareParams params;
+  params.step_scale = 4.0;
+  return params;
+}
+
+// x's eye ray passes the sphere 1.0 px from its silhouette, y's 2.5 px: R(x) = 2.0 px,
+// R(y) = 7.9 px (r1 = 0.5 px), so log T(y→x)/T(x→y) carries ln ln(R(x)/r1) − ln ln(R(y)/r1)
+// = ln(1.39/2.76): a factor ~2 that the bug drops. Measured: histogram 2.00 (2981 and 1487
+// landings), reported 1.99, with x's cones 1.00. (The test checks the density bookkeeping,
+// whatever the cone estimate: the same holds with the first, three-probe estimate.)
+TEST(GeometryAwareDensity, LensRatioMatchesTheHistogramAndCatchesTheInjectedBug) {
+  const auto scene = floor_beside_sphere_scene();
+  const MutationContext ctx = floor_sphere_context(*scene);
+  const Path x = light_floor_eye(*scene, Vec2(15.5f, 16.5f));
+  ASSERT_EQ(x.type.to_string(), "L D E");
+  ASSERT_GT(path_luminance(*scene, x), 0.0);
+  const auto move = [&](const GaLensPerturbation& lens, const Path& from) {
+    return lens.perturb_to(from, from.raster() + Vec2(1.5f, 0.0f), ctx);
+  };
+  const auto y = move(GaLensPerturbation(wide_steps()), x);
+  ASSERT_TRUE(y.has_value());
+  const GaLensPerturbation lens(wide_steps());
+  const double r_x = lens.max_radius(x, ctx), r_y = lens.max_radius(y->path, ctx);
+  std::printf("[ info     ] R(x) %.3f px, R(y) %.3f px, r1 %.2f px\n", r_x, r_y, double(ctx.lens_min_radius));
+  EXPECT_GT(r_y, 3.0 * r_x) << "the scene must make the two ranges differ clearly";
+  const auto e = density_evidence<GaLensPerturbation>(*scene, ctx, wide_steps(), x, move);
+  EXPECT_NEAR(e.measured / e.reported, 1.0, 0.1);
+  EXPECT_GT(std::abs(e.measured / e.buggy - 1.0), 0.5) << "the injected bug must be off by a clear margin";
+}
+
+// The same for the caustic perturbation: the light's direction turns towards the floor
+// point y the lens test moves to. Θ(z) is limited by the eye ray's cone (seen through
+// d_eye/L_chain), so Θ(x) < Θ(y) as R(x) < R(y) above. Measured: Θ(x) 0.64, Θ(y) 1.57
+// (Veach's θ2) with θ1 0.16; histogram 1.47, reported 1.50, with x's cones 0.90.
+TEST(GeometryAwareDensity, CausticRatioMatchesTheHistogramAndCatchesTheInjectedBug) {
+  const auto scene = floor_beside_sphere_scene();
+  const MutationContext ctx = floor_sphere_context(*scene);
+  const Path x = light_floor_eye(*scene, Vec2(15.5f, 16.5f));
+  const Path target = light_floor_eye(*scene, Vec2(17.0f, 16.5f));
+  const Vec3 direction = direction_between(target.vertices[0], target.vertices[1]);
+  const auto move = [&](const GaCausticPerturbation& caustic, const Path& from) {
+    return caustic.perturb_to(from, direction, ctx);
+  };
+  const GaCausticPerturbation caustic(wide_steps());
+  ASSERT_TRUE(caustic.applies_to(x, ctx));
+  double min_x = 0.0, max_x = 0.0, min_y = 0.0, max_y = 0.0;
+  caustic.angle_range(x, ctx, &min_x, &max_x);
+  caustic.angle_range(target, ctx, &min_y, &max_y);
+  std::printf("[ info     ] θ1 %.4f, Θ(x) %.4f, Θ(y) %.4f rad\n", min_x, max_x, max_y);
+  const auto e = density_evidence<GaCausticPerturbation>(*scene, ctx, wide_steps(), x, move);
+  EXPECT_NEAR(e.measured / e.reported, 1.0, 0.1);
+  EXPECT_GT(std::abs(e.measured / e.buggy - 1.0), 0.3) << "the injected bug must be off by a clear margin";
 }
 
 // ---------------------------------------------------------------------------------------

@@ -55,10 +55,24 @@ class Scene {
   // Distance from p to the nearest surface, or max_distance when none is nearer (an Embree
   // point query). Surfaces that pass within ignore_eps of one of the `ignore` points are
   // skipped: a triangle whose plane holds the point, a sphere whose surface does (the
-  // surfaces a path segment starts and ends on; the geometry-aware perturbations'
-  // cone estimate, mutations/geometry_aware/cone.h). Alpha masks count as solid.
+  // surfaces a path segment starts and ends on; the first, probe-based cone estimate of the
+  // geometry-aware perturbations used it, the exact one uses visit_nearby). Alpha masks
+  // count as solid.
   float clearance(const Vec3& p, float max_distance, const Vec3* ignore, int ignore_count,
                   float ignore_eps) const;
+  // The surfaces near p, for queries that need the geometry itself (the geometry-aware
+  // cone, mutations/geometry_aware/cone.h). The visitor sees every triangle whose bounds
+  // meet the ball B(p, radius) and every sphere (Embree 3's point queries skip spheres);
+  // each call returns the radius to go on with (at most the one passed), so that the ball
+  // can shrink as the visitor learns: a triangle meeting the final ball is always visited.
+  // Alpha masks count as solid.
+  struct NearbyVisitor {
+    virtual ~NearbyVisitor() = default;
+    // id: unique per triangle of the scene (a query may meet a triangle more than once).
+    virtual float triangle(uint64_t id, const Vec3& a, const Vec3& b, const Vec3& c, float radius) = 0;
+    virtual float sphere(const Vec3& center, float sphere_radius, float radius) = 0;
+  };
+  void visit_nearby(const Vec3& p, float radius, NearbyVisitor& visitor) const;
 
   const Camera& camera() const { return *camera_; }
   const LightSet& lights() const { return lights_; }
