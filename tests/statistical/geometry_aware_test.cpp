@@ -266,42 +266,6 @@ std::unique_ptr<Scene> floor_beside_sphere_scene() {
   return Scene::build(std::move(d));
 }
 
-// The L D E path from the light's centre to the floor point seen through `raster`.
-Path light_floor_eye(const Scene& scene, const Vec2& raster) {
-  const Camera& camera = scene.camera();
-  const Ray ray = camera.generate_ray(raster, Vec2(0.5f));
-  SurfaceHit floor_hit, light_hit;
-  EXPECT_TRUE(scene.intersect(ray, floor_hit));
-  EXPECT_TRUE(scene.intersect(Ray{Vec3(0.0f, 0.01f, 0.0f), Vec3(0, 1, 0)}, light_hit));
-  Path path;
-  path.vertices.push_back(make_surface_vertex(light_hit));
-  path.vertices.push_back(make_surface_vertex(floor_hit));
-  PathVertex lens;
-  lens.kind = VertexKind::Camera;
-  lens.position = ray.origin;
-  lens.normal = camera.forward();
-  lens.shading = Frame(lens.normal);
-  lens.raster = raster;
-  path.vertices.push_back(lens);
-  path.type = compute_path_type(path.vertices);
-  recompute_densities(scene, path);
-  return path;
-}
-
-// Proposals from `from` whose floor vertex lands within `radius` of `target`, per proposal
-// and unit floor area: T(from -> .) at target in area measure, by histogram.
-double floor_landing_density(const Mutation& mutation, const Path& from, const Vec3& target, float radius,
-                             int proposals, const MutationContext& ctx, uint64_t seed, int* hits_out) {
-  Rng rng(seed, 3);
-  int hits = 0;
-  for (int i = 0; i < proposals; ++i) {
-    const auto y = mutation.propose(from, rng, ctx);
-    if (y && glm::length(y->path.vertices[1].position - target) < radius) ++hits;
-  }
-  *hits_out = hits;
-  return double(hits) / (double(proposals) * kPi * double(radius) * double(radius));
-}
-
 struct DensityEvidence {
   double measured = 0.0;  // T(x->y)/T(y->x) from the landing histograms
   double reported = 0.0;  // exp(−log_reverse_over_forward) of the move x -> y
@@ -323,9 +287,9 @@ DensityEvidence density_evidence(const Scene& scene, const MutationContext& ctx,
   int hits_forward = 0, hits_reverse = 0;
   DensityEvidence e;
   const double forward =
-      floor_landing_density(strategy, x, y->path.vertices[1].position, radius, proposals, ctx, 11, &hits_forward);
+      landing_density(strategy, x, 1, y->path.vertices[1].position, radius, proposals, ctx, 11, &hits_forward);
   const double reverse =
-      floor_landing_density(strategy, y->path, x.vertices[1].position, radius, proposals, ctx, 12, &hits_reverse);
+      landing_density(strategy, y->path, 1, x.vertices[1].position, radius, proposals, ctx, 12, &hits_reverse);
   EXPECT_GT(hits_reverse, 1000) << "too few landings for a density estimate";
   EXPECT_GT(hits_forward, 1000) << "too few landings for a density estimate";
   e.measured = forward / reverse;
@@ -364,7 +328,7 @@ GeometryAwareParams wide_steps() {
 TEST(GeometryAwareDensity, LensRatioMatchesTheHistogramAndCatchesTheInjectedBug) {
   const auto scene = floor_beside_sphere_scene();
   const MutationContext ctx = floor_sphere_context(*scene);
-  const Path x = light_floor_eye(*scene, Vec2(15.5f, 16.5f));
+  const Path x = light_floor_eye_path(*scene, Vec2(15.5f, 16.5f));
   ASSERT_EQ(x.type.to_string(), "L D E");
   ASSERT_GT(path_luminance(*scene, x), 0.0);
   const auto move = [&](const GaLensPerturbation& lens, const Path& from) {
@@ -388,8 +352,8 @@ TEST(GeometryAwareDensity, LensRatioMatchesTheHistogramAndCatchesTheInjectedBug)
 TEST(GeometryAwareDensity, CausticRatioMatchesTheHistogramAndCatchesTheInjectedBug) {
   const auto scene = floor_beside_sphere_scene();
   const MutationContext ctx = floor_sphere_context(*scene);
-  const Path x = light_floor_eye(*scene, Vec2(15.5f, 16.5f));
-  const Path target = light_floor_eye(*scene, Vec2(17.0f, 16.5f));
+  const Path x = light_floor_eye_path(*scene, Vec2(15.5f, 16.5f));
+  const Path target = light_floor_eye_path(*scene, Vec2(17.0f, 16.5f));
   const Vec3 direction = direction_between(target.vertices[0], target.vertices[1]);
   const auto move = [&](const GaCausticPerturbation& caustic, const Path& from) {
     return caustic.perturb_to(from, direction, ctx);

@@ -51,42 +51,6 @@ std::unique_ptr<Scene> grazing_floor_scene() {
   return Scene::build(std::move(d));
 }
 
-// The L D E path from the light's centre to the floor point seen through `raster`.
-Path light_floor_eye_path(const Scene& scene, const Vec2& raster) {
-  const Camera& camera = scene.camera();
-  const Ray ray = camera.generate_ray(raster, Vec2(0.5f));
-  SurfaceHit floor_hit, light_hit;
-  EXPECT_TRUE(scene.intersect(ray, floor_hit));
-  EXPECT_TRUE(scene.intersect(Ray{Vec3(0.0f, 0.01f, 0.0f), Vec3(0, 1, 0)}, light_hit));
-  Path path;
-  path.vertices.push_back(make_surface_vertex(light_hit));
-  path.vertices.push_back(make_surface_vertex(floor_hit));
-  PathVertex lens;
-  lens.kind = VertexKind::Camera;
-  lens.position = ray.origin;
-  lens.normal = camera.forward();
-  lens.shading = Frame(lens.normal);
-  lens.raster = raster;
-  path.vertices.push_back(lens);
-  path.type = compute_path_type(path.vertices);
-  recompute_densities(scene, path);
-  return path;
-}
-
-// Fraction of `proposals` proposals from x whose moved vertex lands within `radius` of
-// `target`, per unit area: a histogram estimate of T(x -> .) at target (area measure).
-double landing_density(const Mutation& mutation, const Path& x, int moved, const Vec3& target,
-                       float radius, int proposals, const MutationContext& ctx, uint64_t seed) {
-  Rng rng(seed, 7);
-  int hits = 0;
-  for (int i = 0; i < proposals; ++i) {
-    const auto y = mutation.propose(x, rng, ctx);
-    if (y && glm::length(y->path.vertices[size_t(moved)].position - target) < radius) ++hits;
-  }
-  EXPECT_GT(hits, 800) << "too few landings for a density estimate";
-  return double(hits) / (double(proposals) * kPi * radius * radius);
-}
-
 struct DensityCheck {
   double measured_ratio = 0.0;  // T(x->y) / T(y->x) from the histograms
   double reported_ratio = 0.0;  // exp(-log_reverse_over_forward) of the move x -> y

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "emlt/mcmc/bootstrap.h"
+#include "emlt/path/connection.h"
 #include "emlt/render/bdpt.h"
 #include "emlt/scene/loader.h"
 #include "support/test_support.h"
@@ -108,6 +109,40 @@ double share_of(const MltStatistics& stats, const std::string& name) {
     if (stats.strategy_names[i] == name) mine = stats.strategies[i].accepted;
   }
   return total ? double(mine) / double(total) : 0.0;
+}
+
+Path light_floor_eye_path(const Scene& scene, const Vec2& raster) {
+  const Camera& camera = scene.camera();
+  const Ray ray = camera.generate_ray(raster, Vec2(0.5f));
+  SurfaceHit floor_hit, light_hit;
+  EXPECT_TRUE(scene.intersect(ray, floor_hit));
+  EXPECT_TRUE(scene.intersect(Ray{Vec3(0.0f, 0.01f, 0.0f), Vec3(0, 1, 0)}, light_hit));
+  Path path;
+  path.vertices.push_back(make_surface_vertex(light_hit));
+  path.vertices.push_back(make_surface_vertex(floor_hit));
+  PathVertex lens;
+  lens.kind = VertexKind::Camera;
+  lens.position = ray.origin;
+  lens.normal = camera.forward();
+  lens.shading = Frame(lens.normal);
+  lens.raster = raster;
+  path.vertices.push_back(lens);
+  path.type = compute_path_type(path.vertices);
+  recompute_densities(scene, path);
+  return path;
+}
+
+double landing_density(const Mutation& mutation, const Path& x, int moved, const Vec3& target,
+                       float radius, int proposals, const MutationContext& ctx, uint64_t seed, int* hits_out) {
+  Rng rng(seed, 7);
+  int hits = 0;
+  for (int i = 0; i < proposals; ++i) {
+    const auto y = mutation.propose(x, rng, ctx);
+    if (y && glm::length(y->path.vertices[size_t(moved)].position - target) < radius) ++hits;
+  }
+  EXPECT_GT(hits, 800) << "too few landings for a density estimate";
+  if (hits_out) *hits_out = hits;
+  return double(hits) / (double(proposals) * double(kPi) * double(radius) * double(radius));
 }
 
 }  // namespace emlt::test

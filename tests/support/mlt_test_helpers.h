@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "emlt/mcmc/mlt_integrator.h"
+#include "emlt/mcmc/mutation.h"
 #include "emlt/path/path.h"
 #include "emlt/render/integrator.h"
 #include "emlt/scene/scene.h"
@@ -30,6 +31,15 @@ Image mlt_image(const Scene& scene, const std::string& mix, double mpp, MltStati
 // the image, which is what a wrong proposal density distorts.
 void expect_converged_to(const Image& image, const Image& reference, int blocks, double tile_tolerance,
                          double total_tolerance);
+// The L D E path from the centre of a small downward-facing light above the origin to the
+// floor point seen through `raster` (density tests on toy floors).
+Path light_floor_eye_path(const Scene& scene, const Vec2& raster);
+// Proposals from x whose vertex `moved` lands within `radius` of `target`, per proposal and
+// unit area: a histogram estimate of T(x -> .) at target in area measure. Expects enough
+// landings (> 800) for an estimate; `hits` (optional) receives their count.
+double landing_density(const Mutation& mutation, const Path& x, int moved, const Vec3& target,
+                       float radius, int proposals, const MutationContext& ctx, uint64_t seed,
+                       int* hits = nullptr);
 // The fraction of all proposals that were accepted moves of strategy `name`.
 double share_of(const MltStatistics& stats, const std::string& name);
 
