@@ -46,12 +46,7 @@ std::optional<Proposal> LensPerturbation::perturb_to(const Path& x, const Vec2& 
   Proposal proposal;
   if (!perturbation::rebuild_eye_side(ctx.scene, x, l, raster, nullptr, proposal.path))
     return std::nullopt;
-  const double log_jacobians = include_jacobian_ ? perturbation::log_eye_jacobian(x, l + 1) -
-                                                       perturbation::log_eye_jacobian(proposal.path, l + 1)
-                                                 : 0.0;
-  const double convention =
-      perturbation::log_convention_correction(x, l + 2, x.edges() - 1, TransportMode::Radiance);
-  proposal.log_reverse_over_forward = log_jacobians - convention;
+  proposal.log_reverse_over_forward = perturbation::eye_side_log_ratio(x, proposal.path, l, include_jacobian_);
   if (!std::isfinite(proposal.log_reverse_over_forward)) return std::nullopt;
   return proposal;
 }

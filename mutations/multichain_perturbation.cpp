@@ -60,12 +60,7 @@ std::optional<Proposal> MultiChainPerturbation::perturb_to(const Path& x, const 
                                                      perturbation::precise_direction(yv[size_t(i)], yv[size_t(i - 1)]));
     if (!(theta > theta_min_ && theta < theta_max_)) return std::nullopt;
   }
-  const double log_jacobians = include_jacobian_ ? perturbation::log_eye_jacobian(x, l + 1) -
-                                                       perturbation::log_eye_jacobian(y, l + 1)
-                                                 : 0.0;
-  const double convention =
-      perturbation::log_convention_correction(x, l + 2, x.edges() - 1, TransportMode::Radiance);
-  proposal.log_reverse_over_forward = log_jacobians - convention;
+  proposal.log_reverse_over_forward = perturbation::eye_side_log_ratio(x, y, l, include_jacobian_);
   if (!std::isfinite(proposal.log_reverse_over_forward)) return std::nullopt;
   return proposal;
 }

@@ -123,6 +123,12 @@ double log_convention_correction(const Path& x, int first, int last, TransportMo
   return correction;
 }
 
+double eye_side_log_ratio(const Path& x, const Path& y, int l, bool include_jacobian) {
+  const double log_jacobians =
+      include_jacobian ? log_eye_jacobian(x, l + 1) - log_eye_jacobian(y, l + 1) : 0.0;
+  return log_jacobians - log_convention_correction(x, l + 2, x.edges() - 1, TransportMode::Radiance);
+}
+
 double log_eye_jacobian(const Path& path, int first) {
   const auto& v = path.vertices;
   const int k = path.edges();

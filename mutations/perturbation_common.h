@@ -68,6 +68,11 @@ bool fill_delta_record(PathVertex& v, const PathVertex& eye, const PathVertex& l
 // which the acceptance ratio adds so that f(x) and f(y) are compared consistently.
 double log_convention_correction(const Path& x, int first, int last, TransportMode mode);
 
+// log T(y->x)/T(x->y) of a move that rebuilt the eye side of x beyond the fixed vertex l
+// from a symmetric image-plane (and angular) step: the eye-side Jacobians of both paths
+// (dropped when `include_jacobian` is false, a test-only bug) and x's convention correction.
+double eye_side_log_ratio(const Path& x, const Path& y, int l, bool include_jacobian);
+
 // log of the Jacobian |d(image point, directions at interior non-specular vertices) / dν|
 // of vertices [first, k-1] of a path walked from the eye (the lens point and everything
 // light-side of `first` fixed): the product over those vertices of their density from the
