@@ -52,14 +52,6 @@ class Scene {
   bool occluded(const Ray& ray) const;
   // Mutual visibility of two surface points (each offset along its normal).
   bool visible(const Vec3& a, const Vec3& na, const Vec3& b, const Vec3& nb) const;
-  // Distance from p to the nearest surface, or max_distance when none is nearer (an Embree
-  // point query). Surfaces that pass within ignore_eps of one of the `ignore` points are
-  // skipped: a triangle whose plane holds the point, a sphere whose surface does (the
-  // surfaces a path segment starts and ends on; the first, probe-based cone estimate of the
-  // geometry-aware perturbations used it, the exact one uses visit_nearby). Alpha masks
-  // count as solid.
-  float clearance(const Vec3& p, float max_distance, const Vec3* ignore, int ignore_count,
-                  float ignore_eps) const;
   // The surfaces near p, for queries that need the geometry itself (the geometry-aware
   // cone, mutations/geometry_aware/cone.h). The visitor sees every triangle whose bounds
   // meet the ball B(p, radius) and every sphere (Embree 3's point queries skip spheres);
