@@ -52,8 +52,8 @@ void CausticPerturbation::angle_range(const Path& z, int l, const MutationContex
   *theta_max = std::min(r_max * scale, 0.5 * M_PI);
 }
 
-std::optional<Proposal> CausticPerturbation::perturb_to(const Path& x, const Vec3& direction,
-                                                        const MutationContext& ctx) const {
+std::optional<Proposal> CausticPerturbation::retrace(const Path& x, const Vec3& direction,
+                                                     const MutationContext& ctx) const {
   const Scene& scene = ctx.scene;
   const int l = fixed_vertex(x.type);
   const int k = x.edges();
@@ -97,24 +97,35 @@ std::optional<Proposal> CausticPerturbation::perturb_to(const Path& x, const Vec
   if (is_black(connection) || !is_finite(connection)) return std::nullopt;
   if (!perturbation::finish_proposal(scene, x, y)) return std::nullopt;
 
+  const double log_jacobians = include_jacobian_ ? perturbation::log_light_jacobian(x, l + 1, k - 1) -
+                                                       perturbation::log_light_jacobian(y, l + 1, k - 1)
+                                                 : 0.0;
+  const double convention = perturbation::log_convention_correction(x, l + 1, k - 2, TransportMode::Importance);
+  proposal.log_reverse_over_forward = log_jacobians - convention;
+  if (std::isnan(proposal.log_reverse_over_forward)) return std::nullopt;
+  return proposal;
+}
+
+std::optional<Proposal> CausticPerturbation::perturb_to(const Path& x, const Vec3& direction,
+                                                        const MutationContext& ctx) const {
+  auto proposal = retrace(x, direction, ctx);
+  if (!proposal) return std::nullopt;
+  const int l = fixed_vertex(x.type);
+  const auto& xv = x.vertices;
+  const auto& yv = proposal->path.vertices;
   // Angle between the two directions at x_l, and both moves' ranges.
   const double theta = perturbation::angle_between(perturbation::precise_direction(xv[size_t(l)], xv[size_t(l + 1)]),
                                                    perturbation::precise_direction(yv[size_t(l)], yv[size_t(l + 1)]));
   double min_x = 0.0, max_x = 0.0, min_y = 0.0, max_y = 0.0;
   angle_range(x, l, ctx, &min_x, &max_x);
-  angle_range(y, l, ctx, &min_y, &max_y);
+  angle_range(proposal->path, l, ctx, &min_y, &max_y);
   if (!(theta > min_x && theta < max_x) || !(max_x > min_x)) return std::nullopt;
   if (!(theta > min_y && theta < max_y) || !(max_y > min_y)) {
-    proposal.log_reverse_over_forward = -std::numeric_limits<double>::infinity();
+    proposal->log_reverse_over_forward = -std::numeric_limits<double>::infinity();
     return proposal;
   }
-  const double log_range_ratio = std::log(std::log(max_x / min_x)) - std::log(std::log(max_y / min_y));
-  const double log_jacobians = include_jacobian_ ? perturbation::log_light_jacobian(x, l + 1, k - 1) -
-                                                       perturbation::log_light_jacobian(y, l + 1, k - 1)
-                                                 : 0.0;
-  const double convention = perturbation::log_convention_correction(x, l + 1, k - 2, TransportMode::Importance);
-  proposal.log_reverse_over_forward = log_jacobians + log_range_ratio - convention;
-  if (std::isnan(proposal.log_reverse_over_forward)) return std::nullopt;
+  proposal->log_reverse_over_forward += std::log(std::log(max_x / min_x)) - std::log(std::log(max_y / min_y));
+  if (std::isnan(proposal->log_reverse_over_forward)) return std::nullopt;
   return proposal;
 }
 

@@ -25,6 +25,10 @@ class CausticPerturbation final : public Mutation {
 
   // The deterministic part: x with the direction leaving x_l replaced by `direction`.
   std::optional<Proposal> perturb_to(const Path& x, const Vec3& direction, const MutationContext& ctx) const;
+  // The same without the angular step's terms: the ratio holds only the Jacobians and the
+  // convention correction, for a caller whose direction density is its own (EMLT's guided
+  // caustic perturbation adds its great-arc kernel's ratio).
+  std::optional<Proposal> retrace(const Path& x, const Vec3& direction, const MutationContext& ctx) const;
 
   // Index l of the fixed vertex of a (L|D) S* D E suffix, or -1.
   static int fixed_vertex(const PathType& type);

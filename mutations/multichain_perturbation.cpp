@@ -37,9 +37,9 @@ bool MultiChainPerturbation::applies_to(const Path& x, const MutationContext&) c
   return x.vertices.size() >= 5 && fixed_vertex(x.type) >= 0;
 }
 
-std::optional<Proposal> MultiChainPerturbation::perturb_to(const Path& x, const Vec2& raster,
-                                                           const std::vector<Vec3>& directions,
-                                                           const MutationContext& ctx) const {
+std::optional<Proposal> MultiChainPerturbation::retrace(const Path& x, const Vec2& raster,
+                                                        const std::vector<Vec3>& directions,
+                                                        const MutationContext& ctx) const {
   const int l = fixed_vertex(x.type);
   if (l < 0) return std::nullopt;
   size_t next_direction = 0;
@@ -50,18 +50,26 @@ std::optional<Proposal> MultiChainPerturbation::perturb_to(const Path& x, const 
   Proposal proposal;
   Path& y = proposal.path;
   if (!perturbation::rebuild_eye_side(ctx.scene, x, l, raster, interior_direction, y)) return std::nullopt;
+  proposal.log_reverse_over_forward = perturbation::eye_side_log_ratio(x, y, l, include_jacobian_);
+  if (!std::isfinite(proposal.log_reverse_over_forward)) return std::nullopt;
+  return proposal;
+}
 
+std::optional<Proposal> MultiChainPerturbation::perturb_to(const Path& x, const Vec2& raster,
+                                                           const std::vector<Vec3>& directions,
+                                                           const MutationContext& ctx) const {
+  auto proposal = retrace(x, raster, directions, ctx);
+  if (!proposal) return std::nullopt;
   // Both moves must have their angles inside the (fixed) range.
+  const int l = fixed_vertex(x.type);
   const auto& xv = x.vertices;
-  const auto& yv = y.vertices;
+  const auto& yv = proposal->path.vertices;
   for (int i = l + 2; i <= x.edges() - 1; ++i) {
     if (xv[size_t(i)].delta) continue;
     const double theta = perturbation::angle_between(perturbation::precise_direction(xv[size_t(i)], xv[size_t(i - 1)]),
                                                      perturbation::precise_direction(yv[size_t(i)], yv[size_t(i - 1)]));
     if (!(theta > theta_min_ && theta < theta_max_)) return std::nullopt;
   }
-  proposal.log_reverse_over_forward = perturbation::eye_side_log_ratio(x, y, l, include_jacobian_);
-  if (!std::isfinite(proposal.log_reverse_over_forward)) return std::nullopt;
   return proposal;
 }
 

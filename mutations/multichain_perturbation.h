@@ -29,6 +29,11 @@ class MultiChainPerturbation final : public Mutation {
   // order from the eye, the next of `directions` (world, leaving towards the light).
   std::optional<Proposal> perturb_to(const Path& x, const Vec2& raster, const std::vector<Vec3>& directions,
                                      const MutationContext& ctx) const;
+  // The same without the angular steps' range check: the ratio holds the Jacobians and the
+  // convention correction only, for a caller whose image-plane and direction densities are
+  // its own (EMLT's guided multi-chain perturbation).
+  std::optional<Proposal> retrace(const Path& x, const Vec2& raster, const std::vector<Vec3>& directions,
+                                  const MutationContext& ctx) const;
 
   // Index l of the fixed vertex of a (L|D) D (S+ D)+ S* E suffix, or -1.
   static int fixed_vertex(const PathType& type);
