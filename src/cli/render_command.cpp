@@ -45,7 +45,7 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
   RenderSettings& s = o.settings;
   command.add_option("scene", o.scene, "Scene file (.json or Mitsuba .xml)")->required();
   command.add_option("-o,--output", o.output, "Output image (.exr, .pfm, .png, .hdr)");
-  command.add_option("--integrator", s.integrator, "direct | pt | bdpt | mlt | gamlt");
+  command.add_option("--integrator", s.integrator, "direct | pt | bdpt | mlt | gamlt | emlt");
   command.add_option("--spp", s.spp, "Samples per pixel")->check(CLI::Range(1, 1 << 24));
   command.add_option("--time", s.time_limit_s, "Time budget in seconds (renders until spent)")
       ->check(CLI::PositiveNumber);
@@ -74,7 +74,20 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
   command.add_option("--bootstrap", s.bootstrap_samples, "mlt: BDPT samples for b and the seeds")
       ->check(CLI::Range(1, 1 << 30));
   command.add_option("--mutations", s.mutations,
-                     "mlt/gamlt: strategy mix, e.g. bidir=3,lens=2 (default: the integrator's own)");
+                     "mlt/gamlt/emlt: strategy mix, e.g. bidir=3,lens=2, or a preset: mlt, gamlt, emlt, "
+                     "emlt-ani, emlt-lin (default: the integrator's own)");
+  command.add_option("--ensemble-size", s.ensemble_size,
+                     "emlt: paths in each ensemble, |X| = |Y| (0 = 16384, fewer on small images)")
+      ->check(CLI::Range(0, 1 << 22));
+  command.add_option("--ensemble-neighbours", s.ensemble_neighbours,
+                     "emlt: guide paths of one step (M)")
+      ->check(CLI::Range(1, 64));
+  command.add_option("--ensemble-iterations", s.ensemble_iterations,
+                     "emlt: steps per path between swaps (0 = W*H / (|X|+|Y|))")
+      ->check(CLI::Range(0, 1 << 20));
+  command.add_option("--aniso-map", s.aniso_map_path,
+                     "mlt/gamlt/emlt: write the predominant image-plane direction of the proposals "
+                     "per pixel to this PNG (red horizontal, green vertical, yellow isotropic)");
   command.add_option("--direct", o.direct_mode,
                      "mlt: direct light rendered separately or by the chains")
       ->check(CLI::IsMember({"separate", "mlt"}));
@@ -115,6 +128,10 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   if (given("--direct")) settings.direct_separate = o.direct_mode == "separate";
   if (given("--direct-spp")) settings.direct_spp = cli.direct_spp;
   if (given("--stats")) settings.stats_path = cli.stats_path;
+  if (given("--ensemble-size")) settings.ensemble_size = cli.ensemble_size;
+  if (given("--ensemble-neighbours")) settings.ensemble_neighbours = cli.ensemble_neighbours;
+  if (given("--ensemble-iterations")) settings.ensemble_iterations = cli.ensemble_iterations;
+  if (given("--aniso-map")) settings.aniso_map_path = cli.aniso_map_path;
   if (given("--bdpt-strategies")) settings.bdpt_strategies_dir = cli.bdpt_strategies_dir;
   settings.mis = o.mis == "balance" ? MisHeuristic::Balance : MisHeuristic::Power;
   settings.direct_point_set =
@@ -126,6 +143,13 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   if (o.output.empty()) o.output = std::filesystem::path(o.scene).stem().string() + ".exr";
   check_output_path(o.output);
   const auto integrator = make_integrator(settings.integrator);
+  const bool mcmc = dynamic_cast<const MltIntegrator*>(integrator.get()) != nullptr;
+  if (!settings.aniso_map_path.empty()) {
+    if (!mcmc) throw Error("--aniso-map needs an MCMC integrator (mlt, gamlt or emlt)");
+    check_output_path(settings.aniso_map_path);
+  }
+  if (settings.integrator == "emlt" && given("--chains"))
+    std::fprintf(stderr, "emlt: warning: --chains is ignored; the chains are the two ensembles (--ensemble-size)\n");
   if (!settings.stats_path.empty()) {
     const auto parent = std::filesystem::path(settings.stats_path).parent_path();
     if (!parent.empty() && !std::filesystem::is_directory(parent))

@@ -10,6 +10,7 @@
 #include "emlt/mcmc/bootstrap.h"
 #include "emlt/render/bdpt.h"
 #include "emlt/render/direct_integrator.h"
+#include "emlt/render/image.h"
 #include "emlt/render/snapshot.h"
 
 namespace emlt {
@@ -30,7 +31,15 @@ struct Chain {
   std::vector<uint8_t> applicable;           // which strategies apply to `current`
   std::vector<uint8_t> proposal_applicable;  // the same for the latest proposal (reused buffer)
   Rng rng;
+  uint64_t steps_taken = 0;  // keys EMLT's choice of guides (ensemble_guides.h)
   std::vector<StrategyStats> stats;
+};
+
+// What one block of chains writes: its film and, when requested, the image-plane moves of
+// its proposals per pixel of the current path (sum dx^2, sum dy^2, count) for --aniso-map.
+struct BlockOutput {
+  std::vector<DVec3> film;
+  std::vector<DVec3> moves;
 };
 
 // The film pixel a path lands in.
@@ -47,9 +56,12 @@ void splat(std::vector<DVec3>& film, int width, int height, const Path& path,
   film[film_index(path, width, height)] += contribution * (weight / target);
 }
 
-void run_chain(Chain& chain, uint64_t steps, const StrategyMix& mix, const MutationContext& ctx,
-               bool ignore_selection, std::vector<DVec3>& film, int width, int height) {
+void run_chain(Chain& chain, uint64_t chain_index, uint64_t steps, const StrategyMix& mix,
+               MutationContext ctx, bool ignore_selection, BlockOutput& out, int width, int height) {
+  std::vector<DVec3>& film = out.film;
+  ctx.chain = chain_index;
   for (uint64_t step = 0; step < steps; ++step) {
+    ctx.step = chain.steps_taken++;
     double p_forward = 0.0;
     const int chosen = mix.choose(chain.applicable, chain.rng.uniform(), &p_forward);
     for (size_t i = 0; i < mix.size(); ++i)
@@ -63,6 +75,12 @@ void run_chain(Chain& chain, uint64_t steps, const StrategyMix& mix, const Mutat
 
     double acceptance = 0.0;
     auto proposal = mix.strategy(size_t(chosen)).propose(chain.current, chain.rng, ctx);
+    if (proposal && proposal->fallback) ++stats.fallbacks;
+    if (proposal && !out.moves.empty()) {
+      const Vec2 move = proposal->path.raster() - chain.current.raster();
+      out.moves[film_index(chain.current, width, height)] +=
+          DVec3(double(move.x) * move.x, double(move.y) * move.y, 1.0);
+    }
     DVec3 contribution(0.0);
     double target = 0.0;
     if (proposal) {
@@ -97,6 +115,22 @@ void run_chain(Chain& chain, uint64_t steps, const StrategyMix& mix, const Mutat
       ++stats.accepted;
     }
   }
+}
+
+// The EMLT paper's Figure 12: the predominant image-plane direction of the proposals made
+// from each pixel. Red: mostly horizontal, green: mostly vertical, yellow: isotropic; black
+// where no proposal moved.
+void write_move_map(const std::string& path, const std::vector<BlockOutput>& blocks, int width, int height) {
+  Image map(width, height);
+  for (size_t p = 0; p < map.pixels.size(); ++p) {
+    DVec3 sum(0.0);
+    for (const BlockOutput& block : blocks) sum += block.moves[p];
+    const double total = sum.x + sum.y;
+    if (!(total > 0.0)) continue;
+    const double horizontal = sum.x / total;
+    map.pixels[p] = Rgb(float(std::min(1.0, 2.0 * horizontal)), float(std::min(1.0, 2.0 * (1.0 - horizontal))), 0.0f);
+  }
+  write_image(path, map);
 }
 
 }  // namespace
@@ -172,11 +206,24 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   const bool timed = settings.time_limit_s > 0.0;
   const uint64_t budget = uint64_t(std::llround(std::max(settings.mutations_per_pixel, 0.0) * double(pixels)));
   const uint64_t planned = timed ? (settings.mutations_per_pixel > 0 ? budget : UINT64_MAX) : budget;
-  const int chain_count = settings.chains > 0 ? settings.chains
-                                              : default_chain_count(timed ? pixels * 16 : budget);
-  const int blocks = std::min(chain_count, kMaxBlocks);
+  // Ensemble mode: |X| = |Y| = E and `it` steps per path between swaps (paper §3.4). The
+  // paper's E = 16384 with it = floor(W H / 2E) assumes images of at least 2E pixels; on
+  // smaller ones E shrinks to W H / 2 so that every path still moves once per half-sweep.
+  const bool ensemble = options_.ensemble;
+  const uint64_t ensemble_size =
+      !ensemble ? 0
+      : settings.ensemble_size > 0 ? uint64_t(settings.ensemble_size)
+                                   : std::clamp<uint64_t>(pixels / 2, 1, 16384);
+  const uint64_t iterations = !ensemble ? 0
+                              : settings.ensemble_iterations > 0
+                                  ? uint64_t(settings.ensemble_iterations)
+                                  : std::max<uint64_t>(1, pixels / (2 * ensemble_size));
+  const int chain_count = ensemble ? int(2 * ensemble_size)
+                          : settings.chains > 0 ? settings.chains
+                                                : default_chain_count(timed ? pixels * 16 : budget);
 
-  // Seeds: each chain resamples the bootstrap pool from its own stream.
+  // Seeds: each chain resamples the bootstrap pool from its own stream (in EMLT, both
+  // ensembles come from the one pool, §3.4).
   std::vector<Chain> chains;
   chains.resize(size_t(chain_count));
   for (int c = 0; c < chain_count; ++c) {
@@ -194,8 +241,12 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     chain.stats.assign(mix.size(), StrategyStats{});
   }
 
-  std::vector<std::vector<DVec3>> films(size_t(blocks), std::vector<DVec3>(pixels, DVec3(0.0)));
-  const auto block_first_chain = [&](int block) { return int(int64_t(chain_count) * block / blocks); };
+  const bool record_moves = !settings.aniso_map_path.empty();
+  std::vector<BlockOutput> blocks(size_t(std::min(ensemble ? int(ensemble_size) : chain_count, kMaxBlocks)));
+  for (BlockOutput& block : blocks) {
+    block.film.assign(pixels, DVec3(0.0));
+    if (record_moves) block.moves.assign(pixels, DVec3(0.0));
+  }
 
   // The image after `mutations` steps: the direct part, plus the blocks' films summed in
   // order and each chain's weight not yet splatted (added to a copy: the chains go on
@@ -205,8 +256,8 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   const Image direct_image = result.image;
   const auto compose = [&](uint64_t mutations_done) {
     std::vector<DVec3> total(pixels, DVec3(0.0));
-    for (const auto& film : films)
-      for (uint64_t p = 0; p < pixels; ++p) total[p] += film[p];
+    for (const auto& block : blocks)
+      for (uint64_t p = 0; p < pixels; ++p) total[p] += block.film[p];
     for (const Chain& chain : chains)
       splat(total, width, height, chain.current, chain.contribution, chain.target, chain.carried);
     const double splatted = double(mutations_done) * double(live) / double(chain_count);
@@ -232,40 +283,80 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     snapshot_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   };
 
+  // EMLT's view of the frozen half, rebuilt at every swap.
+  EnsembleGuides guides;
+  EnsembleParams ensemble_params = options_.ensemble_params;
+  if (settings.ensemble_neighbours > 0) ensemble_params.neighbours = settings.ensemble_neighbours;
+  std::vector<const Path*> frozen(ensemble_size);
+  double alpha_sum = 0.0;
+  if (ensemble) ctx.ensemble = &guides;
+
   tbb::task_arena arena(threads);
-  progress.start("mlt", timed ? 0 : planned, settings.time_limit_s);
-  // Rounds of one mutation per pixel: checkpoints (powers of two in mutations per pixel)
-  // fall on round ends, and the time budget is checked between rounds.
+  progress.start(options_.name.c_str(), timed ? 0 : planned, settings.time_limit_s);
+  // Sweeps: MLT rounds of one mutation per pixel over all chains, or EMLT half-sweeps of
+  // `it` steps for each path of X. No sweep crosses a checkpoint (a power of two in
+  // mutations per pixel), so snapshots fall on them exactly; the time budget is checked
+  // between sweeps.
   const uint64_t round_size = std::max<uint64_t>(pixels, uint64_t(chain_count));
-  uint64_t done = 0;
+  uint64_t done = 0, next_checkpoint = 1, half = 0;
   while (done < planned) {
-    const uint64_t this_round = std::min(round_size, planned - done);
+    uint64_t first = 0, count = uint64_t(chain_count), sweep = round_size;
+    if (ensemble) {
+      first = half * ensemble_size;
+      count = ensemble_size;
+      sweep = ensemble_size * iterations;
+      const auto tree_start = std::chrono::steady_clock::now();
+      const uint64_t other = (1 - half) * ensemble_size;
+      for (uint64_t i = 0; i < ensemble_size; ++i) {
+        const Chain& y = chains[size_t(other + i)];
+        frozen[i] = y.target > 0.0 ? &y.current : nullptr;
+      }
+      guides.build(frozen, width, height, settings.seed, ensemble_params);
+      alpha_sum += guides.alpha();
+      stats_.tree_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - tree_start).count();
+    }
+    sweep = std::min(sweep, planned - done);
+    if (done < next_checkpoint * pixels) sweep = std::min(sweep, next_checkpoint * pixels - done);
+    const int block_count = int(std::min<uint64_t>(count, blocks.size()));
     arena.execute([&] {
-      tbb::parallel_for(0, blocks, [&](int block) {
-        for (int c = block_first_chain(block); c < block_first_chain(block + 1); ++c) {
-          if (!(chains[size_t(c)].target > 0.0)) continue;
-          const uint64_t steps = this_round / uint64_t(chain_count) +
-                                 (uint64_t(c) < this_round % uint64_t(chain_count) ? 1 : 0);
-          run_chain(chains[size_t(c)], steps, mix, ctx, options_.ignore_selection_probability,
-                    films[size_t(block)], width, height);
+      tbb::parallel_for(0, block_count, [&](int block) {
+        const uint64_t begin = count * uint64_t(block) / uint64_t(block_count);
+        const uint64_t end = count * uint64_t(block + 1) / uint64_t(block_count);
+        for (uint64_t j = begin; j < end; ++j) {
+          Chain& chain = chains[size_t(first + j)];
+          if (!(chain.target > 0.0)) continue;
+          const uint64_t steps = sweep / count + (j < sweep % count ? 1 : 0);
+          run_chain(chain, first + j, steps, mix, ctx, options_.ignore_selection_probability,
+                    blocks[size_t(block)], width, height);
           progress.advance(steps);
         }
       });
     });
-    done += this_round;
-    const bool checkpoint = done % pixels == 0 && is_checkpoint(done / pixels);
-    if (settings.snapshots && checkpoint) take_snapshot(done);
+    done += sweep;
+    if (ensemble) {
+      half = 1 - half;
+      ++stats_.swaps;
+    }
+    for (; done >= next_checkpoint * pixels; next_checkpoint *= 2)
+      if (settings.snapshots && done == next_checkpoint * pixels) take_snapshot(done);
     if (timed && elapsed() - snapshot_seconds >= settings.time_limit_s) break;
   }
   if (settings.snapshots && !(done % pixels == 0 && is_checkpoint(done / pixels))) take_snapshot(done);
   progress.finish();
 
   result.image = compose(done);
+  if (record_moves) write_move_map(settings.aniso_map_path, blocks, width, height);
   for (const Chain& chain : chains)
     for (size_t i = 0; i < mix.size(); ++i) stats_.strategies[i].merge(chain.stats[i]);
   stats_.chains = uint64_t(chain_count);
   stats_.mutations = done;
   stats_.seconds = elapsed() - snapshot_seconds;
+  if (ensemble) {
+    stats_.ensemble_size = ensemble_size;
+    stats_.ensemble_neighbours = uint64_t(ensemble_params.neighbours);
+    stats_.ensemble_iterations = iterations;
+    stats_.mean_alpha = stats_.swaps ? alpha_sum / double(stats_.swaps) : 0.0;
+  }
   result.seconds = stats_.seconds;
   result.samples = done;
   result.samples_per_pixel = int(std::llround(double(done) / double(pixels)));

@@ -2,13 +2,21 @@
 #include "emlt/mcmc/strategy_mix.h"
 #include "mutations/bidirectional.h"
 #include "mutations/caustic_perturbation.h"
+#include "mutations/ensemble/anisotropic_path.h"
+#include "mutations/ensemble/environment_perturbation.h"
+#include "mutations/ensemble/guided_caustic.h"
+#include "mutations/ensemble/guided_lens.h"
+#include "mutations/ensemble/guided_multichain.h"
 #include "mutations/geometry_aware/ga_perturbations.h"
 #include "mutations/lens_perturbation.h"
 #include "mutations/multichain_perturbation.h"
 
 namespace emlt {
 
-std::vector<std::string> mutation_names() { return {"bidir", "lens", "caustic", "multichain", "ga-lens", "ga-caustic", "ga-multichain"}; }
+std::vector<std::string> mutation_names() {
+  return {"bidir", "lens", "caustic", "multichain", "ga-lens", "ga-caustic", "ga-multichain",
+          "emlt-lens", "emlt-caustic", "emlt-multichain", "emlt-aniso", "emlt-env"};
+}
 
 std::unique_ptr<Mutation> make_mutation(const std::string& name) {
   if (name == "bidir" || name == "bidirectional") return std::make_unique<BidirectionalMutation>();
@@ -18,6 +26,11 @@ std::unique_ptr<Mutation> make_mutation(const std::string& name) {
   if (name == "ga-lens") return std::make_unique<GaLensPerturbation>();
   if (name == "ga-caustic") return std::make_unique<GaCausticPerturbation>();
   if (name == "ga-multichain" || name == "ga-multi-chain") return std::make_unique<GaMultiChainPerturbation>();
+  if (name == "emlt-lens") return std::make_unique<GuidedLensPerturbation>();
+  if (name == "emlt-caustic") return std::make_unique<GuidedCausticPerturbation>();
+  if (name == "emlt-multichain" || name == "emlt-multi-chain") return std::make_unique<GuidedMultiChainPerturbation>();
+  if (name == "emlt-aniso") return std::make_unique<AnisotropicPathPerturbation>();
+  if (name == "emlt-env") return std::make_unique<EnvironmentPerturbation>();
   std::string known;
   for (const auto& n : mutation_names()) known += (known.empty() ? "" : ", ") + n;
   throw Error("unknown mutation '" + name + "' (available: " + known + ")");

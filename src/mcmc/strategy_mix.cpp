@@ -6,8 +6,18 @@
 
 namespace emlt {
 
-StrategyMix StrategyMix::parse(const std::string& spec) {
+std::string expand_mix_preset(const std::string& spec) {
+  if (spec == "mlt") return kMltMix;
+  if (spec == "gamlt") return kGamltMix;
+  if (spec == "emlt") return kEmltMix;
+  if (spec == "emlt-ani") return kEmltAniMix;
+  if (spec == "emlt-lin") return kEmltLinMix;
+  return spec;
+}
+
+StrategyMix StrategyMix::parse(const std::string& given) {
   StrategyMix mix;
+  const std::string spec = expand_mix_preset(given);
   std::stringstream list(spec);
   std::string item;
   while (std::getline(list, item, ',')) {

@@ -7,7 +7,7 @@
 
 namespace emlt {
 
-std::vector<std::string> integrator_names() { return {"direct", "pt", "bdpt", "mlt", "gamlt"}; }
+std::vector<std::string> integrator_names() { return {"direct", "pt", "bdpt", "mlt", "gamlt", "emlt"}; }
 
 std::unique_ptr<Integrator> make_integrator(const std::string& name) {
   if (name == "direct") return std::make_unique<DirectIntegrator>();
@@ -18,6 +18,13 @@ std::unique_ptr<Integrator> make_integrator(const std::string& name) {
     MltOptions options;
     options.name = "gamlt";
     options.default_mix = kGamltMix;
+    return std::make_unique<MltIntegrator>(std::move(options));
+  }
+  if (name == "emlt") {  // MLT run as two swapped ensembles, with the guided strategies
+    MltOptions options;
+    options.name = "emlt";
+    options.default_mix = kEmltMix;
+    options.ensemble = true;
     return std::make_unique<MltIntegrator>(std::move(options));
   }
   std::string known;

@@ -7,9 +7,15 @@
 // it estimates f itself: pixel = width * height * b / mutations * (sum of splats), each
 // splat carrying F / f* (colour with luminance one).
 //
+// Ensemble mode (EMLT): the same chains, estimator and bootstrap, run as two halves that
+// take turns; while one half (X) moves, the other (Y) is frozen and guides it
+// (ensemble_guides.h). Each X step keeps f invariant for a fixed Y, so each half-sweep
+// preserves the product density of both ensembles (paper §3, emlt-notes.md §1).
+//
 // Determinism: chains are grouped in a fixed number of blocks, each with its own film,
 // summed in block order; the schedule is a fixed number of rounds. The same seed and
 // chain count give the same bits at any thread count.
+#include "emlt/mcmc/ensemble_guides.h"
 #include "emlt/mcmc/strategy_mix.h"
 #include "emlt/render/integrator.h"
 
@@ -21,18 +27,15 @@ struct MltStatistics {
   double seconds = 0.0;
   std::vector<std::string> strategy_names;
   std::vector<StrategyStats> strategies;
+  // Ensemble MLT only (ensemble_size 0 otherwise).
+  uint64_t ensemble_size = 0, ensemble_neighbours = 0, ensemble_iterations = 0, swaps = 0;
+  double tree_seconds = 0.0;  // rebuilding Y's path-type tree and α at the swaps
+  double mean_alpha = 0.0;    // the linear kernels' α, averaged over the swaps
 };
 
 // Diagnostics and tests: a strategy mix built in code (instead of settings.mutations),
 // and a switch that drops the selection-probability term from the acceptance ratio, to
 // show that the tests notice.
-// The EMLT paper's MLT: the bidirectional mutation with probability 1/3, the three
-// perturbations sharing the rest.
-inline constexpr const char* kMltMix = "bidir=3,lens=2,caustic=2,multichain=2";
-// Geometry-aware MLT (project issue 7): the bidirectional mutation with the geometry-aware
-// perturbations (mutations/geometry_aware/ga_perturbations.h), in plain MLT's proportions.
-inline constexpr const char* kGamltMix = "bidir=3,ga-lens=2,ga-caustic=2,ga-multichain=2";
-
 struct MltOptions {
   std::shared_ptr<const StrategyMix> mix;
   bool ignore_selection_probability = false;
@@ -41,6 +44,11 @@ struct MltOptions {
   // kGamltMix.
   std::string name = "mlt";
   std::string default_mix = kMltMix;
+  // Ensemble MLT (Bashford-Rogers et al. 2021): the chains form two ensembles X and Y of
+  // settings.ensemble_size paths; X takes `it` steps per path guided by the frozen Y, then
+  // the two swap roles. `--integrator emlt` is this with kEmltMix.
+  bool ensemble = false;
+  EnsembleParams ensemble_params;
 };
 
 class MltIntegrator final : public Integrator {

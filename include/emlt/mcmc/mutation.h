@@ -15,6 +15,8 @@
 
 namespace emlt {
 
+class EnsembleGuides;
+
 struct MutationContext {
   const Scene& scene;
   int min_edges = 1;   // shortest path the chains may visit (3 when direct light is separate)
@@ -22,12 +24,19 @@ struct MutationContext {
   // Image-plane perturbation radii in pixels (Veach: 0.1 px and 5 % of the image area).
   float lens_min_radius = 0.1f;
   float lens_max_radius = 0.0f;
+  // EMLT (ensemble_guides.h): the frozen complementary ensemble, and the key of the current
+  // step (the chain and how many steps it has taken) that fixes Υ. Null outside EMLT; the
+  // guided strategies then behave as their unguided fallbacks.
+  const EnsembleGuides* ensemble = nullptr;
+  uint64_t chain = 0, step = 0;
 };
 
 struct Proposal {
   Path path;
   // log T(y->x) - log T(x->y) of this strategy alone (selection probability excluded).
   double log_reverse_over_forward = 0.0;
+  // A guided strategy that used its unguided fallback (fewer than two guides), for the stats.
+  bool fallback = false;
 };
 
 class Mutation {

@@ -18,6 +18,7 @@ struct StrategyStats {
   uint64_t not_applicable = 0;  // steps where it had weight but did not apply to the path
   uint64_t failed = 0;          // proposals that could not be built (a = 0)
   uint64_t accepted = 0;
+  uint64_t fallbacks = 0;       // guided strategies: steps that used the unguided fallback
   double acceptance_sum = 0.0;  // sum of a over proposals
 
   void merge(const StrategyStats& o) {
@@ -25,10 +26,29 @@ struct StrategyStats {
     not_applicable += o.not_applicable;
     failed += o.failed;
     accepted += o.accepted;
+    fallbacks += o.fallbacks;
     acceptance_sum += o.acceptance_sum;
   }
   double mean_acceptance() const { return proposed ? acceptance_sum / double(proposed) : 0.0; }
 };
+
+// The default mixes, also accepted as --mutations presets. The EMLT paper's proportions:
+// the bidirectional mutation with probability 1/3, the other strategies sharing the rest.
+// MLT (Veach & Guibas 1997):
+inline constexpr const char* kMltMix = "bidir=3,lens=2,caustic=2,multichain=2";
+// Geometry-aware MLT (project issue 7; mutations/geometry_aware/ga_perturbations.h):
+inline constexpr const char* kGamltMix = "bidir=3,ga-lens=2,ga-caustic=2,ga-multichain=2";
+// Ensemble MLT (mutations/ensemble/guided_strategies.h), all its strategies:
+inline constexpr const char* kEmltMix =
+    "bidir=5,emlt-lens=2,emlt-caustic=2,emlt-multichain=2,emlt-aniso=2,emlt-env=2";
+// The paper's ablation (Table 1): the anisotropic path perturbation alone ("Ani") and the
+// linear guided perturbations alone ("Lin"), each with the bidirectional mutation.
+inline constexpr const char* kEmltAniMix = "bidir=1,emlt-aniso=2";
+inline constexpr const char* kEmltLinMix = "bidir=3,emlt-lens=2,emlt-caustic=2,emlt-multichain=2";
+
+// The mix a preset name stands for ("mlt", "gamlt", "emlt", "emlt-ani", "emlt-lin"), or the
+// spec itself when it is not a preset.
+std::string expand_mix_preset(const std::string& spec);
 
 // A strategy by name ("bidir", "lens", "caustic", "multichain"); throws emlt::Error listing
 // the known names otherwise.

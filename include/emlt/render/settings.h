@@ -35,6 +35,14 @@ struct RenderSettings {
   // so the direct part converges with the chains, or 16 under a pure time budget.
   int direct_spp = 0;
   std::string stats_path;                  // --stats FILE.json
+  // Writes the predominant image-plane direction of the chains' proposals per pixel (the
+  // EMLT paper's Figure 12) to this PNG; empty: not recorded.
+  std::string aniso_map_path;
+
+  // Ensemble MLT (integrator "emlt"; include/emlt/mcmc/ensemble_guides.h).
+  int ensemble_size = 0;        // |X| = |Y|; 0: 16384, fewer on images under 32768 pixels
+  int ensemble_neighbours = 32; // M, the guide paths of one step
+  int ensemble_iterations = 0;  // steps per path between swaps; 0: floor(W H / (|X| + |Y|))
 
   // Receives images at power-of-two samples (mutations) per pixel; not owned. Null: none.
   SnapshotSink* snapshots = nullptr;

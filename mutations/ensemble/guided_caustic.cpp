@@ -1,0 +1,32 @@
+#include "mutations/ensemble/guided_caustic.h"
+
+namespace emlt {
+
+std::optional<Proposal> GuidedCausticPerturbation::propose(const Path& x, Rng& rng,
+                                                           const MutationContext& ctx) const {
+  const auto guides = ensemble::guides_for(x, ctx);
+  if (guides.size() < 2) {
+    auto proposal = veach_.propose(x, rng, ctx);
+    if (proposal) proposal->fallback = true;
+    return proposal;
+  }
+  const int l = CausticPerturbation::fixed_vertex(x.type);
+  if (l < 0) return std::nullopt;
+  std::vector<double> weights;
+  ensemble::log_path_similarities(x, guides, l, l + 1, ensemble::similarity_params(ctx), weights);
+  const ensemble::GuideChoice choice = ensemble::choose_guide(weights, rng);
+  const PathVertex& fixed = x.vertices[size_t(l)];
+  const Vec3 current = direction_between(fixed, x.vertices[size_t(l + 1)]);
+  const Vec3 towards_guide = direction_between(fixed, guides[choice.index]->vertices[size_t(l + 1)]);
+  const auto step = ensemble::propose_great_arc(current, towards_guide, ensemble::stretch_params(ctx), rng);
+  if (!step.valid) return std::nullopt;
+  auto proposal = veach_.retrace(x, step.direction, ctx);
+  if (!proposal) return std::nullopt;
+  proposal->log_reverse_over_forward +=
+      (bugs_.drop_reverse_density ? 0.0 : step.log_density_ratio) +
+      ensemble::log_selection_ratio(proposal->path, guides, choice.index, choice.log_probability, l, l + 1,
+                                    ctx, bugs_);
+  return proposal;
+}
+
+}  // namespace emlt

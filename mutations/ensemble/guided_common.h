@@ -1,0 +1,44 @@
+#pragma once
+// What EMLT's guided perturbations (Bashford-Rogers et al. 2021, §3.3) share: fetching Υ for
+// the current step, the similarity and stretch parameters of this render, the
+// similarity-weighted choice of one guide path, and the test switches that inject the
+// bugs the statistical tests must catch.
+#include <span>
+#include <vector>
+
+#include "emlt/mcmc/ensemble_guides.h"
+#include "emlt/mcmc/mutation.h"
+#include "mutations/ensemble/kernels.h"
+#include "mutations/ensemble/similarity.h"
+
+namespace emlt::ensemble {
+
+// Deliberate errors for the tests (tests/statistical/emlt_test.cpp); never set otherwise.
+struct InjectedBugs {
+  bool drop_reverse_density = false;   // the kernel's T(y->x) replaced by T(x->y)
+  bool sigma_not_refitted = false;     // reverse anisotropic density with x's Σ, recentred
+  bool ignore_selection = false;       // P(n|y) / P(n|x) left out
+  bool upsilon_from_proposal = false;  // P(n|y) evaluated against the Υ of y's next step
+};
+
+// Υ of x at this step (empty without an ensemble).
+std::vector<const Path*> guides_for(const Path& x, const MutationContext& ctx);
+// Υ as the buggy reverse evaluation would choose it (InjectedBugs::upsilon_from_proposal).
+std::vector<const Path*> guides_for_next_step(const Path& y, const MutationContext& ctx);
+
+SimilarityParams similarity_params(const MutationContext& ctx);
+// The stretch move's distribution with this swap's α.
+StretchParams stretch_params(const MutationContext& ctx);
+
+// out[n] = log S(x, v^n, first, last) (eq. 9) over vertices [first, last] (same-type paths,
+// so the indices correspond).
+void log_path_similarities(const Path& x, std::span<const Path* const> guides, int first, int last,
+                           const SimilarityParams& params, std::vector<double>& out);
+
+// log P(n | y) / P(n | x) for a guide chosen with similarity weights over [first, last];
+// `log_probability_x` is what choose_guide reported for x.
+double log_selection_ratio(const Path& y, std::span<const Path* const> guides, uint32_t index,
+                           double log_probability_x, int first, int last, const MutationContext& ctx,
+                           const InjectedBugs& bugs);
+
+}  // namespace emlt::ensemble

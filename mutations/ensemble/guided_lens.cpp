@@ -1,0 +1,29 @@
+#include "mutations/ensemble/guided_lens.h"
+
+namespace emlt {
+
+std::optional<Proposal> GuidedLensPerturbation::propose(const Path& x, Rng& rng,
+                                                        const MutationContext& ctx) const {
+  const auto guides = ensemble::guides_for(x, ctx);
+  if (guides.size() < 2) {
+    auto proposal = veach_.propose(x, rng, ctx);
+    if (proposal) proposal->fallback = true;
+    return proposal;
+  }
+  const int first = LensPerturbation::fixed_vertex(x.type) + 1, last = x.edges();
+  std::vector<double> weights;
+  ensemble::log_path_similarities(x, guides, first, last, ensemble::similarity_params(ctx), weights);
+  const ensemble::GuideChoice choice = ensemble::choose_guide(weights, rng);
+  const auto step = ensemble::propose_linear(x.raster(), guides[choice.index]->raster(),
+                                             ensemble::stretch_params(ctx), rng);
+  if (!step.valid) return std::nullopt;
+  auto proposal = veach_.perturb_to(x, step.state, ctx);
+  if (!proposal) return std::nullopt;
+  proposal->log_reverse_over_forward +=
+      (bugs_.drop_reverse_density ? 0.0 : step.log_density_ratio) +
+      ensemble::log_selection_ratio(proposal->path, guides, choice.index, choice.log_probability, first,
+                                    last, ctx, bugs_);
+  return proposal;
+}
+
+}  // namespace emlt

@@ -1,0 +1,45 @@
+#include "mutations/ensemble/guided_multichain.h"
+
+namespace emlt {
+
+std::optional<Proposal> GuidedMultiChainPerturbation::propose(const Path& x, Rng& rng,
+                                                              const MutationContext& ctx) const {
+  const auto guides = ensemble::guides_for(x, ctx);
+  if (guides.size() < 2) {
+    auto proposal = veach_.propose(x, rng, ctx);
+    if (proposal) proposal->fallback = true;
+    return proposal;
+  }
+  const int l = MultiChainPerturbation::fixed_vertex(x.type);
+  if (l < 0) return std::nullopt;
+  const int first = l + 1, last = x.edges();
+  std::vector<double> weights;
+  ensemble::log_path_similarities(x, guides, first, last, ensemble::similarity_params(ctx), weights);
+  const ensemble::GuideChoice choice = ensemble::choose_guide(weights, rng);
+  const Path& guide = *guides[choice.index];
+  const ensemble::StretchParams stretch = ensemble::stretch_params(ctx);
+
+  const auto image_step = ensemble::propose_linear(x.raster(), guide.raster(), stretch, rng);
+  if (!image_step.valid) return std::nullopt;
+  double log_kernel_ratio = image_step.log_density_ratio;
+  std::vector<Vec3> directions;
+  const auto& xv = x.vertices;
+  for (int i = x.edges() - 1; i >= l + 2; --i) {
+    if (xv[size_t(i)].delta) continue;
+    const Vec3 current = direction_between(xv[size_t(i)], xv[size_t(i - 1)]);
+    const Vec3 guide_direction = direction_between(guide.vertices[size_t(i)], guide.vertices[size_t(i - 1)]);
+    const auto step = ensemble::propose_great_arc(current, guide_direction, stretch, rng);
+    if (!step.valid) return std::nullopt;
+    directions.push_back(step.direction);
+    log_kernel_ratio += step.log_density_ratio;
+  }
+  auto proposal = veach_.retrace(x, image_step.state, directions, ctx);
+  if (!proposal) return std::nullopt;
+  proposal->log_reverse_over_forward +=
+      (bugs_.drop_reverse_density ? 0.0 : log_kernel_ratio) +
+      ensemble::log_selection_ratio(proposal->path, guides, choice.index, choice.log_probability, first,
+                                    last, ctx, bugs_);
+  return proposal;
+}
+
+}  // namespace emlt
