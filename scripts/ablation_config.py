@@ -27,9 +27,9 @@ METHODS = {
     "bdpt": (["--integrator", "bdpt"], "--spp"),
     "mlt": (["--integrator", "mlt"], "--mpp"),  # the engine's default mutation mix
     "gamlt": (["--integrator", "gamlt"], "--mpp"),  # geometry-aware MLT (issue 7)
-    "emlt": None,       # ensemble MLT
-    "emlt-ani": None,   # EMLT, anisotropic variant
-    "emlt-lin": None,   # EMLT, linear variant
+    "emlt": (["--integrator", "emlt"], "--mpp"),  # ensemble MLT, all strategies (issue 6)
+    "emlt-ani": (["--integrator", "emlt", "--mutations", "emlt-ani"], "--mpp"),  # paper Table 1 "Ani"
+    "emlt-lin": (["--integrator", "emlt", "--mutations", "emlt-lin"], "--mpp"),  # paper Table 1 "Lin"
 }
 
 # "mlt:MIX" names an MLT run with the mutation mix MIX, e.g. "mlt:bidir=1,lens=1".
@@ -169,13 +169,10 @@ def builtin_method(name):
         mix = name[len(MIX_PREFIX):]
         return Method(name, ["--integrator", "mlt", "--mutations", mix], "--mpp")
     if name not in METHODS:
-        known = ", ".join(n for n, v in METHODS.items() if v is not None)
+        known = ", ".join(METHODS)
         raise ConfigError(f"unknown method '{name}' (built-in: {known}, or 'mlt:MIX' for a mutation mix; "
                           f"other methods need \"args\" in the config's \"methods\")")
     entry = METHODS[name]
-    if entry is None:
-        raise ConfigError(f"method '{name}' is not available in this engine yet; "
-                          f"define it in the config's \"methods\" with explicit \"args\" to run it")
     args, flag = entry
     return Method(name, list(args), flag)
 

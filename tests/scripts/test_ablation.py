@@ -186,9 +186,6 @@ class AblationTest(unittest.TestCase):
     def test_unknown_method_fails_with_one_line(self):
         self.bad_method(["pt", "no-such-method"], "no-such-method")
 
-    def test_unavailable_method_fails_with_one_line(self):
-        self.bad_method(["pt", "emlt"], "emlt")
-
     def test_method_the_engine_rejects_fails_with_one_line(self):
         self.bad_method({"pt": {}, "odd-mix": {"mutations": "no-such-strategy=1"}}, "odd-mix")
 
