@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace emlt::geometry_aware {
@@ -85,53 +86,63 @@ struct ConeVisitor final : Scene::NearbyVisitor {
   Axis axis;
   const Vec3* ends = nullptr;
   float ignore_eps = 0.0f;
-  double tan_alpha = 0.0, half = 0.0, s1 = 0.0, guard = 0.0;
+  double tan_alpha = 0.0, sin_alpha = 0.0, half = 0.0, s1 = 0.0, guard = 0.0, length = 0.0;
 
-  // The triangles seen so far, an open-addressing set of id + 1 (0: empty). When it is
-  // full a triangle is simply evaluated again (the same constraint).
-  std::array<uint64_t, 256> seen{};
+  // The triangles seen so far. An estimate meets a few dozen at most, so a short list
+  // scanned linearly beats a hash set (whose clearing alone cost more). When it is full a
+  // triangle is simply evaluated again (the same constraint).
+  std::array<uint64_t, 48> seen;
   size_t seen_count = 0;
 
   bool first_visit(uint64_t id) {
-    if (seen_count >= seen.size() / 2) return true;
-    const uint64_t key = id + 1;
-    size_t slot = size_t((key * 0x9E3779B97F4A7C15ull) >> 56);
-    while (seen[slot] != 0) {
-      if (seen[slot] == key) return false;
-      slot = (slot + 1) % seen.size();
-    }
-    seen[slot] = key;
-    ++seen_count;
+    for (size_t i = 0; i < seen_count; ++i)
+      if (seen[i] == id) return false;
+    if (seen_count < seen.size()) seen[seen_count++] = id;
     return true;
   }
 
-  float need() const { return float(std::hypot(half, s1 * tan_alpha) + guard); }
-  double sin_alpha() const { return tan_alpha / std::sqrt(1.0 + tan_alpha * tan_alpha); }
+  // (std::hypot's overflow care is not needed for scene-sized lengths, and it was a
+  // measurable share of a cone estimate.)
+  float need() const {
+    const double r = s1 * tan_alpha;
+    return float(std::sqrt(half * half + r * r) + guard);
+  }
+  void lower(double t) {
+    tan_alpha = t;
+    sin_alpha = t / std::sqrt(1.0 + t * t);
+  }
 
   float triangle(uint64_t id, const Vec3& a, const Vec3& b, const Vec3& c, float radius) override {
     // Each triangle's constraint is applied once per estimate: the slabs' balls overlap
     // the same large triangles (walls, floors) again and again.
     if (!first_visit(id)) return radius;
-    // An endpoint's own surface: the triangle's plane holds it.
-    const Vec3 n = glm::cross(b - a, c - a);
-    const float n_length = glm::length(n);
-    if (!(n_length > 0.0f)) return radius;
-    for (int i = 0; i < 2; ++i)
-      if (std::abs(glm::dot(n, ends[i] - a)) < ignore_eps * n_length) return radius;
     const DVec3 q0 = DVec3(a) - apex, q1 = DVec3(b) - apex, q2 = DVec3(c) - apex;
-    // Cheap rejections. Wholly before or beyond the span:
+    // Cheap rejections, cheapest first. Wholly before or beyond the span:
     const double s0 = glm::dot(q0, axis.u), s1_ = glm::dot(q1, axis.u), s2 = glm::dot(q2, axis.u);
     if (std::max({s0, s1_, s2}) < axis.s_lo || std::min({s0, s1_, s2}) > axis.s_hi) return radius;
-    // The whole plane outside the cone: with n̂ oriented away from the apex (n̂·q0 > 0), the
-    // plane's points are seen in directions w with n̂·w > 0; if n̂·u ≤ 0 the smallest angle
-    // from u among them is the angle to the plane n̂·w = 0, asin(−n̂·u). The plane is out
-    // of reach when that is at least α: −n̂·u ≥ sin α.
-    DVec3 nd = glm::normalize(DVec3(n));
-    if (glm::dot(nd, q0) < 0.0) nd = -nd;
-    if (-glm::dot(nd, axis.u) >= sin_alpha()) return radius;
+    DVec3 nd = glm::cross(q1 - q0, q2 - q0);
+    const double n_length = glm::length(nd);
+    if (!(n_length > 0.0)) return radius;
+    nd /= n_length;
+    // n̂ oriented away from the apex: the plane is n̂·q = d, d ≥ 0 the apex's distance.
+    double plane_distance = glm::dot(nd, q0);
+    if (plane_distance < 0.0) nd = -nd, plane_distance = -plane_distance;
+    const double nu = glm::dot(nd, axis.u);
+    // An endpoint's own surface: the triangle's plane holds it (the far end, at L u, lies
+    // L n̂·u − d from the plane).
+    if (plane_distance < ignore_eps || std::abs(length * nu - plane_distance) < ignore_eps) return radius;
+    // The whole plane outside the cone: the plane's points are seen in directions w with
+    // n̂·w > 0; if n̂·u ≤ 0 the smallest angle from u among them is the angle to the plane
+    // n̂·w = 0, asin(−n̂·u). The plane is out of reach when that is at least α: −n̂·u ≥ sin α.
+    if (-nu >= sin_alpha) return radius;
+    // The plane beyond the cone's reach over the span: the cone's points at axial distance
+    // s reach at most s (n̂·u + tan α √(1 − (n̂·u)²)) along n̂. A side wall that the whole
+    // segment runs along is rejected here instead of by the clipping below (measured on
+    // the door scene: a quarter of the exact evaluations, none of which lowered α).
+    if (axis.s_hi * (nu + tan_alpha * std::sqrt(std::max(0.0, 1.0 - nu * nu))) < plane_distance) return radius;
     const double t = triangle_min_tan(q0, q1, q2, axis);
     if (!(t < tan_alpha)) return radius;
-    tan_alpha = t;
+    lower(t);
     return std::min(radius, need());
   }
 
@@ -149,7 +160,7 @@ struct ConeVisitor final : Scene::NearbyVisitor {
       t = theta > 0.0 ? std::tan(theta) : 0.0;
     }
     if (!(t < tan_alpha)) return radius;
-    tan_alpha = t;
+    lower(t);
     return std::min(radius, need());
   }
 };
@@ -175,10 +186,14 @@ double estimate_cone_half_angle(const Scene& scene, const PathVertex& apex, cons
   // Float rounding of the query ball (its centre and radius are floats).
   visitor.guard = 1e-6 * double(scale);
   // Below π/2 (a half-space) so that tan α stays finite.
-  visitor.tan_alpha = std::tan(std::min(alpha_max, 0.5 * M_PI - 1e-6));
+  visitor.lower(std::tan(std::min(alpha_max, 0.5 * M_PI - 1e-6)));
+  visitor.length = length;
   const double tan_alpha_min = std::tan(alpha_min);
   const double span = visitor.axis.s_hi;
-  for (int i = 0; i < kConeSlabs; ++i) {
+  // Far slabs first: the cone is widest there, so the surfaces that limit it are usually
+  // met first and the nearer slabs' balls start small (measured: 15 % fewer triangle visits
+  // on the door scene than near-first; the result does not depend on the order).
+  for (int i = kConeSlabs - 1; i >= 0; --i) {
     const double s0 = span * i / kConeSlabs, s1 = span * (i + 1) / kConeSlabs;
     visitor.half = 0.5 * (s1 - s0);
     visitor.s1 = s1;
@@ -198,29 +213,48 @@ struct CacheEntry {
 
 // Recent results of this thread: a chain's step needs the cones of x (proposed, and cached,
 // one step earlier) and of y. Exact key comparison, so a hit returns the same bits as a
-// recomputation: determinism does not depend on the cache or on thread scheduling.
+// recomputation: determinism does not depend on the cache, its replacement policy or thread
+// scheduling. Direct-mapped by a hash of the key: a linear scan of the entries cost as much
+// as a tenth of an estimate on every call.
 struct ConeCache {
-  std::array<CacheEntry, 32> entries;
-  size_t next = 0;
+  static constexpr size_t kSize = 128;
+  std::array<CacheEntry, kSize> entries;
 };
 
-bool same(const PathVertex& v, const Vec3& p) {
-  return v.position.x == p.x && v.position.y == p.y && v.position.z == p.z;
+uint64_t bits(float f) {
+  uint32_t u = 0;
+  std::memcpy(&u, &f, sizeof(u));
+  return u;
 }
+
+uint64_t bits(double d) {
+  uint64_t u = 0;
+  std::memcpy(&u, &d, sizeof(u));
+  return u;
+}
+
+size_t slot_of(const Vec3& apex, const Vec3& other, double alpha_min, double alpha_max) {
+  uint64_t h = 0x9E3779B97F4A7C15ull;
+  for (const uint64_t b : {bits(apex.x), bits(apex.y), bits(apex.z), bits(other.x), bits(other.y), bits(other.z),
+                           bits(alpha_min), bits(alpha_max)})
+    h = (h ^ b) * 0xff51afd7ed558ccdull;
+  return size_t(h >> 57) % ConeCache::kSize;
+}
+
+bool same(const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
 }  // namespace
 
-double cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other,
-                       double alpha_min, double alpha_max) {
+double cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other, double alpha_min,
+                       double alpha_max) {
   if (apex.is_environment() || other.is_environment()) return alpha_max;
   thread_local ConeCache cache;
-  for (const CacheEntry& e : cache.entries)
-    if (e.scene == &scene && e.alpha_min == alpha_min && e.alpha_max == alpha_max && same(apex, e.apex) &&
-        same(other, e.other))
-      return e.alpha;
+  CacheEntry& e = cache.entries[slot_of(apex.position, other.position, alpha_min, alpha_max)];
+  if (e.scene == &scene && e.alpha_min == alpha_min && e.alpha_max == alpha_max &&
+      same(e.apex, apex.position) && same(e.other, other.position))
+    return e.alpha;
   const double alpha = estimate_cone_half_angle(scene, apex, other, alpha_min, alpha_max);
-  cache.entries[cache.next] = {&scene, apex.position, other.position, alpha_min, alpha_max, alpha};
-  cache.next = (cache.next + 1) % cache.entries.size();
+  e = {&scene, apex.position, other.position, alpha_min, alpha_max, alpha};
   return alpha;
 }
 

@@ -15,13 +15,16 @@ constexpr double kNegativeInfinity = -std::numeric_limits<double>::infinity();
 // Cone limits: below 1e-6 rad every step range is at its floor anyway; π/2 is a half-space.
 constexpr double kAlphaMin = 1e-6, kAlphaMax = 0.5 * M_PI;
 
-// The cone of a segment, up to `saturation`: the angle beyond which the step range it
-// limits is at its upper clamp anyway, so that a wider cone changes nothing. The estimate
-// is exact up to its alpha_max, so passing the saturation angle gives the same ranges and
-// keeps the point queries' balls small (cone.h: their size grows with tan α).
-double cone(const Scene& scene, const PathVertex& apex, const PathVertex& other, double saturation = kAlphaMax) {
+// The cone of a segment between `floor` and `saturation`: the angles below and above which
+// the step range it limits is at its lower or upper clamp anyway, so that a narrower or
+// wider cone changes nothing. The estimate is exact between its alpha_min and alpha_max
+// (and returns alpha_min whenever the cone is narrower), so passing these gives the same
+// ranges while the estimate stops early at the floor and keeps its point queries' balls
+// small (cone.h: their size grows with tan α).
+double cone(const Scene& scene, const PathVertex& apex, const PathVertex& other, double floor, double saturation) {
   const double alpha_max = std::clamp(saturation * (1.0 + 1e-9), kAlphaMin, kAlphaMax);
-  return geometry_aware::cone_half_angle(scene, apex, other, kAlphaMin, alpha_max);
+  const double alpha_min = std::clamp(floor * (1.0 - 1e-9), kAlphaMin, alpha_max);
+  return geometry_aware::cone_half_angle(scene, apex, other, alpha_min, alpha_max);
 }
 
 double distance(const PathVertex& a, const PathVertex& b) {
@@ -34,28 +37,38 @@ double default_max_radius(const MutationContext& ctx) {
                                     : std::sqrt(0.05 * camera.width() * camera.height() / M_PI);
 }
 
+// [lo, hi] for a range whose Veach bounds are [min, max]: hi = ceiling · max, lo the larger
+// of 3 · min and floor · max (and never above hi).
+void clamp_bounds(const GeometryAwareParams& p, double veach_min, double veach_max, double cap, double* lo,
+                  double* hi) {
+  *hi = std::min(p.ceiling * veach_max, cap);
+  *lo = std::min(*hi, std::max(3.0 * veach_min, p.floor * veach_max));
+}
+
 // R(z) for an image-plane move that rebuilds z's vertices l+1 .. k-1 and connects x_l. An
-// offset of ρ pixels turns the eye ray by ρ·rpp, which must stay within the eye segment's
-// cone (apex at the lens), and moves x_{l+1} by about ρ·rpp·L_eye (L_eye the eye subpath's
-// length, as in Veach's caustic heuristic), which turns the connection seen from the fixed
-// x_l by that over |x_{l+1} − x_l|, to stay within the connection's cone (apex x_l).
-double image_radius_limit(const Path& z, int l, const MutationContext& ctx, double step_scale) {
+// offset of ρ pixels moves x_{l+1} by about ρ·rpp·L_eye (L_eye the eye subpath's length,
+// as in Veach's caustic heuristic), which turns the connection seen from the fixed x_l by
+// that over |x_{l+1} − x_l|: it must stay within the connection's cone (apex x_l).
+double image_radius_limit(const Path& z, int l, const MutationContext& ctx, const GeometryAwareParams& p) {
   const auto& v = z.vertices;
   const int k = z.edges();
-  const double r1 = double(ctx.lens_min_radius), r2 = default_max_radius(ctx);
+  const double r1 = double(ctx.lens_min_radius);
+  double lo = 0.0, hi = 0.0;
+  clamp_bounds(p, r1, default_max_radius(ctx), std::numeric_limits<double>::infinity(), &lo, &hi);
   const double rpp = perturbation::radians_per_pixel(ctx.scene.camera());
-  // ρ ≥ r2 / c saturates R at r2.
-  const double rho_max = r2 / step_scale;
-  double rho = cone(ctx.scene, v[size_t(k)], v[size_t(k - 1)], rho_max * rpp) / rpp;
+  // ρ ≥ hi / c saturates R at hi, ρ ≤ lo / c puts it at lo.
+  const double rho_min = lo / p.step_scale;
+  double rho = hi / p.step_scale;
   if (!v[size_t(l)].is_environment()) {
     double eye_length = 0.0;
     for (int j = l + 1; j <= k - 1; ++j) eye_length += distance(v[size_t(j + 1)], v[size_t(j)]);
-    const double connection_length = distance(v[size_t(l + 1)], v[size_t(l)]);
-    const double alpha_connection =
-        cone(ctx.scene, v[size_t(l)], v[size_t(l + 1)], rho_max * rpp * eye_length / connection_length);
-    rho = std::min(rho, alpha_connection * connection_length / (rpp * eye_length));
+    const double per_pixel = rpp * eye_length / distance(v[size_t(l + 1)], v[size_t(l)]);
+    rho = cone(ctx.scene, v[size_t(l)], v[size_t(l + 1)], rho_min * per_pixel, rho * per_pixel) /
+          per_pixel;
   }
-  return std::clamp(step_scale * rho, std::min(r2, 3.0 * r1), r2);
+  if (p.eye_cone && rho > rho_min)
+    rho = std::min(rho, cone(ctx.scene, v[size_t(k)], v[size_t(k - 1)], rho_min * rpp, rho * rpp) / rpp);
+  return std::clamp(p.step_scale * rho, lo, hi);
 }
 
 // Whether an offset or angle lies in a range [.., limit]; the tolerance absorbs the float
@@ -73,17 +86,17 @@ double log_range_ratio(double a, double b_x, double b_y) {
 // Lens.
 
 double GaLensPerturbation::max_radius(const Path& z, const MutationContext& ctx) const {
-  return image_radius_limit(z, LensPerturbation::fixed_vertex(z.type), ctx, params_.step_scale);
+  return image_radius_limit(z, LensPerturbation::fixed_vertex(z.type), ctx, params_);
 }
 
 std::optional<Proposal> GaLensPerturbation::perturb_to(const Path& x, const Vec2& raster,
                                                        const MutationContext& ctx) const {
-  auto proposal = base_.perturb_to(x, raster, ctx);
-  if (!proposal) return std::nullopt;
   const double r1 = double(ctx.lens_min_radius);
   const double offset = glm::length(glm::dvec2(raster) - glm::dvec2(x.raster()));
   const double r_x = max_radius(x, ctx);
   if (!within(offset, r_x)) return std::nullopt;  // not a move x could propose
+  auto proposal = base_.perturb_to(x, raster, ctx);
+  if (!proposal) return std::nullopt;
   const double r_y = params_.reverse_uses_x_cones ? r_x : max_radius(proposal->path, ctx);
   if (!within(offset, r_y)) {
     proposal->log_reverse_over_forward = kNegativeInfinity;
@@ -109,41 +122,41 @@ void GaCausticPerturbation::angle_range(const Path& z, const MutationContext& ct
   const int l = CausticPerturbation::fixed_vertex(z.type);
   const auto& v = z.vertices;
   const int k = z.edges();
-  double veach_max = 0.0;
+  double veach_max = 0.0, lo = 0.0, hi = 0.0;
   CausticPerturbation::angle_range(z, l, ctx, theta_min, &veach_max);
+  clamp_bounds(params_, *theta_min, veach_max, 0.5 * M_PI, &lo, &hi);
   // The turn at x_l must stay in the first segment's cone (apex x_l); it moves x_{k-1} by
   // about θ·L_chain, seen from the lens as θ·L_chain/d_eye, which must stay in the eye
-  // segment's cone (apex at the lens).
+  // connection's cone (apex at the lens).
   double chain_length = 0.0;
   for (int j = l; j <= k - 2; ++j) chain_length += distance(v[size_t(j + 1)], v[size_t(j)]);
-  const double eye_distance = distance(v[size_t(k - 1)], v[size_t(k)]);
-  // limit ≥ veach_max / c saturates Θ at veach_max.
-  const double limit_max = veach_max / params_.step_scale;
-  const double limit =
-      std::min(cone(ctx.scene, v[size_t(l)], v[size_t(l + 1)], limit_max),
-               cone(ctx.scene, v[size_t(k)], v[size_t(k - 1)], limit_max * chain_length / eye_distance) *
-                   eye_distance / chain_length);
-  *theta_max = std::clamp(params_.step_scale * limit, std::min(veach_max, 3.0 * *theta_min), veach_max);
+  const double eye_per_theta = chain_length / distance(v[size_t(k - 1)], v[size_t(k)]);
+  // limit ≥ hi / c saturates Θ at hi; the second cone only matters below the first.
+  const double limit_min = lo / params_.step_scale;
+  double limit =
+      cone(ctx.scene, v[size_t(l)], v[size_t(l + 1)], limit_min, hi / params_.step_scale);
+  if (limit > limit_min)
+    limit = std::min(limit, cone(ctx.scene, v[size_t(k)], v[size_t(k - 1)], limit_min * eye_per_theta,
+                                 limit * eye_per_theta) /
+                                eye_per_theta);
+  *theta_max = std::clamp(params_.step_scale * limit, lo, hi);
 }
 
 std::optional<Proposal> GaCausticPerturbation::perturb_to(const Path& x, const Vec3& direction,
                                                           const MutationContext& ctx) const {
-  auto proposal = base_.perturb_to(x, direction, ctx);
-  if (!proposal) return std::nullopt;
-  const Path& y = proposal->path;
   const int l = CausticPerturbation::fixed_vertex(x.type);
-  const double theta = perturbation::angle_between(perturbation::precise_direction(x.vertices[size_t(l)], x.vertices[size_t(l + 1)]),
-                                                   perturbation::precise_direction(y.vertices[size_t(l)], y.vertices[size_t(l + 1)]));
+  if (l < 0) return std::nullopt;
   double min_x = 0.0, max_x = 0.0, min_y = 0.0, max_y = 0.0;
   angle_range(x, ctx, &min_x, &max_x);
+  const DVec3 x_direction = perturbation::precise_direction(x.vertices[size_t(l)], x.vertices[size_t(l + 1)]);
+  if (!within(perturbation::angle_between(x_direction, DVec3(direction)), max_x)) return std::nullopt;
+  // The base move without its own (Veach-range) angular terms: ours replace them.
+  auto proposal = base_.retrace(x, direction, ctx);
+  if (!proposal) return std::nullopt;
+  const Path& y = proposal->path;
+  const double theta = perturbation::angle_between(
+      x_direction, perturbation::precise_direction(y.vertices[size_t(l)], y.vertices[size_t(l + 1)]));
   if (!(theta > min_x && within(theta, max_x))) return std::nullopt;
-  // Veach's range holds ours, so the base's −∞ (θ outside y's Veach range) stands.
-  if (!std::isfinite(proposal->log_reverse_over_forward)) return proposal;
-  double veach_min_x = 0.0, veach_max_x = 0.0, veach_min_y = 0.0, veach_max_y = 0.0;
-  CausticPerturbation::angle_range(x, l, ctx, &veach_min_x, &veach_max_x);
-  CausticPerturbation::angle_range(y, l, ctx, &veach_min_y, &veach_max_y);
-  const double veach_term =
-      std::log(std::log(veach_max_x / veach_min_x)) - std::log(std::log(veach_max_y / veach_min_y));
   if (params_.reverse_uses_x_cones) {
     min_y = min_x, max_y = max_x;
   } else {
@@ -154,8 +167,7 @@ std::optional<Proposal> GaCausticPerturbation::perturb_to(const Path& x, const V
     return proposal;
   }
   // Solid-angle densities 1/(2π θ sin θ ln(Θ/θ1)) with each path's own θ1 and Θ.
-  const double ga_term = std::log(std::log(max_x / min_x)) - std::log(std::log(max_y / min_y));
-  proposal->log_reverse_over_forward += ga_term - veach_term;
+  proposal->log_reverse_over_forward += std::log(std::log(max_x / min_x)) - std::log(std::log(max_y / min_y));
   if (std::isnan(proposal->log_reverse_over_forward)) return std::nullopt;
   return proposal;
 }
@@ -176,42 +188,50 @@ std::optional<Proposal> GaCausticPerturbation::propose(const Path& x, Rng& rng, 
 std::vector<double> GaMultiChainPerturbation::angle_limits(const Path& z, const MutationContext& ctx) const {
   const int l = MultiChainPerturbation::fixed_vertex(z.type);
   const auto& v = z.vertices;
-  const double floor = std::min(base_.theta_max(), 3.0 * base_.theta_min());
+  double lo = 0.0, hi = 0.0;
+  clamp_bounds(params_, base_.theta_min(), base_.theta_max(), 0.5 * M_PI, &lo, &hi);
   std::vector<double> limits;
   for (int i = z.edges() - 1; i >= l + 2; --i)
     if (!v[size_t(i)].delta)
       limits.push_back(std::clamp(
-          params_.step_scale * cone(ctx.scene, v[size_t(i)], v[size_t(i - 1)], base_.theta_max() / params_.step_scale),
-          floor, base_.theta_max()));
+          params_.step_scale *
+              cone(ctx.scene, v[size_t(i)], v[size_t(i - 1)], lo / params_.step_scale, hi / params_.step_scale),
+          lo, hi));
   return limits;
+}
+
+double GaMultiChainPerturbation::max_radius(const Path& z, const MutationContext& ctx) const {
+  return image_radius_limit(z, MultiChainPerturbation::fixed_vertex(z.type), ctx, params_);
 }
 
 std::optional<Proposal> GaMultiChainPerturbation::perturb_to(const Path& x, const Vec2& raster,
                                                              const std::vector<Vec3>& directions,
                                                              const MutationContext& ctx) const {
-  auto proposal = base_.perturb_to(x, raster, directions, ctx);
+  const int l = MultiChainPerturbation::fixed_vertex(x.type);
+  if (l < 0) return std::nullopt;
+  const double r1 = double(ctx.lens_min_radius), theta1 = base_.theta_min();
+  const double offset = glm::length(glm::dvec2(raster) - glm::dvec2(x.raster()));
+  const double r_x = max_radius(x, ctx);
+  if (!within(offset, r_x)) return std::nullopt;
+  // The base move without its fixed-range check: the ranges are ours.
+  auto proposal = base_.retrace(x, raster, directions, ctx);
   if (!proposal) return std::nullopt;
   const Path& y = proposal->path;
-  const int l = MultiChainPerturbation::fixed_vertex(x.type);
-  const double r1 = double(ctx.lens_min_radius);
-  const double offset = glm::length(glm::dvec2(raster) - glm::dvec2(x.raster()));
-  const double r_x = image_radius_limit(x, l, ctx, params_.step_scale);
   const auto limits_x = angle_limits(x, ctx);
-  const double r_y = params_.reverse_uses_x_cones ? r_x : image_radius_limit(y, l, ctx, params_.step_scale);
+  const double r_y = params_.reverse_uses_x_cones ? r_x : max_radius(y, ctx);
   const auto limits_y = params_.reverse_uses_x_cones ? limits_x : angle_limits(y, ctx);
-  if (!within(offset, r_x)) return std::nullopt;
   bool reverse_possible = within(offset, r_y);
   double term = log_range_ratio(r1, r_x, r_y);
-  // The angles in the base's order (from the eye); the base checked θ_j ∈ (θ1, θ2).
+  // The angles in the base's order (from the eye); θ1 is the same in both directions.
   size_t j = 0;
   for (int i = x.edges() - 1; i >= l + 2; --i) {
     if (x.vertices[size_t(i)].delta) continue;
     const double theta = perturbation::angle_between(
         perturbation::precise_direction(x.vertices[size_t(i)], x.vertices[size_t(i - 1)]),
         perturbation::precise_direction(y.vertices[size_t(i)], y.vertices[size_t(i - 1)]));
-    if (!within(theta, limits_x[j])) return std::nullopt;
+    if (!(theta > theta1 * (1.0 - 1e-6) && within(theta, limits_x[j]))) return std::nullopt;
     if (!within(theta, limits_y[j])) reverse_possible = false;
-    term += log_range_ratio(base_.theta_min(), limits_x[j], limits_y[j]);
+    term += log_range_ratio(theta1, limits_x[j], limits_y[j]);
     ++j;
   }
   if (!reverse_possible) {
@@ -226,7 +246,7 @@ std::optional<Proposal> GaMultiChainPerturbation::perturb_to(const Path& x, cons
 std::optional<Proposal> GaMultiChainPerturbation::propose(const Path& x, Rng& rng, const MutationContext& ctx) const {
   const int l = MultiChainPerturbation::fixed_vertex(x.type);
   if (l < 0) return std::nullopt;
-  const double r_x = image_radius_limit(x, l, ctx, params_.step_scale);
+  const double r_x = max_radius(x, ctx);
   const Vec2 offset = perturbation::sample_image_offset(ctx.lens_min_radius, float(r_x), rng.uniform2());
   const auto limits = angle_limits(x, ctx);
   std::vector<Vec3> directions;

@@ -2,10 +2,10 @@
 //  1. the cone estimate on constructed geometry (a sphere beside a segment: the known
 //     angle), and a free-space property on real door-scene segments;
 //  2. the detailed-balance round trip of each strategy on real paths, and the proposal
-//     density ratio of one move against a histogram of landing points (lens, caustic) in
-//     a toy scene where x's and y's cones differ: the injected bug (reverse density with
-//     x's cones, GeometryAwareParams::reverse_uses_x_cones), invisible to the round trip,
-//     is off by a factor 1.6-2 there;
+//     density ratio of one move against a histogram of landing points (lens, caustic,
+//     multi-chain) in toy scenes where x's and y's cones differ: the injected bug (reverse
+//     density with x's cones, GeometryAwareParams::reverse_uses_x_cones), invisible to the
+//     round trip, is off by a factor 1.6-2 there;
 //  3. unbiasedness of each strategy mixed with the bidirectional mutation against BDPT
 //     (cornell-box, caustic-pool, cornell-glass, door-ajar).
 // Fixed seeds; small images.
@@ -33,17 +33,6 @@ using namespace emlt;
 using namespace emlt::test;
 
 namespace {
-
-
-
-
-
-
-
-
-
-
-
 
 PathVertex surface_point(const Vec3& p, const Vec3& n) {
   PathVertex v;
@@ -310,13 +299,19 @@ MutationContext floor_sphere_context(const Scene& scene) {
   return ctx;
 }
 
-// Between two points a step apart, a range limited by a free cone can grow by at most a
-// factor 1 + c (c the step scale: the cone's edge moves by the step), so the default
-// c = 0.5 gives too small a difference between R(x) and R(y) for a histogram to resolve:
-// c = 4 makes it a factor ~4, so that the ratio of the ln terms the bug drops is ~2.
+// The ranges these tests were built for: the lens radius limited by the eye ray's cone
+// (the sphere below stands beside the eye rays), no floor and Veach's ceiling, so that the
+// ranges follow the cones over the whole of [3 r1, r2]. (With the defaults' floor, half of
+// Veach's largest step, R(x) and R(y) would both sit at the floor here.) c = 4: between two
+// points a step apart, a range limited by a free cone can grow by at most a factor 1 + c
+// (the cone's edge moves by the step), so R(x) and R(y) differ by a factor ~4, and the
+// ratio of the ln terms the bug drops is ~2.
 GeometryAwareParams wide_steps() {
   GeometryAwareParams params;
   params.step_scale = 4.0;
+  params.floor = 0.0;
+  params.ceiling = 1.0;
+  params.eye_cone = true;
   return params;
 }
 
@@ -367,6 +362,171 @@ TEST(GeometryAwareDensity, CausticRatioMatchesTheHistogramAndCatchesTheInjectedB
   const auto e = density_evidence<GaCausticPerturbation>(*scene, ctx, wide_steps(), x, move);
   EXPECT_NEAR(e.measured / e.reported, 1.0, 0.1);
   EXPECT_GT(std::abs(e.measured / e.buggy - 1.0), 0.3) << "the injected bug must be off by a clear margin";
+}
+
+// x's segment x3 -> x2 runs from (-0.039, 0, -0.385) to (-0.039, 1, 1.315); the sphere
+// (radius 0.05) stands 0.054 beside its midpoint; -4 pixels move the seen point 0.31
+// away from it (+x).
+constexpr float kAwayPixels = -4.0f;
+constexpr double kMultiChainTheta1 = 0.005, kMultiChainTheta2 = 0.04;
+
+// Multi-chain: the shortest path of its form, L D S D E. The camera sees the floor (x3),
+// the direction at x3 goes up to a downward-facing mirror (x2) and back down to the floor
+// (x1), lit by a small light just above (x0). A sphere stands beside the segment x3 -> x2,
+// so that Θ(z), the range of the angular step at x3 (limited by that segment's cone),
+// is small for x, whose segment passes the sphere at 4 mm, and at its ceiling for y,
+// whose seen point is 4 pixels further away from it.
+std::unique_ptr<Scene> floor_mirror_sphere_scene() {
+  SceneDescription d;
+  d.source = "floor-mirror-sphere";
+  const int white = test::add_material(d, make_lambertian(Rgb(0.7f)));
+  const int mirror = test::add_material(d, make_mirror(Rgb(0.9f)));
+  test::add_quad(d, {-4, 0, -4}, {-4, 0, 8}, {4, 0, 8}, {4, 0, -4}, white, Rgb(0.0f));  // faces +y
+  test::add_quad(d, {-1.5f, 1, 0.5f}, {1.5f, 1, 0.5f}, {1.5f, 1, 2.5f}, {-1.5f, 1, 2.5f}, mirror,
+                 Rgb(0.0f));  // faces -y
+  const float h = 0.3f, s = 0.3f, zc = 3.2f;
+  test::add_quad(d, {-s, h, zc - s}, {s, h, zc - s}, {s, h, zc + s}, {-s, h, zc + s}, white, Rgb(5.0f));
+  SphereDesc sphere;
+  sphere.center = Vec3(-0.093f, 0.5f, 0.465f);
+  sphere.radius = 0.05f;
+  sphere.material = white;
+  d.spheres.push_back(sphere);
+  d.camera = test::camera_at(Vec3(0.0f, 0.5f, -2.5f), Vec3(0.0f, 0.0f, -0.2f), 32);
+  return Scene::build(std::move(d));
+}
+
+// The L D S D E path seen through `raster` whose direction at the seen floor point is
+// `up` (towards the mirror).
+Path floor_mirror_path(const Scene& scene, const Vec2& raster, const Vec3& up) {
+  const Camera& camera = scene.camera();
+  const Ray ray = camera.generate_ray(raster, Vec2(0.5f));
+  SurfaceHit seen, on_mirror, lit, on_light;
+  EXPECT_TRUE(scene.intersect(ray, seen));
+  EXPECT_TRUE(scene.intersect(spawn_ray(seen.position, seen.geometric_normal, up), on_mirror));
+  const Vec3 down = reflect_about(-up, on_mirror.geometric_normal);
+  EXPECT_TRUE(scene.intersect(spawn_ray(on_mirror.position, on_mirror.geometric_normal, down), lit));
+  EXPECT_TRUE(scene.intersect(spawn_ray(lit.position, lit.geometric_normal, Vec3(0, 1, 0)), on_light));
+  Path path;
+  path.vertices = {make_surface_vertex(on_light), make_surface_vertex(lit), make_surface_vertex(on_mirror),
+                   make_surface_vertex(seen)};
+  PathVertex lens;
+  lens.kind = VertexKind::Camera;
+  lens.position = ray.origin;
+  lens.normal = camera.forward();
+  lens.shading = Frame(lens.normal);
+  lens.raster = raster;
+  path.vertices.push_back(lens);
+  auto& v = path.vertices;
+  EXPECT_TRUE(perturbation::fill_delta_record(v[2], v[3], v[1], TransportMode::Radiance, false));
+  path.type = compute_path_type(path.vertices);
+  recompute_densities(scene, path);
+  return path;
+}
+
+// The strategies report densities over the path layer's measure ν, which gives the mirror
+// chain x3 -> x2 -> x1 the product of its two segments' solid-angle-to-area factors; the
+// histograms measure area on the floor, where a direction at x3 reaches x1 at the distance
+// of x3's mirror image. Per unit solid angle at x3: dν = d32² d21² / (cos2 cos1) and
+// dA(x1) = (d32 + d21)² / cos1. Returns log dA/dν.
+double log_floor_area_per_nu(const Path& path) {
+  const auto& v = path.vertices;
+  const double d32 = glm::length(DVec3(v[3].position) - DVec3(v[2].position));
+  const double d21 = glm::length(DVec3(v[2].position) - DVec3(v[1].position));
+  const double cos2 = std::abs(glm::dot(DVec3(v[2].normal), perturbation::precise_direction(v[2], v[3])));
+  return std::log(cos2) + 2.0 * (std::log(d32 + d21) - std::log(d32) - std::log(d21));
+}
+
+// The move's two variables are independent (the image offset, then the direction at the
+// new seen point drawn around the old one), so its density over (x3, x1) factors into the
+// density of the seen point and that of x1 given the seen point: the first from image
+// offsets drawn with R(from) (where they land on the floor), the second from the angular
+// step with Θ(from) taken at the destination's image point, through the strategy's own
+// perturb_to. Each is a histogram of landing points.
+double seen_point_density(const Scene& scene, const GaMultiChainPerturbation& strategy, const Path& from,
+                          const Path& to, const MutationContext& ctx, uint64_t seed) {
+  const float radius = 0.08f;
+  const int samples = 1000000;
+  const float r_max = float(strategy.max_radius(from, ctx));
+  Rng rng(seed, 7);
+  int hits = 0;
+  for (int i = 0; i < samples; ++i) {
+    const Vec2 raster = from.raster() + perturbation::sample_image_offset(ctx.lens_min_radius, r_max, rng.uniform2());
+    SurfaceHit hit;
+    if (scene.intersect(scene.camera().generate_ray(raster, Vec2(0.5f)), hit) &&
+        glm::length(hit.position - to.vertices[3].position) < radius)
+      ++hits;
+  }
+  EXPECT_GT(hits, 2000) << "too few landings for a density estimate";
+  return double(hits) / (double(samples) * kPi * double(radius) * double(radius));
+}
+
+double lit_point_density(const GaMultiChainPerturbation& strategy, const Path& from, const Path& to,
+                         const MutationContext& ctx, uint64_t seed) {
+  const float radius = 0.01f;
+  const int samples = 400000;
+  const Vec3 old_direction = direction_between(from.vertices[3], from.vertices[2]);
+  const double theta_max = strategy.angle_limits(from, ctx).at(0);
+  Rng rng(seed, 7);
+  int hits = 0;
+  for (int i = 0; i < samples; ++i) {
+    const Vec3 direction = perturbation::perturb_direction(old_direction, kMultiChainTheta1, theta_max, rng.uniform2());
+    const auto y = strategy.perturb_to(from, to.raster(), {direction}, ctx);
+    if (y && glm::length(y->path.vertices[1].position - to.vertices[1].position) < radius) ++hits;
+  }
+  EXPECT_GT(hits, 2000) << "too few landings for a density estimate";
+  return double(hits) / (double(samples) * kPi * double(radius) * double(radius));
+}
+
+// x's segment x3 -> x2 passes the sphere at an angle α(x) ≈ 0.004 rad seen from x3, so
+// Θ(x) = c α(x) ≈ 0.016; y's seen point is 4 pixels further away, Θ(y) at the ceiling
+// 0.04 (θ1 = 0.005): log T(y→x)/T(x→y) carries ln ln(Θ(x)/θ1) − ln ln(Θ(y)/θ1), a factor
+// ~1.8 that the bug drops. The image range is the same for both (lo = hi = 5.5 px), so the
+// difference is the angular step's alone. Measured: Θ(x) 0.0154, Θ(y) 0.040; histogram
+// 1.94, reported 1.95, with x's cones 1.05.
+TEST(GeometryAwareDensity, MultiChainRatioMatchesTheHistogramAndCatchesTheInjectedBug) {
+  const auto scene = floor_mirror_sphere_scene();
+  MutationContext ctx{*scene};
+  ctx.lens_min_radius = 3.0f;
+  ctx.lens_max_radius = 5.5f;
+  const GeometryAwareParams params = wide_steps();
+  const GaMultiChainPerturbation multichain(params, kMultiChainTheta1, kMultiChainTheta2);
+  const Path x = floor_mirror_path(*scene, Vec2(16.5f, 16.5f), glm::normalize(Vec3(0.0f, 1.0f, 1.7f)));
+  ASSERT_EQ(x.type.to_string(), "L D S D E");
+  ASSERT_GT(path_luminance(*scene, x), 0.0);
+  ASSERT_TRUE(multichain.applies_to(x, ctx));
+
+  // y: the image point 4 pixels away from the sphere, the direction at the seen point turned by 0.01 rad.
+  const Vec3 x_direction = direction_between(x.vertices[3], x.vertices[2]);
+  const Vec3 axis = glm::normalize(glm::cross(x_direction, Vec3(1, 0, 0)));
+  const Vec3 y_direction = glm::normalize(x_direction * std::cos(0.01f) + axis * std::sin(0.01f));
+  const Vec2 y_raster = x.raster() + Vec2(kAwayPixels, 0.0f);
+  const auto y = multichain.perturb_to(x, y_raster, {y_direction}, ctx);
+  ASSERT_TRUE(y.has_value());
+  ASSERT_TRUE(std::isfinite(y->log_reverse_over_forward));
+  const Path& yp = y->path;
+  ASSERT_EQ(yp.type.to_string(), "L D S D E");
+  const double theta_x = multichain.angle_limits(x, ctx).at(0), theta_y = multichain.angle_limits(yp, ctx).at(0);
+  std::printf("[ info     ] Θ(x) %.4f, Θ(y) %.4f rad (θ1 %.3f); R(x) %.2f, R(y) %.2f px\n", theta_x, theta_y,
+              kMultiChainTheta1, multichain.max_radius(x, ctx), multichain.max_radius(yp, ctx));
+  EXPECT_GT(theta_y, 1.8 * theta_x) << "the scene must make the two ranges differ clearly";
+
+  const double forward = seen_point_density(*scene, multichain, x, yp, ctx, 11) *
+                         lit_point_density(multichain, x, yp, ctx, 12);
+  const double reverse = seen_point_density(*scene, multichain, yp, x, ctx, 13) *
+                         lit_point_density(multichain, yp, x, ctx, 14);
+  const double measured = forward / reverse;  // T(x->y) / T(y->x) over floor area
+  const double to_area = std::exp(log_floor_area_per_nu(x) - log_floor_area_per_nu(yp));
+  const double reported = std::exp(-y->log_reverse_over_forward) * to_area;
+  GeometryAwareParams buggy_params = params;
+  buggy_params.reverse_uses_x_cones = true;
+  const auto buggy = GaMultiChainPerturbation(buggy_params, kMultiChainTheta1, kMultiChainTheta2)
+                         .perturb_to(x, y_raster, {y_direction}, ctx);
+  ASSERT_TRUE(buggy.has_value());
+  const double reported_buggy = std::exp(-buggy->log_reverse_over_forward) * to_area;
+  std::printf("[ info     ] T(x->y)/T(y->x): histogram %.4f, reported %.4f, with x's cones %.4f (nu->area %.4f)\n",
+              measured, reported, reported_buggy, to_area);
+  EXPECT_NEAR(measured / reported, 1.0, 0.1);
+  EXPECT_GT(std::abs(measured / reported_buggy - 1.0), 0.3) << "the injected bug must be off by a clear margin";
 }
 
 // ---------------------------------------------------------------------------------------
