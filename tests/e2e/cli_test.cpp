@@ -260,6 +260,30 @@ TEST(Cli, MltWritesStatisticsAndRejectsUnknownStrategies) {
                        "teleport", dir / "o.exr");
 }
 
+TEST(Cli, EmltWritesEnsembleStatisticsAndTheAnisotropyMap) {
+  const fs::path dir = test::scratch_dir("emlt");
+  std::string text;
+  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "emlt.pfm").string() +
+                                          " --integrator emlt --mutations emlt-ani --mpp 8 --bootstrap 5000"
+                                          " --width 16 --height 16 --ensemble-size 32 --ensemble-neighbours 8 --quiet"
+                                          " --aniso-map " + (dir / "aniso.png").string() +
+                                          " --stats " + (dir / "stats.json").string()), &text)) << text;
+  EXPECT_TRUE(fs::exists(dir / "emlt.pfm"));
+  EXPECT_TRUE(fs::exists(dir / "aniso.png"));
+  std::ifstream in(dir / "stats.json");
+  const auto stats = nlohmann::json::parse(in);
+  EXPECT_EQ(stats["mutations"].get<uint64_t>(), 8u * 16u * 16u);
+  EXPECT_EQ(stats["ensemble"]["size"].get<uint64_t>(), 32u);
+  EXPECT_EQ(stats["ensemble"]["neighbours"].get<uint64_t>(), 8u);
+  EXPECT_EQ(stats["ensemble"]["iterations"].get<uint64_t>(), 4u);  // 256 pixels / 64 paths
+  EXPECT_EQ(stats["strategies"][1]["name"], "emlt-aniso");
+  EXPECT_NE(text.find("swaps"), std::string::npos) << text;
+  // The map needs an MCMC integrator.
+  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() + " --integrator pt --aniso-map " +
+                           (dir / "a.png").string(),
+                       "--aniso-map", dir / "o.exr");
+}
+
 namespace {
 std::vector<std::vector<std::string>> read_csv(const fs::path& path) {
   std::vector<std::vector<std::string>> rows;
