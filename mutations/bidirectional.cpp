@@ -1,12 +1,56 @@
 #include "mutations/bidirectional.h"
 
-#include "emlt/mcmc/two_tailed_geometric.h"
+#include <bit>
+
 #include "emlt/path/connection.h"
 #include "emlt/path/random_walk.h"
 
 namespace emlt {
 
 namespace {
+
+// The clamped two-tailed geometric distribution of emlt/mcmc/two_tailed_geometric.h,
+// P(i) ∝ 2^-|i - centre| on [low, high], with the same pmf and sample bit for bit (checked
+// against that class for every range up to 80) but its normalising sum in closed form: the
+// move builds four of these per step, and the class's loop over the whole range was the
+// largest single cost of proposing. The terms are powers of two, so while the exponents lie
+// within 51 of each other every partial sum of the loop is exact and equals the closed form;
+// beyond that the loop runs, in the class's order.
+class Geometric {
+ public:
+  Geometric(int centre, int low, int high) : centre_(centre), low_(low), high_(high) {
+    if (high_ < low_) return;
+    if (std::max(std::abs(low_ - centre_), std::abs(high_ - centre_)) <= 51) {
+      // Σ_{n=a}^{b} 2^-n = 2^(1-a) - 2^-b on each side of the centre.
+      const auto run = [](int a, int b) { return power_of_two(1 - a) - power_of_two(-b); };
+      if (low_ <= centre_) total_ += run(centre_ - std::min(high_, centre_), centre_ - low_);
+      if (high_ > centre_) total_ += run(std::max(low_, centre_ + 1) - centre_, high_ - centre_);
+    } else {
+      double total = 0.0;
+      for (int i = low_; i <= high_; ++i) total += weight(i);
+      total_ = total;
+    }
+  }
+  bool empty() const { return high_ < low_; }
+  double pmf(int i) const { return i < low_ || i > high_ ? 0.0 : weight(i) / total_; }
+  int sample(float u) const {
+    double target = double(u) * total_;
+    for (int i = low_; i < high_; ++i) {
+      target -= weight(i);
+      if (target < 0.0) return i;
+    }
+    return high_;
+  }
+
+ private:
+  static double power_of_two(int e) { return std::bit_cast<double>(uint64_t(1023 + e) << 52); }
+  double weight(int i) const {
+    const int n = std::abs(i - centre_);
+    return n < 1022 ? std::bit_cast<double>(uint64_t(1023 - n) << 52) : 0.0;
+  }
+  int centre_, low_, high_;
+  double total_ = 0.0;
+};
 
 // Whether the inserted n_new vertices may be split as s light-side + t eye-side, given
 // the kept prefix length a and suffix length c.
@@ -18,10 +62,14 @@ bool split_allowed(int a, int c, int n_new, int s) {
   return true;
 }
 
+// The number of s in [0, n_new] that split_allowed accepts, in closed form: the move
+// proposes, and both densities evaluate, it for every candidate position.
 int count_splits(int a, int c, int n_new) {
-  int count = 0;
-  for (int s = 0; s <= n_new; ++s) count += split_allowed(a, c, n_new, s);
-  return count;
+  int low = 0, high = n_new;
+  if (a == 1) high = std::min(high, 0);           // s = 0 only
+  if (c == 1) low = std::max(low, n_new);         // t = 0 only
+  if (c == 0) high = std::min(high, n_new - 1);   // t >= 1
+  return std::max(high - low + 1, 0);
 }
 
 bool position_allowed(const Path& x, int a, int d, int n_new) {
@@ -33,6 +81,14 @@ bool position_allowed(const Path& x, int a, int d, int n_new) {
   return count_splits(a, c, n_new) > 0;
 }
 
+// How many positions a admit deleting d vertices of x and inserting n_new.
+int count_positions(const Path& x, int d, int n_new) {
+  const int n = int(x.vertices.size());
+  int positions = 0;
+  for (int p = 0; p <= n - d; ++p) positions += position_allowed(x, p, d, n_new);
+  return positions;
+}
+
 int deletion_minimum(int edges, int new_edges) {
   return std::max(edges - new_edges, new_edges == edges ? 1 : 0);
 }
@@ -40,15 +96,13 @@ int deletion_minimum(int edges, int new_edges) {
 // P(new length) P(d) P(a) of deleting [a, a + d) from x to reach new_edges segments.
 double selection_pmf(const Path& x, int new_edges, int a, int d, const MutationContext& ctx) {
   const int edges = x.edges(), n = edges + 1;
-  const double p_length = TwoTailedGeometric(edges, ctx.min_edges, ctx.max_edges).pmf(new_edges);
+  const double p_length = Geometric(edges, ctx.min_edges, ctx.max_edges).pmf(new_edges);
   const int d_min = deletion_minimum(edges, new_edges);
-  const double p_delete = TwoTailedGeometric(1, d_min, n).pmf(d);
+  const double p_delete = Geometric(1, d_min, n).pmf(d);
   const int n_new = d + new_edges - edges;
   if (!(p_length > 0.0) || !(p_delete > 0.0) || n_new < 0) return 0.0;
   if (!position_allowed(x, a, d, n_new)) return 0.0;
-  int positions = 0;
-  for (int p = 0; p <= n - d; ++p) positions += position_allowed(x, p, d, n_new);
-  return p_length * p_delete / double(positions);
+  return p_length * p_delete / double(count_positions(x, d, n_new));
 }
 
 // (1/|S|) sum over splits of the density of y's vertices [a, a + n_new), each from its side.
@@ -86,19 +140,29 @@ std::optional<Proposal> BidirectionalMutation::propose(const Path& x, Rng& rng,
   const int edges = x.edges(), n = edges + 1;
 
   // Lengths, deleted stretch, position, split.
-  const TwoTailedGeometric lengths(edges, ctx.min_edges, ctx.max_edges);
+  const Geometric lengths(edges, ctx.min_edges, ctx.max_edges);
   if (lengths.empty()) return std::nullopt;
   const int new_edges = lengths.sample(rng.uniform());
   const int d_min = deletion_minimum(edges, new_edges);
   if (d_min > n) return std::nullopt;
-  const int d = TwoTailedGeometric(1, d_min, n).sample(rng.uniform());
+  const Geometric deletions(1, d_min, n);
+  const int d = deletions.sample(rng.uniform());
   const int n_new = d + new_edges - edges;
+  bool local[kMaxPathVertices + 1];
+  std::vector<bool> heap;  // only for paths longer than the path layer's cap
+  if (n > kMaxPathVertices) heap.resize(size_t(n + 1));
+  const auto allowed = [&](int p) { return n > kMaxPathVertices ? bool(heap[size_t(p)]) : local[p]; };
   int positions = 0;
-  for (int p = 0; p <= n - d; ++p) positions += position_allowed(x, p, d, n_new);
+  for (int p = 0; p <= n - d; ++p) {
+    const bool ok = position_allowed(x, p, d, n_new);
+    if (n > kMaxPathVertices) heap[size_t(p)] = ok;
+    else local[p] = ok;
+    positions += ok;
+  }
   if (positions == 0) return std::nullopt;
   int a = -1;
   for (int p = 0, pick = int(rng.uniform_index(uint32_t(positions))); p <= n - d; ++p)
-    if (position_allowed(x, p, d, n_new) && pick-- == 0) {
+    if (allowed(p) && pick-- == 0) {
       a = p;
       break;
     }
@@ -113,11 +177,21 @@ std::optional<Proposal> BidirectionalMutation::propose(const Path& x, Rng& rng,
   if (!y) return std::nullopt;
   Proposal proposal;
   proposal.path = std::move(*y);
-  const double forward = proposal_density(x, proposal.path, a, d, ctx);
-  const double reverse = proposal_density(proposal.path, x, a, n_new, ctx);
+  // The forward selection terms are the ones just sampled from (selection_pmf's values).
+  const double p_length = lengths.pmf(new_edges), p_delete = deletions.pmf(d);
+  const double forward = p_length > 0.0 && p_delete > 0.0 && n_new >= 0
+                             ? p_length * p_delete / double(positions) *
+                                   split_average_density(proposal.path, a, n_new, c)
+                             : 0.0;
   if (!(forward > 0.0) || !std::isfinite(forward)) return std::nullopt;
+  const double reverse = proposal_density(proposal.path, x, a, n_new, ctx);
+  // One logarithm where the quotient is representable (almost always); two where the
+  // densities are so far apart that it over- or underflows.
+  const double quotient = reverse / forward;
   proposal.log_reverse_over_forward =
-      reverse > 0.0 ? std::log(reverse) - std::log(forward) : -std::numeric_limits<double>::infinity();
+      !(reverse > 0.0)                                  ? -std::numeric_limits<double>::infinity()
+      : std::isnormal(quotient) && std::isfinite(quotient) ? std::log(quotient)
+                                                        : std::log(reverse) - std::log(forward);
   return proposal;
 }
 
@@ -132,13 +206,17 @@ std::optional<Path> BidirectionalMutation::regenerate(const Path& x, int a, int 
   const int n = int(xv.size()), c = n - a - d;
   if (a < 0 || d < 0 || c < 0 || s < 0 || s > n_new || !split_allowed(a, c, n_new, s)) return std::nullopt;
   const int t = n_new - s;
-  // Light side: a fresh light subpath, or a walk on from the kept prefix end.
-  std::vector<PathVertex> light_walk, eye_walk;
+  // Light side: a fresh light subpath, or a walk on from the kept prefix end. The walks'
+  // buffers are reused across calls on a thread: a chain step should not allocate for them.
+  thread_local std::vector<PathVertex> light_walk, eye_walk;
+  light_walk.clear();
+  eye_walk.clear();
   if (s > 0) {
     if (a == 0) {
       if (generate_light_subpath(scene, rng, {s, -1}, light_walk) != s) return std::nullopt;
     } else {
-      light_walk = {xv[size_t(a - 2)], xv[size_t(a - 1)]};
+      light_walk.push_back(xv[size_t(a - 2)]);
+      light_walk.push_back(xv[size_t(a - 1)]);
       light_walk[1].throughput = Rgb(1.0f);
       if (random_walk(scene, rng, TransportMode::Importance, s, -1, light_walk) != s)
         return std::nullopt;
@@ -154,7 +232,8 @@ std::optional<Path> BidirectionalMutation::regenerate(const Path& x, int a, int 
       if (generate_camera_subpath(scene, rng, raster, u_lens, {t, -1}, eye_walk) != t)
         return std::nullopt;
     } else {
-      eye_walk = {xv[size_t(a + d + 1)], xv[size_t(a + d)]};
+      eye_walk.push_back(xv[size_t(a + d + 1)]);
+      eye_walk.push_back(xv[size_t(a + d)]);
       eye_walk[1].throughput = Rgb(1.0f);
       if (random_walk(scene, rng, TransportMode::Radiance, t, -1, eye_walk) != t)
         return std::nullopt;
@@ -201,7 +280,9 @@ std::optional<Path> BidirectionalMutation::regenerate(const Path& x, int a, int 
     }
   }
   y.type = compute_path_type(yv);
-  recompute_densities(scene, y);
+  // Records changed only from the kept light end to the kept eye end (the walks' copies,
+  // the connection ends' Dirac flags); the rest carry x's densities.
+  recompute_densities(scene, y, a - 1, a + n_new);
   return y;
 }
 

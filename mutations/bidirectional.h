@@ -33,7 +33,8 @@ class BidirectionalMutation final : public Mutation {
   // The building blocks, for strategies that reuse them: y from x with [a, a + d) replaced
   // by n_new vertices, s of them walked from the light side; and the density of y's
   // inserted vertices averaged over every split that could have made them (c = number of
-  // kept vertices after the inserted ones).
+  // kept vertices after the inserted ones). regenerate recomputes only the densities that
+  // the new stretch changes: x's own densities must be current (path.h).
   static std::optional<Path> regenerate(const Path& x, int a, int d, int n_new, int s, Rng& rng,
                                         const MutationContext& ctx);
   static double inserted_density(const Path& y, int a, int n_new, int c);

@@ -95,7 +95,7 @@ std::optional<Proposal> CausticPerturbation::retrace(const Path& x, const Vec3& 
   lens.raster = *raster;
   const Rgb connection = connect_vertices(scene, &yv[size_t(k - 2)], yv[size_t(k - 1)], lens, nullptr);
   if (is_black(connection) || !is_finite(connection)) return std::nullopt;
-  if (!perturbation::finish_proposal(scene, x, y)) return std::nullopt;
+  if (!perturbation::finish_proposal(scene, x, y, l + 1, k - 1)) return std::nullopt;
 
   const double log_jacobians = include_jacobian_ ? perturbation::log_light_jacobian(x, l + 1, k - 1) -
                                                        perturbation::log_light_jacobian(y, l + 1, k - 1)
@@ -108,6 +108,16 @@ std::optional<Proposal> CausticPerturbation::retrace(const Path& x, const Vec3& 
 
 std::optional<Proposal> CausticPerturbation::perturb_to(const Path& x, const Vec3& direction,
                                                         const MutationContext& ctx) const {
+  const int l = fixed_vertex(x.type);
+  if (l < 0) return std::nullopt;
+  double min_x = 0.0, max_x = 0.0;
+  angle_range(x, l, ctx, &min_x, &max_x);
+  return perturb_within(x, direction, ctx, min_x, max_x);
+}
+
+std::optional<Proposal> CausticPerturbation::perturb_within(const Path& x, const Vec3& direction,
+                                                            const MutationContext& ctx, double min_x,
+                                                            double max_x) const {
   auto proposal = retrace(x, direction, ctx);
   if (!proposal) return std::nullopt;
   const int l = fixed_vertex(x.type);
@@ -116,10 +126,9 @@ std::optional<Proposal> CausticPerturbation::perturb_to(const Path& x, const Vec
   // Angle between the two directions at x_l, and both moves' ranges.
   const double theta = perturbation::angle_between(perturbation::precise_direction(xv[size_t(l)], xv[size_t(l + 1)]),
                                                    perturbation::precise_direction(yv[size_t(l)], yv[size_t(l + 1)]));
-  double min_x = 0.0, max_x = 0.0, min_y = 0.0, max_y = 0.0;
-  angle_range(x, l, ctx, &min_x, &max_x);
-  angle_range(proposal->path, l, ctx, &min_y, &max_y);
   if (!(theta > min_x && theta < max_x) || !(max_x > min_x)) return std::nullopt;
+  double min_y = 0.0, max_y = 0.0;
+  angle_range(proposal->path, l, ctx, &min_y, &max_y);
   if (!(theta > min_y && theta < max_y) || !(max_y > min_y)) {
     proposal->log_reverse_over_forward = -std::numeric_limits<double>::infinity();
     return proposal;
@@ -137,7 +146,8 @@ std::optional<Proposal> CausticPerturbation::propose(const Path& x, Rng& rng,
   angle_range(x, l, ctx, &theta_min, &theta_max);
   if (!(theta_max > theta_min) || !(theta_min > 0.0)) return std::nullopt;
   const Vec3 old_direction = direction_between(x.vertices[size_t(l)], x.vertices[size_t(l + 1)]);
-  return perturb_to(x, perturbation::perturb_direction(old_direction, theta_min, theta_max, rng.uniform2()), ctx);
+  return perturb_within(x, perturbation::perturb_direction(old_direction, theta_min, theta_max, rng.uniform2()),
+                        ctx, theta_min, theta_max);
 }
 
 }  // namespace emlt

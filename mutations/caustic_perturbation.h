@@ -37,6 +37,10 @@ class CausticPerturbation final : public Mutation {
                           double* theta_max);
 
  private:
+  // perturb_to with x's angle range already known (propose has just computed it).
+  std::optional<Proposal> perturb_within(const Path& x, const Vec3& direction, const MutationContext& ctx,
+                                         double min_x, double max_x) const;
+
   bool include_jacobian_;
 };
 

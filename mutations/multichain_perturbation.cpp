@@ -84,7 +84,8 @@ std::optional<Proposal> MultiChainPerturbation::propose(const Path& x, Rng& rng,
   const Vec2 offset = perturbation::sample_image_offset(ctx.lens_min_radius, r_max, rng.uniform2());
   // One angular step per interior non-specular vertex, drawn around x's own direction there
   // (the notes' choice: the old direction, applied at the vertex's new position).
-  std::vector<Vec3> directions;
+  thread_local std::vector<Vec3> directions;  // reused: no allocation per step
+  directions.clear();
   const auto& xv = x.vertices;
   for (int i = x.edges() - 1; i >= l + 2; --i)
     if (!xv[size_t(i)].delta)

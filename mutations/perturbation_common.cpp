@@ -168,6 +168,10 @@ bool on_film(const Camera& camera, const Vec2& raster) {
 }
 
 bool finish_proposal(const Scene& scene, const Path& x, Path& y) {
+  return finish_proposal(scene, x, y, 0, int(y.vertices.size()) - 1);
+}
+
+bool finish_proposal(const Scene& scene, const Path& x, Path& y, int first, int last) {
   auto& v = y.vertices;
   if (v.size() != x.vertices.size() || v.size() < 2) return false;
   if (!v.front().is_emitter() || !v.back().is_camera()) return false;
@@ -175,7 +179,7 @@ bool finish_proposal(const Scene& scene, const Path& x, Path& y) {
     if (!v[i].is_surface()) return false;
   y.type = compute_path_type(v);
   if (!(y.type == x.type)) return false;
-  recompute_densities(scene, y);
+  recompute_densities(scene, y, first, last);
   return true;
 }
 
@@ -218,7 +222,7 @@ bool rebuild_eye_side(const Scene& scene, const Path& x, int l, const Vec2& rast
   const Rgb connection = connect_vertices(scene, l >= 1 ? &yv[size_t(l - 1)] : nullptr, yv[size_t(l)],
                                           yv[size_t(l + 1)], &yv[size_t(l + 2)]);
   if (is_black(connection) || !is_finite(connection)) return false;
-  return finish_proposal(scene, x, y);
+  return finish_proposal(scene, x, y, l + 1, k - 1);  // the lens point moved only its raster
 }
 
 }  // namespace emlt::perturbation

@@ -98,8 +98,10 @@ bool on_film(const Camera& camera, const Vec2& raster);
 // interior non-specular vertex i (l+1 < i < k) the outgoing direction is
 // interior_direction(i, x's direction from x_i towards x_{i-1}) (the multi-chain angular
 // step; the lens perturbation has none). Dirac records are filled in the radiance
-// convention, then y_{l+1} is connected to the fixed x_l and y's type checked and densities
-// recomputed. False on any failure (escape, lobe lost, occlusion, zero contribution).
+// convention, then y_{l+1} is connected to the fixed x_l, y's type checked and the densities
+// that depend on the moved vertices recomputed (the rest are x's, which must be current, as
+// on every chain path: the bootstrap's seeds and all proposals). False on any failure
+// (escape, lobe lost, occlusion, zero contribution).
 using InteriorDirection = std::function<std::optional<Vec3>(int index, const Vec3& old_direction)>;
 bool rebuild_eye_side(const Scene& scene, const Path& x, int l, const Vec2& raster,
                       const InteriorDirection& interior_direction, Path& y);
@@ -107,5 +109,8 @@ bool rebuild_eye_side(const Scene& scene, const Path& x, int l, const Vec2& rast
 // Whether y, a copy of x with some vertices replaced, has x's path type and the structure
 // MLT needs (emitter first, lens last, surfaces between); if so, recomputes y's densities.
 bool finish_proposal(const Scene& scene, const Path& x, Path& y);
+// The same when only y's vertices [first, last] differ from x's (x's densities being
+// current): only the densities that depend on them are recomputed (path.h).
+bool finish_proposal(const Scene& scene, const Path& x, Path& y, int first, int last);
 
 }  // namespace emlt::perturbation

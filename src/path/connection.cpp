@@ -19,26 +19,34 @@ namespace {
 
 // vertex_factor without the Dirac shortcut: what a connection ending at v evaluates, since
 // the lobe a walk sampled at v to continue plays no part in a path that ends there.
-Rgb smooth_vertex_factor(const Scene& scene, const PathVertex& v, const PathVertex* light_side,
-                         const PathVertex* eye_side) {
-  if (!light_side) {  // x0: the emitter's radiance towards the rest of the path
-    if (!eye_side || !v.light) return Rgb(0.0f);
+Rgb smooth_factor_along(const Scene& scene, const PathVertex& v, const Vec3* w_light, const Vec3* w_eye) {
+  if (!w_light) {  // x0: the emitter's radiance towards the rest of the path
+    if (!w_eye || !v.light) return Rgb(0.0f);
     if (v.is_environment()) return v.light->emitted(Vec3(0.0f), v.sky_direction);
-    return v.light->emitted(v.normal, direction_between(v, *eye_side));
+    return v.light->emitted(v.normal, *w_eye);
   }
-  if (!eye_side) {  // xk: the camera's importance towards the rest of the path
+  if (!w_eye) {  // xk: the camera's importance towards the rest of the path
     if (!v.is_camera()) return Rgb(0.0f);
-    return Rgb(scene.camera().importance(v.position, direction_between(v, *light_side)));
+    return Rgb(scene.camera().importance(v.position, *w_light));
   }
   if (!v.is_surface() || !v.bsdf) return Rgb(0.0f);
-  const Vec3 w_eye = direction_between(v, *eye_side), w_light = direction_between(v, *light_side);
-  const Vec3 eye_local = v.shading.to_local(w_eye), light_local = v.shading.to_local(w_light);
-  if (!consistent_side(v, w_eye, eye_local) || !consistent_side(v, w_light, light_local))
+  const Vec3 eye_local = v.shading.to_local(*w_eye), light_local = v.shading.to_local(*w_light);
+  if (!consistent_side(v, *w_eye, eye_local) || !consistent_side(v, *w_light, light_local))
     return Rgb(0.0f);
-  const float cos_geometric = std::abs(glm::dot(v.normal, w_light));
+  const float cos_geometric = std::abs(glm::dot(v.normal, *w_light));
   if (!(cos_geometric > 0.0f)) return Rgb(0.0f);
   const Rgb f = v.bsdf->eval(BsdfContext{v.uv, TransportMode::Radiance}, eye_local, light_local);
   return f * (std::abs(light_local.z) / cos_geometric);
+}
+
+Rgb smooth_vertex_factor(const Scene& scene, const PathVertex& v, const PathVertex* light_side,
+                         const PathVertex* eye_side) {
+  // Directions only where they are used: an emitter or lens end looks one way.
+  const bool interior = light_side && eye_side;
+  Vec3 w_light(0.0f), w_eye(0.0f);
+  if (light_side && (interior || v.is_camera())) w_light = direction_between(v, *light_side);
+  if (eye_side && (interior || (v.light && !v.is_environment()))) w_eye = direction_between(v, *eye_side);
+  return smooth_factor_along(scene, v, light_side ? &w_light : nullptr, eye_side ? &w_eye : nullptr);
 }
 
 }  // namespace
@@ -47,6 +55,11 @@ Rgb vertex_factor(const Scene& scene, const PathVertex& v, const PathVertex* lig
                   const PathVertex* eye_side) {
   if (light_side && eye_side && v.delta) return v.delta_value;
   return smooth_vertex_factor(scene, v, light_side, eye_side);
+}
+
+Rgb vertex_factor_along(const Scene& scene, const PathVertex& v, const Vec3* w_light, const Vec3* w_eye) {
+  if (w_light && w_eye && v.delta) return v.delta_value;
+  return smooth_factor_along(scene, v, w_light, w_eye);
 }
 
 bool mutually_visible(const Scene& scene, const PathVertex& a, const PathVertex& b) {
@@ -66,25 +79,30 @@ Rgb connect_vertices(const Scene& scene, const PathVertex* y_prev, const PathVer
   // Purely specular surfaces are never connected (their eval is zero anyway: skip early).
   const auto purely_delta = [](const PathVertex& v) { return v.bsdf && v.bsdf->is_purely_delta(); };
   if ((y_prev && purely_delta(y)) || (z_prev && purely_delta(z))) return Rgb(0.0f);
-  const Rgb f_light_end = smooth_vertex_factor(scene, y, y_prev, &z);
+  // The connecting segment serves both ends and G (its reverse is exactly -w).
+  const Segment yz = segment_between(y, z);
+  const Vec3 zy = -yz.w;
+  const Vec3 y_back = y_prev ? direction_between(y, *y_prev) : Vec3(0.0f);
+  const Rgb f_light_end = smooth_factor_along(scene, y, y_prev ? &y_back : nullptr, &yz.w);
   if (is_black(f_light_end)) return Rgb(0.0f);
-  const Rgb f_eye_end = smooth_vertex_factor(scene, z, &y, z_prev);
+  const Vec3 z_back = z_prev ? direction_between(z, *z_prev) : Vec3(0.0f);
+  const Rgb f_eye_end = smooth_factor_along(scene, z, &zy, z_prev ? &z_back : nullptr);
   if (is_black(f_eye_end)) return Rgb(0.0f);
-  const float g = geometry_term(y, z);
+  const float g = geometry_term_along(y, z, yz);
   if (!(g > 0.0f)) return Rgb(0.0f);
   // Visibility last: it is the expensive part.
   if (!mutually_visible(scene, y, z)) return Rgb(0.0f);
   return f_light_end * g * f_eye_end;
 }
 
-float pdf_towards(const Scene& scene, const PathVertex* before, const PathVertex& from,
-                  const PathVertex& to) {
+float pdf_towards_along(const Scene& scene, const PathVertex* before, const PathVertex& from,
+                        const PathVertex& to, const Segment& out, const Vec3* back) {
   if (to.is_camera()) return 0.0f;  // no walk can hit the lens
-  const Vec3 w = direction_between(from, to);
+  const Vec3& w = out.w;
   if (from.is_camera()) {
     float pdf_position = 0.0f, pdf_direction = 0.0f;
     scene.camera().pdf_emission(w, &pdf_position, &pdf_direction);
-    return solid_angle_to_vertex_measure(pdf_direction, from, to);
+    return solid_angle_along(pdf_direction, to, out);
   }
   if (!before) {  // `from` is x0: its emission distribution
     if (!from.light || to.is_environment()) return 0.0f;
@@ -92,9 +110,10 @@ float pdf_towards(const Scene& scene, const PathVertex* before, const PathVertex
     from.light->pdf_emission(from.position, from.normal, w, &pdf_position, &pdf_direction);
     // The sky's rays start on a disk facing w: the receiving point's area projects onto it.
     if (from.is_environment()) return pdf_position * abs_cos_at(to, w);
-    return solid_angle_to_vertex_measure(pdf_direction, from, to);
+    return solid_angle_along(pdf_direction, to, out);
   }
   if (!from.is_surface() || !from.bsdf) return 0.0f;
+  const Vec3& w_before = *back;
   float pdf = 0.0f;
   if (from.delta) {
     // Crossing from side a (towards `before`) to side b (towards `to`): the density carries
@@ -102,18 +121,24 @@ float pdf_towards(const Scene& scene, const PathVertex* before, const PathVertex
     const auto ior = [&](const Vec3& dir) {
       return glm::dot(from.normal, dir) > 0.0f ? from.delta_ior_ratio : 1.0f;
     };
-    const Vec3 w_before = direction_between(from, *before);
     pdf = from.delta_probability *
           dirac_crossing_factor(ior(w) / ior(w_before), std::abs(glm::dot(from.normal, w_before)),
                                 std::abs(glm::dot(from.normal, w)));
   } else {
-    const Vec3 w_before = direction_between(from, *before);
     const Vec3 before_local = from.shading.to_local(w_before), to_local = from.shading.to_local(w);
     if (!consistent_side(from, w_before, before_local) || !consistent_side(from, w, to_local))
       return 0.0f;
     pdf = from.bsdf->pdf(BsdfContext{from.uv, TransportMode::Radiance}, before_local, to_local);
   }
-  return solid_angle_to_vertex_measure(pdf, from, to);
+  return solid_angle_along(pdf, to, out);
+}
+
+float pdf_towards(const Scene& scene, const PathVertex* before, const PathVertex& from,
+                  const PathVertex& to) {
+  if (to.is_camera()) return 0.0f;
+  const Segment out = segment_between(from, to);
+  const Vec3 back = before ? direction_between(from, *before) : Vec3(0.0f);
+  return pdf_towards_along(scene, before, from, to, out, before ? &back : nullptr);
 }
 
 float pdf_light_origin(const Scene& scene, const PathVertex& v) {

@@ -50,22 +50,53 @@ double path_density(const Path& path, int s) {
 }
 
 void recompute_densities(const Scene& scene, Path& path) {
+  recompute_densities(scene, path, 0, int(path.vertices.size()) - 1);
+}
+
+void recompute_densities(const Scene& scene, Path& path, int first, int last) {
   auto& x = path.vertices;
   const int k = int(x.size()) - 1;
   if (k < 1) return;
-  for (int i = 0; i <= k; ++i) {
+  first = std::max(first, 0);
+  last = std::min(last, k);
+  if (first > last) return;
+  // Every segment the recomputed densities use, once: segment[i] runs from x_i to x_{i+1}.
+  const int lo = std::max(first - 2, 0), hi = std::min(last + 2, k);
+  Segment local[kMaxPathVertices];
+  std::vector<Segment> heap;
+  Segment* segment = local;
+  if (k > kMaxPathVertices) {
+    heap.resize(size_t(k));
+    segment = heap.data();
+  }
+  for (int i = lo; i < hi; ++i) segment[i] = segment_between(x[size_t(i)], x[size_t(i + 1)]);
+  const auto reversed = [&](int i) { return Segment{-segment[i].w, segment[i].distance_squared}; };
+
+  // pdf_from_light of x_i depends on x_{i-2}, x_{i-1}, x_i.
+  for (int i = first; i <= hi; ++i) {
     PathVertex& v = x[size_t(i)];
-    v.pdf_from_light = i == 0 ? pdf_light_origin(scene, v)
-                              : pdf_towards(scene, i >= 2 ? &x[size_t(i - 2)] : nullptr,
-                                            x[size_t(i - 1)], v);
+    if (i == 0) {
+      v.pdf_from_light = pdf_light_origin(scene, v);
+    } else if (i == 1) {
+      v.pdf_from_light = pdf_towards_along(scene, nullptr, x[0], v, segment[0], nullptr);
+    } else {
+      const Vec3 back = -segment[i - 2].w;
+      v.pdf_from_light = pdf_towards_along(scene, &x[size_t(i - 2)], x[size_t(i - 1)], v,
+                                           segment[i - 1], &back);
+    }
+  }
+  // pdf_from_eye of x_i depends on x_i, x_{i+1}, x_{i+2}.
+  for (int i = lo; i <= last; ++i) {
+    PathVertex& v = x[size_t(i)];
     if (i == k) {
       float pdf_position = 0.0f, pdf_direction = 0.0f;
-      scene.camera().pdf_emission(direction_between(v, x[size_t(k - 1)]), &pdf_position,
-                                  &pdf_direction);
+      scene.camera().pdf_emission(reversed(k - 1).w, &pdf_position, &pdf_direction);
       v.pdf_from_eye = pdf_position;
+    } else if (i == k - 1) {
+      v.pdf_from_eye = pdf_towards_along(scene, nullptr, x[size_t(k)], v, reversed(k - 1), nullptr);
     } else {
-      v.pdf_from_eye = pdf_towards(scene, i + 2 <= k ? &x[size_t(i + 2)] : nullptr,
-                                   x[size_t(i + 1)], v);
+      v.pdf_from_eye = pdf_towards_along(scene, &x[size_t(i + 2)], x[size_t(i + 1)], v, reversed(i),
+                                         &segment[i + 1].w);
     }
   }
 }
@@ -75,10 +106,16 @@ DVec3 path_contribution(const Scene& scene, const Path& path, InvalidCounter* in
   const int k = int(x.size()) - 1;
   if (k < 1) return DVec3(0.0);
   DVec3 f(1.0);
+  // Each segment is computed once and read from both of its ends (its reverse is exactly
+  // -w), in the order and with the arithmetic of vertex_factor and geometry_term.
+  Segment previous{Vec3(0.0f), 0.0f}, next{Vec3(0.0f), 0.0f};
   for (int i = 0; i <= k && f != DVec3(0.0); ++i) {
-    f *= DVec3(vertex_factor(scene, x[size_t(i)], i > 0 ? &x[size_t(i - 1)] : nullptr,
-                             i < k ? &x[size_t(i + 1)] : nullptr));
-    if (i < k) f *= double(geometry_term(x[size_t(i)], x[size_t(i + 1)]));
+    const PathVertex& v = x[size_t(i)];
+    if (i < k) next = segment_between(v, x[size_t(i + 1)]);
+    const Vec3 w_light = -previous.w;
+    f *= DVec3(vertex_factor_along(scene, v, i > 0 ? &w_light : nullptr, i < k ? &next.w : nullptr));
+    if (i < k) f *= double(geometry_term_along(v, x[size_t(i + 1)], next));
+    previous = next;
   }
   const bool valid = std::isfinite(f.x) && std::isfinite(f.y) && std::isfinite(f.z) &&
                      f.x >= 0.0 && f.y >= 0.0 && f.z >= 0.0;

@@ -1,5 +1,7 @@
 #include "emlt/path/random_walk.h"
 
+#include "emlt/path/connection.h"
+
 namespace emlt {
 
 namespace {
@@ -30,7 +32,9 @@ int random_walk(const Scene& scene, Rng& rng, TransportMode mode, int steps, int
     PathVertex& previous = subpath[index - 1];
     if (!v.is_surface() || !v.bsdf) break;
 
-    const Vec3 wo = direction_between(v, previous);
+    // Both segments at v, each computed once for its direction and its density conversion.
+    const Segment back = segment_between(v, previous);
+    const Vec3& wo = back.w;
     const Vec3 wo_local = v.shading.to_local(wo);
     if (glm::dot(v.normal, wo) * wo_local.z <= 0.0f) break;
     const float u_lobe = rng.uniform();
@@ -61,7 +65,8 @@ int random_walk(const Scene& scene, Rng& rng, TransportMode mode, int steps, int
     // sampled direction. Densities and the throughput describe the vertex as it really
     // is: f/p of the real segment, in the radiance convention of vertex_factor (so a later
     // recomputation, a connection or MLT finds the same numbers).
-    const Vec3 segment = direction_between(v, *next);
+    const Segment out = segment_between(v, *next);
+    const Vec3& segment = out.w;
     const Vec3 segment_local = v.shading.to_local(segment);
     if (glm::dot(v.normal, segment) * segment_local.z <= 0.0f) break;
     const float cos_wo_shading = std::abs(wo_local.z), cos_wo_geometric = std::abs(glm::dot(v.normal, wo));
@@ -98,10 +103,9 @@ int random_walk(const Scene& scene, Rng& rng, TransportMode mode, int steps, int
     Rgb throughput = v.throughput * weight / survival;
     if (!keep_finite(throughput, invalid) || is_black(throughput)) break;
     next->throughput = throughput;
-    const float forward = solid_angle_to_vertex_measure(forward_solid_angle, v, *next);
+    const float forward = solid_angle_along(forward_solid_angle, *next, out);
     // The lens cannot be hit, so a camera vertex keeps pdf_from_light = 0.
-    const float reverse =
-        previous.is_camera() ? 0.0f : solid_angle_to_vertex_measure(reverse_solid_angle, v, previous);
+    const float reverse = previous.is_camera() ? 0.0f : solid_angle_along(reverse_solid_angle, previous, back);
     (importance ? next->pdf_from_light : next->pdf_from_eye) = forward;
     (importance ? previous.pdf_from_eye : previous.pdf_from_light) = reverse;
     subpath.push_back(*next);  // invalidates v and previous

@@ -21,6 +21,47 @@ namespace emlt {
 Rgb vertex_factor(const Scene& scene, const PathVertex& v, const PathVertex* light_side,
                   const PathVertex* eye_side);
 
+// The straight segment from one vertex to the next, computed once: unit direction as
+// direction_between(from, to) gives it, and the squared distance (meaningless when either
+// end is the sky). The reverse segment's direction is exactly -w, so a loop along a path
+// can share one Segment between the two vertices of an edge without changing a bit.
+// Trivial (no member initialisers), so a loop's local array of them costs nothing to declare.
+struct Segment {
+  Vec3 w;
+  float distance_squared;
+};
+inline Segment segment_between(const PathVertex& from, const PathVertex& to) {
+  if (to.is_environment() || from.is_environment()) return {direction_between(from, to), 0.0f};
+  const Vec3 d = to.position - from.position;
+  const float distance_squared = glm::dot(d, d);
+  const float length = std::sqrt(distance_squared);  // glm::length's arithmetic
+  return {length > 0.0f ? d / length : Vec3(0.0f), distance_squared};
+}
+
+// geometry_term(a, b) and solid_angle_to_vertex_measure(pdf, from, to) from the segment
+// a -> b (from -> to): the same values, without recomputing the direction.
+inline float geometry_term_along(const PathVertex& a, const PathVertex& b, const Segment& ab) {
+  if (a.is_environment() && b.is_environment()) return 0.0f;
+  if (a.is_environment() || b.is_environment()) return abs_cos_at(a, ab.w) * abs_cos_at(b, ab.w);
+  if (!(ab.distance_squared > 0.0f)) return 0.0f;
+  const float g = abs_cos_at(a, ab.w) * abs_cos_at(b, ab.w) / ab.distance_squared;
+  return std::isfinite(g) ? g : 0.0f;
+}
+inline float solid_angle_along(float pdf_solid_angle, const PathVertex& to, const Segment& out) {
+  if (to.is_environment()) return pdf_solid_angle;  // the sky's measure is solid angle
+  if (!(out.distance_squared > 0.0f)) return 0.0f;
+  const float pdf = pdf_solid_angle * abs_cos_at(to, out.w) / out.distance_squared;
+  return std::isfinite(pdf) ? pdf : 0.0f;
+}
+
+// vertex_factor and pdf_towards with the segments to the neighbours already known
+// (w_light / w_eye: unit directions from v towards its light- / eye-side neighbour, null
+// where vertex_factor's neighbour is null; `out` from `from` to `to`, `back` from `from` to
+// `before`). The same arithmetic as the plain versions, for loops that meet every edge twice.
+Rgb vertex_factor_along(const Scene& scene, const PathVertex& v, const Vec3* w_light, const Vec3* w_eye);
+float pdf_towards_along(const Scene& scene, const PathVertex* before, const PathVertex& from,
+                        const PathVertex& to, const Segment& out, const Vec3* back);
+
 // Unoccluded straight segment between two vertices (one may be the sky).
 bool mutually_visible(const Scene& scene, const PathVertex& a, const PathVertex& b);
 

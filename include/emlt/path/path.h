@@ -41,6 +41,13 @@ double path_density(const Path& path, int s);
 // camera alone (what a mutation does after changing vertices; also the check of the
 // bookkeeping). Dirac vertices keep their stored lobe probability.
 void recompute_densities(const Scene& scene, Path& path);
+// The same after only vertices [first, last] changed (their records, not their number):
+// a density depends on its vertex and the two before it (from the light) or after it (from
+// the eye), so only pdf_from_light of [first, last + 2] and pdf_from_eye of [first - 2,
+// last] are recomputed; the rest must already be what a full recomputation would give (true
+// of every path the mutations and the bootstrap hand out). The values are bit-identical to
+// a full recomputation, at a fraction of its cost for long paths and local moves.
+void recompute_densities(const Scene& scene, Path& path, int first, int last);
 
 // Dirac vertices contribute the value stored by the walk that crossed them, in the
 // side-symmetric convention of vertex.h, so f is a function of the path alone and f / p_s
