@@ -85,6 +85,9 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
   command.add_option("--ensemble-iterations", s.ensemble_iterations,
                      "emlt: steps per path between swaps (0 = W*H / (|X|+|Y|))")
       ->check(CLI::Range(0, 1 << 20));
+  command.add_option("--ensemble-alpha", s.ensemble_alpha,
+                     "emlt: fixed stretch scale alpha of the linear kernels (0 = adaptive, paper 3.4)")
+      ->check(CLI::Range(0.0, 100.0));
   command.add_option("--aniso-map", s.aniso_map_path,
                      "mlt/gamlt/emlt: write the predominant image-plane direction of the proposals "
                      "per pixel to this PNG (red horizontal, green vertical, yellow isotropic)");
@@ -132,6 +135,7 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   if (given("--ensemble-neighbours")) settings.ensemble_neighbours = cli.ensemble_neighbours;
   if (given("--ensemble-iterations")) settings.ensemble_iterations = cli.ensemble_iterations;
   if (given("--aniso-map")) settings.aniso_map_path = cli.aniso_map_path;
+  if (given("--ensemble-alpha")) settings.ensemble_alpha = cli.ensemble_alpha;
   if (given("--bdpt-strategies")) settings.bdpt_strategies_dir = cli.bdpt_strategies_dir;
   settings.mis = o.mis == "balance" ? MisHeuristic::Balance : MisHeuristic::Power;
   settings.direct_point_set =

@@ -287,6 +287,10 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   EnsembleGuides guides;
   EnsembleParams ensemble_params = options_.ensemble_params;
   if (settings.ensemble_neighbours > 0) ensemble_params.neighbours = settings.ensemble_neighbours;
+  if (settings.ensemble_alpha > 0.0) {
+    ensemble_params.adaptive_alpha = false;
+    ensemble_params.alpha_fixed = settings.ensemble_alpha;
+  }
   std::vector<const Path*> frozen(ensemble_size);
   double alpha_sum = 0.0;
   if (ensemble) ctx.ensemble = &guides;

@@ -43,6 +43,7 @@ struct RenderSettings {
   int ensemble_size = 0;        // |X| = |Y|; 0: 16384, fewer on images under 32768 pixels
   int ensemble_neighbours = 32; // M, the guide paths of one step
   int ensemble_iterations = 0;  // steps per path between swaps; 0: floor(W H / (|X| + |Y|))
+  double ensemble_alpha = 0.0;  // > 0: fixed α of the linear kernels; 0: adaptive (paper §3.4)
 
   // Receives images at power-of-two samples (mutations) per pixel; not owned. Null: none.
   SnapshotSink* snapshots = nullptr;
