@@ -135,8 +135,15 @@ void write_move_map(const std::string& path, const std::vector<BlockOutput>& blo
 
 }  // namespace
 
+// Many short chains: each starts from a bootstrap path resampled in proportion to its
+// contribution, so there is no start-up bias to run off, and more chains cover the image
+// more evenly than a few long ones that linger in bright regions. Measured on the door scene
+// (64 x 64, 256 mutations per pixel, seed 1, direct light at 2048 spp): MSE 1.10e-4 with 20
+// chains (the old default, mutations / 50000), 5.7e-5 with 1024, 4.6e-5 with 4096, 3.5e-5
+// with 16384; on the Cornell box at 64 mutations per pixel 16 -> 4096 chains gave 2.17e-4 ->
+// 1.95e-4. About 64 steps per chain, at most 16384 chains (EMLT's ensembles are as large).
 int MltIntegrator::default_chain_count(uint64_t mutations) {
-  return int(std::clamp<uint64_t>(mutations / 50000, 16, 1024));
+  return int(std::clamp<uint64_t>(mutations / 64, 16, 16384));
 }
 
 RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& settings,
