@@ -32,7 +32,7 @@ struct RenderSettings {
   std::string mutations;
   bool direct_separate = true;             // --direct separate|mlt
   // Samples of the separate direct image; 0: as many as mutations per pixel (at least 1),
-  // so the direct part converges with the chains, or 16 under a pure time budget.
+  // so the direct part converges with the chains, or 15 % of a pure time budget.
   int direct_spp = 0;
   std::string stats_path;                  // --stats FILE.json
   // Writes the predominant image-plane direction of the chains' proposals per pixel (the
