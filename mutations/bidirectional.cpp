@@ -1,56 +1,12 @@
 #include "mutations/bidirectional.h"
 
-#include <bit>
-
+#include "emlt/mcmc/two_tailed_geometric.h"
 #include "emlt/path/connection.h"
 #include "emlt/path/random_walk.h"
 
 namespace emlt {
 
 namespace {
-
-// The clamped two-tailed geometric distribution of emlt/mcmc/two_tailed_geometric.h,
-// P(i) ∝ 2^-|i - centre| on [low, high], with the same pmf and sample bit for bit (checked
-// against that class for every range up to 80) but its normalising sum in closed form: the
-// move builds four of these per step, and the class's loop over the whole range was the
-// largest single cost of proposing. The terms are powers of two, so while the exponents lie
-// within 51 of each other every partial sum of the loop is exact and equals the closed form;
-// beyond that the loop runs, in the class's order.
-class Geometric {
- public:
-  Geometric(int centre, int low, int high) : centre_(centre), low_(low), high_(high) {
-    if (high_ < low_) return;
-    if (std::max(std::abs(low_ - centre_), std::abs(high_ - centre_)) <= 51) {
-      // Σ_{n=a}^{b} 2^-n = 2^(1-a) - 2^-b on each side of the centre.
-      const auto run = [](int a, int b) { return power_of_two(1 - a) - power_of_two(-b); };
-      if (low_ <= centre_) total_ += run(centre_ - std::min(high_, centre_), centre_ - low_);
-      if (high_ > centre_) total_ += run(std::max(low_, centre_ + 1) - centre_, high_ - centre_);
-    } else {
-      double total = 0.0;
-      for (int i = low_; i <= high_; ++i) total += weight(i);
-      total_ = total;
-    }
-  }
-  bool empty() const { return high_ < low_; }
-  double pmf(int i) const { return i < low_ || i > high_ ? 0.0 : weight(i) / total_; }
-  int sample(float u) const {
-    double target = double(u) * total_;
-    for (int i = low_; i < high_; ++i) {
-      target -= weight(i);
-      if (target < 0.0) return i;
-    }
-    return high_;
-  }
-
- private:
-  static double power_of_two(int e) { return std::bit_cast<double>(uint64_t(1023 + e) << 52); }
-  double weight(int i) const {
-    const int n = std::abs(i - centre_);
-    return n < 1022 ? std::bit_cast<double>(uint64_t(1023 - n) << 52) : 0.0;
-  }
-  int centre_, low_, high_;
-  double total_ = 0.0;
-};
 
 // Whether the inserted n_new vertices may be split as s light-side + t eye-side, given
 // the kept prefix length a and suffix length c.
@@ -96,9 +52,9 @@ int deletion_minimum(int edges, int new_edges) {
 // P(new length) P(d) P(a) of deleting [a, a + d) from x to reach new_edges segments.
 double selection_pmf(const Path& x, int new_edges, int a, int d, const MutationContext& ctx) {
   const int edges = x.edges(), n = edges + 1;
-  const double p_length = Geometric(edges, ctx.min_edges, ctx.max_edges).pmf(new_edges);
+  const double p_length = TwoTailedGeometric(edges, ctx.min_edges, ctx.max_edges).pmf(new_edges);
   const int d_min = deletion_minimum(edges, new_edges);
-  const double p_delete = Geometric(1, d_min, n).pmf(d);
+  const double p_delete = TwoTailedGeometric(1, d_min, n).pmf(d);
   const int n_new = d + new_edges - edges;
   if (!(p_length > 0.0) || !(p_delete > 0.0) || n_new < 0) return 0.0;
   if (!position_allowed(x, a, d, n_new)) return 0.0;
@@ -140,12 +96,12 @@ std::optional<Proposal> BidirectionalMutation::propose(const Path& x, Rng& rng,
   const int edges = x.edges(), n = edges + 1;
 
   // Lengths, deleted stretch, position, split.
-  const Geometric lengths(edges, ctx.min_edges, ctx.max_edges);
+  const TwoTailedGeometric lengths(edges, ctx.min_edges, ctx.max_edges);
   if (lengths.empty()) return std::nullopt;
   const int new_edges = lengths.sample(rng.uniform());
   const int d_min = deletion_minimum(edges, new_edges);
   if (d_min > n) return std::nullopt;
-  const Geometric deletions(1, d_min, n);
+  const TwoTailedGeometric deletions(1, d_min, n);
   const int d = deletions.sample(rng.uniform());
   const int n_new = d + new_edges - edges;
   bool local[kMaxPathVertices + 1];

@@ -121,6 +121,19 @@ std::shared_ptr<const StrategyMix> mix_with(std::unique_ptr<Mutation> extra, dou
 
 }  // namespace
 
+TEST(TwoTailedGeometric, ClosedFormNormalisationSumsToOneOnEveryRange) {
+  // The normaliser is a closed form within 51 of the centre and a loop beyond: the pmf
+  // must sum to one either way, centre inside or outside the range.
+  for (int centre = 0; centre <= 90; centre += 3)
+    for (int low = 0; low <= 80; low += 4)
+      for (int high = low; high <= 120; high += 5) {
+        const TwoTailedGeometric d(centre, low, high);
+        double total = 0.0;
+        for (int i = low; i <= high; ++i) total += d.pmf(i);
+        ASSERT_NEAR(total, 1.0, 1e-12) << centre << " " << low << " " << high;
+      }
+}
+
 TEST(TwoTailedGeometric, PmfSumsToOneAndMatchesSamples) {
   const TwoTailedGeometric d(6, 5, 12);
   double total = 0.0;
