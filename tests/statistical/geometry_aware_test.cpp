@@ -395,47 +395,6 @@ std::unique_ptr<Scene> floor_mirror_sphere_scene() {
   return Scene::build(std::move(d));
 }
 
-// The L D S D E path seen through `raster` whose direction at the seen floor point is
-// `up` (towards the mirror).
-Path floor_mirror_path(const Scene& scene, const Vec2& raster, const Vec3& up) {
-  const Camera& camera = scene.camera();
-  const Ray ray = camera.generate_ray(raster, Vec2(0.5f));
-  SurfaceHit seen, on_mirror, lit, on_light;
-  EXPECT_TRUE(scene.intersect(ray, seen));
-  EXPECT_TRUE(scene.intersect(spawn_ray(seen.position, seen.geometric_normal, up), on_mirror));
-  const Vec3 down = reflect_about(-up, on_mirror.geometric_normal);
-  EXPECT_TRUE(scene.intersect(spawn_ray(on_mirror.position, on_mirror.geometric_normal, down), lit));
-  EXPECT_TRUE(scene.intersect(spawn_ray(lit.position, lit.geometric_normal, Vec3(0, 1, 0)), on_light));
-  Path path;
-  path.vertices = {make_surface_vertex(on_light), make_surface_vertex(lit), make_surface_vertex(on_mirror),
-                   make_surface_vertex(seen)};
-  PathVertex lens;
-  lens.kind = VertexKind::Camera;
-  lens.position = ray.origin;
-  lens.normal = camera.forward();
-  lens.shading = Frame(lens.normal);
-  lens.raster = raster;
-  path.vertices.push_back(lens);
-  auto& v = path.vertices;
-  EXPECT_TRUE(perturbation::fill_delta_record(v[2], v[3], v[1], TransportMode::Radiance, false));
-  path.type = compute_path_type(path.vertices);
-  recompute_densities(scene, path);
-  return path;
-}
-
-// The strategies report densities over the path layer's measure ν, which gives the mirror
-// chain x3 -> x2 -> x1 the product of its two segments' solid-angle-to-area factors; the
-// histograms measure area on the floor, where a direction at x3 reaches x1 at the distance
-// of x3's mirror image. Per unit solid angle at x3: dν = d32² d21² / (cos2 cos1) and
-// dA(x1) = (d32 + d21)² / cos1. Returns log dA/dν.
-double log_floor_area_per_nu(const Path& path) {
-  const auto& v = path.vertices;
-  const double d32 = glm::length(DVec3(v[3].position) - DVec3(v[2].position));
-  const double d21 = glm::length(DVec3(v[2].position) - DVec3(v[1].position));
-  const double cos2 = std::abs(glm::dot(DVec3(v[2].normal), perturbation::precise_direction(v[2], v[3])));
-  return std::log(cos2) + 2.0 * (std::log(d32 + d21) - std::log(d32) - std::log(d21));
-}
-
 // The move's two variables are independent (the image offset, then the direction at the
 // new seen point drawn around the old one), so its density over (x3, x1) factors into the
 // density of the seen point and that of x1 given the seen point: the first from image
@@ -490,7 +449,7 @@ TEST(GeometryAwareDensity, MultiChainRatioMatchesTheHistogramAndCatchesTheInject
   ctx.lens_max_radius = 5.5f;
   const GeometryAwareParams params = wide_steps();
   const GaMultiChainPerturbation multichain(params, kMultiChainTheta1, kMultiChainTheta2);
-  const Path x = floor_mirror_path(*scene, Vec2(16.5f, 16.5f), glm::normalize(Vec3(0.0f, 1.0f, 1.7f)));
+  const Path x = test::floor_mirror_light_path(*scene, Vec2(16.5f, 16.5f), glm::normalize(Vec3(0.0f, 1.0f, 1.7f)));
   ASSERT_EQ(x.type.to_string(), "L D S D E");
   ASSERT_GT(path_luminance(*scene, x), 0.0);
   ASSERT_TRUE(multichain.applies_to(x, ctx));
@@ -515,7 +474,7 @@ TEST(GeometryAwareDensity, MultiChainRatioMatchesTheHistogramAndCatchesTheInject
   const double reverse = seen_point_density(*scene, multichain, yp, x, ctx, 13) *
                          lit_point_density(multichain, yp, x, ctx, 14);
   const double measured = forward / reverse;  // T(x->y) / T(y->x) over floor area
-  const double to_area = std::exp(log_floor_area_per_nu(x) - log_floor_area_per_nu(yp));
+  const double to_area = std::exp(test::log_floor_area_per_nu(x) - test::log_floor_area_per_nu(yp));
   const double reported = std::exp(-y->log_reverse_over_forward) * to_area;
   GeometryAwareParams buggy_params = params;
   buggy_params.reverse_uses_x_cones = true;

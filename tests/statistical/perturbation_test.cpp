@@ -156,44 +156,9 @@ std::unique_ptr<Scene> floor_mirror_scene() {
 // The L D S D E path seen through `raster` whose direction at the floor point aims at
 // `mirror_target`.
 Path floor_mirror_path(const Scene& scene, const Vec2& raster, const Vec3& mirror_target) {
-  const Camera& camera = scene.camera();
-  const Ray ray = camera.generate_ray(raster, Vec2(0.5f));
-  SurfaceHit seen_hit, mirror_hit, lit_hit, light_hit;
-  EXPECT_TRUE(scene.intersect(ray, seen_hit));
-  const Vec3 up = glm::normalize(mirror_target - seen_hit.position);
-  EXPECT_TRUE(scene.intersect(spawn_ray(seen_hit.position, seen_hit.geometric_normal, up), mirror_hit));
-  const Vec3 down = reflect_about(-up, mirror_hit.geometric_normal);
-  EXPECT_TRUE(scene.intersect(spawn_ray(mirror_hit.position, mirror_hit.geometric_normal, down), lit_hit));
-  EXPECT_TRUE(scene.intersect(spawn_ray(lit_hit.position, lit_hit.geometric_normal, Vec3(0, 1, 0)), light_hit));
-  Path path;
-  path.vertices = {make_surface_vertex(light_hit), make_surface_vertex(lit_hit), make_surface_vertex(mirror_hit),
-                   make_surface_vertex(seen_hit)};
-  PathVertex lens;
-  lens.kind = VertexKind::Camera;
-  lens.position = ray.origin;
-  lens.normal = camera.forward();
-  lens.shading = Frame(lens.normal);
-  lens.raster = raster;
-  path.vertices.push_back(lens);
-  auto& v = path.vertices;
-  EXPECT_TRUE(perturbation::fill_delta_record(v[2], v[3], v[1], TransportMode::Radiance, false));
-  path.type = compute_path_type(path.vertices);
-  recompute_densities(scene, path);
-  return path;
-}
-
-// The path layer's reference measure ν (perturbation_common.h) gives a specular chain the
-// product of its segments' solid-angle-to-area factors, while the histograms below measure
-// densities over the floor's area. For the chain x3 -> mirror x2 -> x1, a direction at x3
-// reaches x1 with dA(x1) = (|x3 - x2| + |x2 - x1|)² / cos(x1) dω (the mirror image of x3
-// is that far from x1), against ν's dν = |x3 - x2|² |x2 - x1|² / (cos(x2) cos(x1)) dω.
-// Returns log dν/dA at a path, from its positions alone.
-double log_nu_per_area_through_mirror(const Path& path) {
-  const auto& v = path.vertices;
-  const double d32 = glm::length(DVec3(v[3].position) - DVec3(v[2].position));
-  const double d21 = glm::length(DVec3(v[2].position) - DVec3(v[1].position));
-  const double cos2 = std::abs(glm::dot(DVec3(v[2].normal), perturbation::precise_direction(v[2], v[3])));
-  return std::log(cos2) + 2.0 * std::log(d32 + d21) - 2.0 * std::log(d32 * d21);
+  SurfaceHit seen;
+  EXPECT_TRUE(scene.intersect(scene.camera().generate_ray(raster, Vec2(0.5f)), seen));
+  return test::floor_mirror_light_path(scene, raster, glm::normalize(mirror_target - seen.position));
 }
 
 // Density (per unit floor area) of where `moved` lands near `target` among proposals made
@@ -257,8 +222,8 @@ TEST(PerturbationDensity, MultiChainRatioMatchesTheHistogramOfLandingPoints) {
   const double forward = seen_point_density(x, yp, 11) * lit_point_density(x, yp, 12);
   const double reverse = seen_point_density(yp, x, 13) * lit_point_density(yp, x, 14);
   const double measured = forward / reverse;  // T(x->y) / T(y->x) over floor area
-  // The reported ratio is over ν: convert it to floor area (see log_nu_per_area_through_mirror).
-  const double to_area = std::exp(log_nu_per_area_through_mirror(x) - log_nu_per_area_through_mirror(yp));
+  // The reported ratio is over ν: convert it to floor area (see test::log_floor_area_per_nu).
+  const double to_area = std::exp(test::log_floor_area_per_nu(x) - test::log_floor_area_per_nu(yp));
   const double reported = std::exp(-y->log_reverse_over_forward) * to_area;
   std::printf("[ info     ] T(x->y)/T(y->x): histogram %.4f, reported %.4f (nu->area factor %.4f)\n", measured,
               reported, to_area);

@@ -9,6 +9,7 @@
 #include "emlt/path/connection.h"
 #include "emlt/render/bdpt.h"
 #include "emlt/scene/loader.h"
+#include "mutations/perturbation_common.h"
 #include "support/test_support.h"
 
 namespace emlt::test {
@@ -100,6 +101,40 @@ void expect_converged_to(const Image& image, const Image& reference, int blocks,
     EXPECT_NEAR(ratio, 1.0, tile_tolerance) << "tile (" << i % size_t(blocks) << ", " << i / size_t(blocks) << ")";
   }
   std::printf("[ info     ] total ratio %.4f, worst tile deviation %.4f\n", scale, worst);
+}
+
+Path floor_mirror_light_path(const Scene& scene, const Vec2& raster, const Vec3& up) {
+  const Camera& camera = scene.camera();
+  const Ray ray = camera.generate_ray(raster, Vec2(0.5f));
+  SurfaceHit seen, on_mirror, lit, on_light;
+  EXPECT_TRUE(scene.intersect(ray, seen));
+  EXPECT_TRUE(scene.intersect(spawn_ray(seen.position, seen.geometric_normal, up), on_mirror));
+  const Vec3 down = reflect_about(-up, on_mirror.geometric_normal);
+  EXPECT_TRUE(scene.intersect(spawn_ray(on_mirror.position, on_mirror.geometric_normal, down), lit));
+  EXPECT_TRUE(scene.intersect(spawn_ray(lit.position, lit.geometric_normal, Vec3(0, 1, 0)), on_light));
+  Path path;
+  path.vertices = {make_surface_vertex(on_light), make_surface_vertex(lit), make_surface_vertex(on_mirror),
+                   make_surface_vertex(seen)};
+  PathVertex lens;
+  lens.kind = VertexKind::Camera;
+  lens.position = ray.origin;
+  lens.normal = camera.forward();
+  lens.shading = Frame(lens.normal);
+  lens.raster = raster;
+  path.vertices.push_back(lens);
+  auto& v = path.vertices;
+  EXPECT_TRUE(perturbation::fill_delta_record(v[2], v[3], v[1], TransportMode::Radiance, false));
+  path.type = compute_path_type(path.vertices);
+  recompute_densities(scene, path);
+  return path;
+}
+
+double log_floor_area_per_nu(const Path& path) {
+  const auto& v = path.vertices;
+  const double d32 = glm::length(DVec3(v[3].position) - DVec3(v[2].position));
+  const double d21 = glm::length(DVec3(v[2].position) - DVec3(v[1].position));
+  const double cos2 = std::abs(glm::dot(DVec3(v[2].normal), perturbation::precise_direction(v[2], v[3])));
+  return std::log(cos2) + 2.0 * (std::log(d32 + d21) - std::log(d32) - std::log(d21));
 }
 
 double share_of(const MltStatistics& stats, const std::string& name) {

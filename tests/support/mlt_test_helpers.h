@@ -34,6 +34,17 @@ void expect_converged_to(const Image& image, const Image& reference, int blocks,
 // The L D E path from the centre of a small downward-facing light above the origin to the
 // floor point seen through `raster` (density tests on toy floors).
 Path light_floor_eye_path(const Scene& scene, const Vec2& raster);
+// The L D S D E path of a floor-mirror-light scene: the floor point seen through `raster`,
+// the mirror hit from it along `up`, the floor point lit after the reflection, and the
+// light straight above that.
+Path floor_mirror_light_path(const Scene& scene, const Vec2& raster, const Vec3& up);
+// The strategies report densities over the path layer's measure ν, which gives the mirror
+// chain x3 -> x2 -> x1 the product of its segments' solid-angle-to-area factors, while the
+// histograms measure area on the floor, where a direction at x3 reaches x1 at the distance
+// of x3's mirror image: per unit solid angle dν = d32² d21² / (cos2 cos1) and
+// dA(x1) = (d32 + d21)² / cos1. Returns log[(d32 + d21)² cos2 / (d32 d21)²], the factor
+// that converts the reported ratios to floor area as the tests use it.
+double log_floor_area_per_nu(const Path& path);
 // Proposals from x whose vertex `moved` lands within `radius` of `target`, per proposal and
 // unit area: a histogram estimate of T(x -> .) at target in area measure. Expects enough
 // landings (> 800) for an estimate; `hits` (optional) receives their count.
