@@ -97,11 +97,7 @@ bool AnisotropicPathPerturbation::applies_to(const Path& x, const MutationContex
 std::optional<Proposal> AnisotropicPathPerturbation::propose(const Path& x, Rng& rng,
                                                              const MutationContext& ctx) const {
   const auto guides = ensemble::guides_for(x, ctx);
-  if (guides.size() < 2) {
-    auto proposal = fallback_.propose(x, rng, ctx);
-    if (proposal) proposal->fallback = true;
-    return proposal;
-  }
+  if (guides.size() < 2) return ensemble::unguided_step(fallback_, x, rng, ctx);
   return from_camera(x, guides, rng, ctx);
 }
 

@@ -5,16 +5,10 @@ namespace emlt {
 std::optional<Proposal> GuidedCausticPerturbation::propose(const Path& x, Rng& rng,
                                                            const MutationContext& ctx) const {
   const auto guides = ensemble::guides_for(x, ctx);
-  if (guides.size() < 2) {
-    auto proposal = veach_.propose(x, rng, ctx);
-    if (proposal) proposal->fallback = true;
-    return proposal;
-  }
+  if (guides.size() < 2) return ensemble::unguided_step(veach_, x, rng, ctx);
   const int l = CausticPerturbation::fixed_vertex(x.type);
   if (l < 0) return std::nullopt;
-  std::vector<double> weights;
-  ensemble::log_path_similarities(x, guides, l, l + 1, ensemble::similarity_params(ctx), weights);
-  const ensemble::GuideChoice choice = ensemble::choose_guide(weights, rng);
+  const ensemble::GuideChoice choice = ensemble::choose_similar_guide(x, guides, l, l + 1, ctx, rng);
   const PathVertex& fixed = x.vertices[size_t(l)];
   const Vec3 current = direction_between(fixed, x.vertices[size_t(l + 1)]);
   const Vec3 towards_guide = direction_between(fixed, guides[choice.index]->vertices[size_t(l + 1)]);

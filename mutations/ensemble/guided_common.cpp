@@ -12,6 +12,13 @@ std::vector<const Path*> guides_for_next_step(const Path& y, const MutationConte
   return ctx.ensemble->upsilon(y.type, ctx.chain, ctx.step + 1);
 }
 
+std::optional<Proposal> unguided_step(const Mutation& fallback, const Path& x, Rng& rng,
+                                      const MutationContext& ctx) {
+  auto proposal = fallback.propose(x, rng, ctx);
+  if (proposal) proposal->fallback = true;
+  return proposal;
+}
+
 SimilarityParams similarity_params(const MutationContext& ctx) {
   SimilarityParams params;
   if (ctx.ensemble && ctx.ensemble->params().similarity_length > 0.0)
@@ -36,6 +43,13 @@ void log_path_similarities(const Path& x, std::span<const Path* const> guides, i
                     ? log_vertex_similarity(a.sky_direction, b.sky_direction, params)
                     : log_vertex_similarity(a.position, b.position, params);
     }
+}
+
+GuideChoice choose_similar_guide(const Path& x, std::span<const Path* const> guides, int first, int last,
+                                 const MutationContext& ctx, Rng& rng) {
+  std::vector<double> weights;
+  log_path_similarities(x, guides, first, last, similarity_params(ctx), weights);
+  return choose_guide(weights, rng);
 }
 
 double log_selection_ratio(const Path& y, std::span<const Path* const> guides, uint32_t index,

@@ -26,6 +26,11 @@ std::vector<const Path*> guides_for(const Path& x, const MutationContext& ctx);
 // Υ as the buggy reverse evaluation would choose it (InjectedBugs::upsilon_from_proposal).
 std::vector<const Path*> guides_for_next_step(const Path& y, const MutationContext& ctx);
 
+// A step of the unguided strategy, marked as a fallback for the statistics (what a guided
+// strategy does when Υ holds fewer than two paths).
+std::optional<Proposal> unguided_step(const Mutation& fallback, const Path& x, Rng& rng,
+                                      const MutationContext& ctx);
+
 SimilarityParams similarity_params(const MutationContext& ctx);
 // The stretch move's distribution with this swap's α.
 StretchParams stretch_params(const MutationContext& ctx);
@@ -34,6 +39,10 @@ StretchParams stretch_params(const MutationContext& ctx);
 // so the indices correspond).
 void log_path_similarities(const Path& x, std::span<const Path* const> guides, int first, int last,
                            const SimilarityParams& params, std::vector<double>& out);
+
+// One guide drawn with P(n | x) proportional to S(x, v^n, first, last) (eq. 9).
+GuideChoice choose_similar_guide(const Path& x, std::span<const Path* const> guides, int first, int last,
+                                 const MutationContext& ctx, Rng& rng);
 
 // log P(n | y) / P(n | x) for a guide chosen with similarity weights over [first, last];
 // `log_probability_x` is what choose_guide reported for x.

@@ -5,15 +5,9 @@ namespace emlt {
 std::optional<Proposal> GuidedLensPerturbation::propose(const Path& x, Rng& rng,
                                                         const MutationContext& ctx) const {
   const auto guides = ensemble::guides_for(x, ctx);
-  if (guides.size() < 2) {
-    auto proposal = veach_.propose(x, rng, ctx);
-    if (proposal) proposal->fallback = true;
-    return proposal;
-  }
+  if (guides.size() < 2) return ensemble::unguided_step(veach_, x, rng, ctx);
   const int first = LensPerturbation::fixed_vertex(x.type) + 1, last = x.edges();
-  std::vector<double> weights;
-  ensemble::log_path_similarities(x, guides, first, last, ensemble::similarity_params(ctx), weights);
-  const ensemble::GuideChoice choice = ensemble::choose_guide(weights, rng);
+  const ensemble::GuideChoice choice = ensemble::choose_similar_guide(x, guides, first, last, ctx, rng);
   const auto step = ensemble::propose_linear(x.raster(), guides[choice.index]->raster(),
                                              ensemble::stretch_params(ctx), rng);
   if (!step.valid) return std::nullopt;

@@ -5,17 +5,11 @@ namespace emlt {
 std::optional<Proposal> GuidedMultiChainPerturbation::propose(const Path& x, Rng& rng,
                                                               const MutationContext& ctx) const {
   const auto guides = ensemble::guides_for(x, ctx);
-  if (guides.size() < 2) {
-    auto proposal = veach_.propose(x, rng, ctx);
-    if (proposal) proposal->fallback = true;
-    return proposal;
-  }
+  if (guides.size() < 2) return ensemble::unguided_step(veach_, x, rng, ctx);
   const int l = MultiChainPerturbation::fixed_vertex(x.type);
   if (l < 0) return std::nullopt;
   const int first = l + 1, last = x.edges();
-  std::vector<double> weights;
-  ensemble::log_path_similarities(x, guides, first, last, ensemble::similarity_params(ctx), weights);
-  const ensemble::GuideChoice choice = ensemble::choose_guide(weights, rng);
+  const ensemble::GuideChoice choice = ensemble::choose_similar_guide(x, guides, first, last, ctx, rng);
   const Path& guide = *guides[choice.index];
   const ensemble::StretchParams stretch = ensemble::stretch_params(ctx);
 
