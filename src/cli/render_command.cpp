@@ -78,7 +78,7 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
                      "emlt-ani, emlt-lin (default: the integrator's own)");
   command.add_option("--ensemble-size", s.ensemble_size,
                      "emlt: paths in each ensemble, |X| = |Y| (0 = 16384, fewer on small images)")
-      ->check(CLI::Range(0, 1 << 22));
+      ->check(CLI::Range(0, 1 << 17));
   command.add_option("--ensemble-neighbours", s.ensemble_neighbours,
                      "emlt: guide paths of one step (M)")
       ->check(CLI::Range(1, 64));

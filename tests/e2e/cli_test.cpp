@@ -278,6 +278,10 @@ TEST(Cli, EmltWritesEnsembleStatisticsAndTheAnisotropyMap) {
   EXPECT_EQ(stats["ensemble"]["iterations"].get<uint64_t>(), 4u);  // 256 pixels / 64 paths
   EXPECT_EQ(stats["strategies"][1]["name"], "emlt-aniso");
   EXPECT_NE(text.find("swaps"), std::string::npos) << text;
+  // Absurd ensembles are refused before anything is allocated or written.
+  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() +
+                           " --integrator emlt --ensemble-size 100000000",
+                       "ensemble-size", dir / "o.exr");
   // The map needs an MCMC integrator.
   expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() + " --integrator pt --aniso-map " +
                            (dir / "a.png").string(),
