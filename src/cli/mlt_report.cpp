@@ -12,40 +12,67 @@
 namespace emlt::cli {
 
 void report_mlt_statistics(const MltStatistics& st, const std::string& json_path) {
-  std::fprintf(stderr, "mlt: b = %.6g +- %.2g (%llu bootstrap samples), %llu chains, %llu mutations, %.3f M mutations/s\n",
+  std::fprintf(stderr,
+               "mlt: b = %.6g +- %.2g (%llu bootstrap samples), %llu chains, %llu mutations, %.3f "
+               "M mutations/s\n",
                st.b, st.b_standard_error, static_cast<unsigned long long>(st.bootstrap_samples),
-               static_cast<unsigned long long>(st.chains), static_cast<unsigned long long>(st.mutations),
+               static_cast<unsigned long long>(st.chains),
+               static_cast<unsigned long long>(st.mutations),
                st.seconds > 0.0 ? double(st.mutations) / st.seconds * 1e-6 : 0.0);
+  std::fprintf(
+      stderr,
+      "  time: %.3f s direct light (%d spp), %.3f s bootstrap, chains alone %.3f M mutations/s\n",
+      st.direct_seconds, st.direct_spp, st.bootstrap_seconds,
+      st.chain_mutations_per_second() * 1e-6);
   if (st.ensemble_size > 0)
-    std::fprintf(stderr, "  ensembles: 2 x %llu paths, M = %llu guides, %llu steps per path between swaps, %llu swaps, "
+    std::fprintf(stderr,
+                 "  ensembles: 2 x %llu paths, M = %llu guides, %llu steps per path between swaps, "
+                 "%llu swaps, "
                  "%.3f s building trees, mean alpha %.3f\n",
-                 static_cast<unsigned long long>(st.ensemble_size), static_cast<unsigned long long>(st.ensemble_neighbours),
-                 static_cast<unsigned long long>(st.ensemble_iterations), static_cast<unsigned long long>(st.swaps),
-                 st.tree_seconds, st.mean_alpha);
-  std::fprintf(stderr, "  %-16s %12s %14s %12s %12s %10s %10s\n", "strategy", "proposed", "not applicable",
-               "failed", "accepted", "mean a", "fallbacks");
+                 static_cast<unsigned long long>(st.ensemble_size),
+                 static_cast<unsigned long long>(st.ensemble_neighbours),
+                 static_cast<unsigned long long>(st.ensemble_iterations),
+                 static_cast<unsigned long long>(st.swaps), st.tree_seconds, st.mean_alpha);
+  std::fprintf(stderr, "  %-16s %12s %14s %12s %12s %10s %10s\n", "strategy", "proposed",
+               "not applicable", "failed", "accepted", "mean a", "fallbacks");
   nlohmann::json strategies = nlohmann::json::array();
   for (size_t i = 0; i < st.strategies.size(); ++i) {
     const StrategyStats& s = st.strategies[i];
-    std::fprintf(stderr, "  %-16s %12llu %14llu %12llu %12llu %10.4f %10llu\n", st.strategy_names[i].c_str(),
-                 static_cast<unsigned long long>(s.proposed), static_cast<unsigned long long>(s.not_applicable),
-                 static_cast<unsigned long long>(s.failed), static_cast<unsigned long long>(s.accepted),
-                 s.mean_acceptance(), static_cast<unsigned long long>(s.fallbacks));
-    strategies.push_back({{"name", st.strategy_names[i]}, {"proposed", s.proposed},
-                          {"not_applicable", s.not_applicable}, {"failed", s.failed},
-                          {"accepted", s.accepted}, {"mean_acceptance", s.mean_acceptance()},
+    std::fprintf(stderr, "  %-16s %12llu %14llu %12llu %12llu %10.4f %10llu\n",
+                 st.strategy_names[i].c_str(), static_cast<unsigned long long>(s.proposed),
+                 static_cast<unsigned long long>(s.not_applicable),
+                 static_cast<unsigned long long>(s.failed),
+                 static_cast<unsigned long long>(s.accepted), s.mean_acceptance(),
+                 static_cast<unsigned long long>(s.fallbacks));
+    strategies.push_back({{"name", st.strategy_names[i]},
+                          {"proposed", s.proposed},
+                          {"not_applicable", s.not_applicable},
+                          {"failed", s.failed},
+                          {"accepted", s.accepted},
+                          {"mean_acceptance", s.mean_acceptance()},
                           {"fallbacks", s.fallbacks}});
   }
   if (json_path.empty()) return;
-  nlohmann::json j = {{"b", st.b}, {"b_standard_error", st.b_standard_error},
-                            {"bootstrap_samples", st.bootstrap_samples}, {"chains", st.chains},
-                            {"mutations", st.mutations}, {"seconds", st.seconds},
-                            {"mutations_per_second", st.seconds > 0.0 ? double(st.mutations) / st.seconds : 0.0},
-                            {"strategies", strategies}};
+  nlohmann::json j = {
+      {"b", st.b},
+      {"b_standard_error", st.b_standard_error},
+      {"bootstrap_samples", st.bootstrap_samples},
+      {"chains", st.chains},
+      {"mutations", st.mutations},
+      {"seconds", st.seconds},
+      {"mutations_per_second", st.seconds > 0.0 ? double(st.mutations) / st.seconds : 0.0},
+      {"chain_mutations_per_second", st.chain_mutations_per_second()},
+      {"direct_seconds", st.direct_seconds},
+      {"direct_spp", st.direct_spp},
+      {"bootstrap_seconds", st.bootstrap_seconds},
+      {"strategies", strategies}};
   if (st.ensemble_size > 0)
-    j["ensemble"] = {{"size", st.ensemble_size}, {"neighbours", st.ensemble_neighbours},
-                     {"iterations", st.ensemble_iterations}, {"swaps", st.swaps},
-                     {"tree_seconds", st.tree_seconds}, {"mean_alpha", st.mean_alpha}};
+    j["ensemble"] = {{"size", st.ensemble_size},
+                     {"neighbours", st.ensemble_neighbours},
+                     {"iterations", st.ensemble_iterations},
+                     {"swaps", st.swaps},
+                     {"tree_seconds", st.tree_seconds},
+                     {"mean_alpha", st.mean_alpha}};
   const std::string temporary = json_path + ".tmp-" + std::to_string(getpid());
   {
     std::ofstream out(temporary);

@@ -21,13 +21,15 @@ constexpr uint64_t kChainStream = 0xc4a1ull << 40;
 constexpr uint64_t kSeedStream = 0x5eedull << 40;
 constexpr int kMaxBlocks = 16;
 
-double luminance(const DVec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+double luminance(const DVec3& c) {
+  return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+}
 
 struct Chain {
   Path current;
-  DVec3 contribution{0.0};  // F(x)
-  double target = 0.0;      // f*(x)
-  double carried = 0.0;     // expected-value weight not yet splatted for x
+  DVec3 contribution{0.0};                   // F(x)
+  double target = 0.0;                       // f*(x)
+  double carried = 0.0;                      // expected-value weight not yet splatted for x
   std::vector<uint8_t> applicable;           // which strategies apply to `current`
   std::vector<uint8_t> proposal_applicable;  // the same for the latest proposal (reused buffer)
   Rng rng;
@@ -45,7 +47,8 @@ struct BlockOutput {
 // The film pixel a path lands in.
 size_t film_index(const Path& path, int width, int height) {
   const Vec2 raster = path.raster();
-  const int x = std::clamp(int(raster.x), 0, width - 1), y = std::clamp(int(raster.y), 0, height - 1);
+  const int x = std::clamp(int(raster.x), 0, width - 1),
+            y = std::clamp(int(raster.y), 0, height - 1);
   return size_t(y) * size_t(width) + size_t(x);
 }
 
@@ -57,7 +60,8 @@ void splat(std::vector<DVec3>& film, int width, int height, const Path& path,
 }
 
 void run_chain(Chain& chain, uint64_t chain_index, uint64_t steps, const StrategyMix& mix,
-               MutationContext ctx, bool ignore_selection, BlockOutput& out, int width, int height) {
+               MutationContext ctx, bool ignore_selection, BlockOutput& out, int width,
+               int height) {
   std::vector<DVec3>& film = out.film;
   ctx.chain = chain_index;
   for (uint64_t step = 0; step < steps; ++step) {
@@ -93,7 +97,8 @@ void run_chain(Chain& chain, uint64_t chain_index, uint64_t steps, const Strateg
       if (target > 0.0 && std::isfinite(target)) {
         mix.applicable(proposal->path, ctx, chain.proposal_applicable);
         const double p_reverse =
-            ignore_selection ? p_forward : mix.selection_probability(size_t(chosen), chain.proposal_applicable);
+            ignore_selection ? p_forward
+                             : mix.selection_probability(size_t(chosen), chain.proposal_applicable);
         const double ratio = target / chain.target * std::exp(proposal->log_reverse_over_forward) *
                              (p_reverse / p_forward);
         acceptance = std::isfinite(ratio) ? std::clamp(ratio, 0.0, 1.0) : (ratio > 0.0 ? 1.0 : 0.0);
@@ -104,7 +109,8 @@ void run_chain(Chain& chain, uint64_t chain_index, uint64_t steps, const Strateg
 
     // Expected values: the proposal's share now, the current path's when it is left.
     chain.carried += 1.0 - acceptance;
-    if (acceptance > 0.0) splat(film, width, height, proposal->path, contribution, target, acceptance);
+    if (acceptance > 0.0)
+      splat(film, width, height, proposal->path, contribution, target, acceptance);
     if (chain.rng.uniform() < acceptance) {
       splat(film, width, height, chain.current, chain.contribution, chain.target, chain.carried);
       chain.current = std::move(proposal->path);
@@ -120,7 +126,8 @@ void run_chain(Chain& chain, uint64_t chain_index, uint64_t steps, const Strateg
 // The EMLT paper's Figure 12: the predominant image-plane direction of the proposals made
 // from each pixel. Red: mostly horizontal, green: mostly vertical, yellow: isotropic; black
 // where no proposal moved.
-void write_move_map(const std::string& path, const std::vector<BlockOutput>& blocks, int width, int height) {
+void write_move_map(const std::string& path, const std::vector<BlockOutput>& blocks, int width,
+                    int height) {
   Image map(width, height);
   for (size_t p = 0; p < map.pixels.size(); ++p) {
     DVec3 sum(0.0);
@@ -128,7 +135,8 @@ void write_move_map(const std::string& path, const std::vector<BlockOutput>& blo
     const double total = sum.x + sum.y;
     if (!(total > 0.0)) continue;
     const double horizontal = sum.x / total;
-    map.pixels[p] = Rgb(float(std::min(1.0, 2.0 * horizontal)), float(std::min(1.0, 2.0 * (1.0 - horizontal))), 0.0f);
+    map.pixels[p] = Rgb(float(std::min(1.0, 2.0 * horizontal)),
+                        float(std::min(1.0, 2.0 * (1.0 - horizontal))), 0.0f);
   }
   write_image(path, map);
 }
@@ -184,19 +192,24 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     constexpr double kDirectTimeShare = 0.15;
     direct.spp = settings.direct_spp > 0 ? settings.direct_spp
                  : time_only             ? 0
-                                         : std::max(1, int(std::ceil(settings.mutations_per_pixel)));
-    direct.time_limit_s = time_only && settings.direct_spp <= 0 ? kDirectTimeShare * settings.time_limit_s : 0.0;
+                             : std::max(1, int(std::ceil(settings.mutations_per_pixel)));
+    direct.time_limit_s =
+        time_only && settings.direct_spp <= 0 ? kDirectTimeShare * settings.time_limit_s : 0.0;
     direct.snapshots = nullptr;  // the log follows the chains, not this pass
     ProgressReporter quiet(false);
-    result.image = DirectIntegrator().render(scene, direct, quiet).image;
+    const RenderResult direct_result = DirectIntegrator().render(scene, direct, quiet);
+    result.image = direct_result.image;
     result.invalid_samples = 0;
+    stats_.direct_spp = direct_result.samples_per_pixel;
+    stats_.direct_seconds = elapsed();
   }
   if (ctx.min_edges > ctx.max_edges) {
     result.seconds = elapsed();
     return result;
   }
 
-  const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
+  const int threads =
+      settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
   BootstrapParams bp;
   bp.seed = settings.seed;
   bp.samples = settings.bootstrap_samples;
@@ -209,28 +222,34 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   stats_.b = bootstrap.b;
   stats_.b_standard_error = bootstrap.standard_error;
   stats_.bootstrap_samples = bootstrap.samples;
+  const auto bootstrap_done = [&] { stats_.bootstrap_seconds = elapsed() - stats_.direct_seconds; };
   if (bootstrap.empty()) {
-    std::fprintf(stderr, "emlt: warning: no bootstrap path carries light; the MLT part of the image is black\n");
+    bootstrap_done();
+    std::fprintf(
+        stderr,
+        "emlt: warning: no bootstrap path carries light; the MLT part of the image is black\n");
     result.seconds = elapsed();
     return result;
   }
 
   const bool timed = settings.time_limit_s > 0.0;
-  const uint64_t budget = uint64_t(std::llround(std::max(settings.mutations_per_pixel, 0.0) * double(pixels)));
-  const uint64_t planned = timed ? (settings.mutations_per_pixel > 0 ? budget : UINT64_MAX) : budget;
+  const uint64_t budget =
+      uint64_t(std::llround(std::max(settings.mutations_per_pixel, 0.0) * double(pixels)));
+  const uint64_t planned =
+      timed ? (settings.mutations_per_pixel > 0 ? budget : UINT64_MAX) : budget;
   // Ensemble mode: |X| = |Y| = E and `it` steps per path between swaps (paper §3.4). The
   // paper's E = 16384 with it = floor(W H / 2E) assumes images of at least 2E pixels; on
   // smaller ones E shrinks to W H / 2 so that every path still moves once per half-sweep.
   const bool ensemble = options_.ensemble;
-  const uint64_t ensemble_size =
-      !ensemble ? 0
-      : settings.ensemble_size > 0 ? uint64_t(settings.ensemble_size)
-                                   : std::clamp<uint64_t>(pixels / 2, 1, 16384);
+  const uint64_t ensemble_size = !ensemble ? 0
+                                 : settings.ensemble_size > 0
+                                     ? uint64_t(settings.ensemble_size)
+                                     : std::clamp<uint64_t>(pixels / 2, 1, 16384);
   const uint64_t iterations = !ensemble ? 0
                               : settings.ensemble_iterations > 0
                                   ? uint64_t(settings.ensemble_iterations)
                                   : std::max<uint64_t>(1, pixels / (2 * ensemble_size));
-  const int chain_count = ensemble ? int(2 * ensemble_size)
+  const int chain_count = ensemble              ? int(2 * ensemble_size)
                           : settings.chains > 0 ? settings.chains
                                                 : default_chain_count(timed ? pixels * 16 : budget);
 
@@ -242,7 +261,8 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     Chain& chain = chains[size_t(c)];
     Rng seed_rng = Rng::for_item(derive_stream_seed(settings.seed, kSeedStream), uint64_t(c));
     for (int attempt = 0; attempt < 16 && !(chain.target > 0.0); ++attempt) {
-      const auto path = rebuild_candidate(scene, bp, bootstrap.candidates[bootstrap.choose(seed_rng.uniform_double())]);
+      const auto path = rebuild_candidate(
+          scene, bp, bootstrap.candidates[bootstrap.choose(seed_rng.uniform_double())]);
       if (!path) continue;
       chain.current = *path;
       chain.contribution = path_contribution(scene, chain.current);
@@ -252,9 +272,11 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     chain.applicable = mix.applicable(chain.current, ctx);
     chain.stats.assign(mix.size(), StrategyStats{});
   }
+  bootstrap_done();
 
   const bool record_moves = !settings.aniso_map_path.empty();
-  std::vector<BlockOutput> blocks(size_t(std::min(ensemble ? int(ensemble_size) : chain_count, kMaxBlocks)));
+  std::vector<BlockOutput> blocks(
+      size_t(std::min(ensemble ? int(ensemble_size) : chain_count, kMaxBlocks)));
   for (BlockOutput& block : blocks) {
     block.film.assign(pixels, DVec3(0.0));
     if (record_moves) block.moves.assign(pixels, DVec3(0.0));
@@ -290,9 +312,11 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   double snapshot_seconds = 0.0;
   const auto take_snapshot = [&](uint64_t mutations_done) {
     const auto begin = std::chrono::steady_clock::now();
-    settings.snapshots->snapshot(double(mutations_done) / double(pixels), elapsed() - snapshot_seconds,
-                                 compose(mutations_done), acceptance_so_far());
-    snapshot_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+    settings.snapshots->snapshot(double(mutations_done) / double(pixels),
+                                 elapsed() - snapshot_seconds, compose(mutations_done),
+                                 acceptance_so_far());
+    snapshot_seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   };
 
   // EMLT's view of the frozen half, rebuilt at every swap.
@@ -329,7 +353,8 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
       }
       guides.build(frozen, width, height, settings.seed, ensemble_params);
       alpha_sum += guides.alpha();
-      stats_.tree_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - tree_start).count();
+      stats_.tree_seconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - tree_start).count();
     }
     sweep = std::min(sweep, planned - done);
     if (done < next_checkpoint * pixels) sweep = std::min(sweep, next_checkpoint * pixels - done);
@@ -357,7 +382,8 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
       if (settings.snapshots && done == next_checkpoint * pixels) take_snapshot(done);
     if (timed && elapsed() - snapshot_seconds >= settings.time_limit_s) break;
   }
-  if (settings.snapshots && !(done % pixels == 0 && is_checkpoint(done / pixels))) take_snapshot(done);
+  if (settings.snapshots && !(done % pixels == 0 && is_checkpoint(done / pixels)))
+    take_snapshot(done);
   progress.finish();
 
   result.image = compose(done);

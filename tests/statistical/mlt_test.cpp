@@ -51,7 +51,8 @@ RenderSettings mlt_settings(int max_depth, bool direct_separate) {
 // Per-channel relative error of the image mean against the exact radiance.
 Rgb relative_error(const Image& image, const Rgb& exact) {
   const DVec3 mean = mean_of(image);
-  return Rgb(float(mean.x / exact.x - 1.0), float(mean.y / exact.y - 1.0), float(mean.z / exact.z - 1.0));
+  return Rgb(float(mean.x / exact.x - 1.0), float(mean.y / exact.y - 1.0),
+             float(mean.z / exact.z - 1.0));
 }
 
 // Full regeneration of the path (a new length around the old one, every vertex new).
@@ -61,13 +62,15 @@ enum class RegenerationBug { None, DropReverseDensity, SampledSplitOnly };
 
 class EvenLengthRegeneration final : public Mutation {
  public:
-  explicit EvenLengthRegeneration(RegenerationBug bug = RegenerationBug::None, bool even_only = true)
+  explicit EvenLengthRegeneration(RegenerationBug bug = RegenerationBug::None,
+                                  bool even_only = true)
       : bug_(bug), even_only_(even_only) {}
   std::string_view name() const override { return "even-regenerate"; }
   bool applies_to(const Path& x, const MutationContext&) const override {
     return !even_only_ || x.edges() % 2 == 0;
   }
-  std::optional<Proposal> propose(const Path& x, Rng& rng, const MutationContext& ctx) const override {
+  std::optional<Proposal> propose(const Path& x, Rng& rng,
+                                  const MutationContext& ctx) const override {
     const int edges = x.edges(), n = edges + 1;
     const TwoTailedGeometric lengths(edges, ctx.min_edges, ctx.max_edges);
     const int new_edges = lengths.sample(rng.uniform());
@@ -75,7 +78,8 @@ class EvenLengthRegeneration final : public Mutation {
     const int s = int(rng.uniform_index(uint32_t(n_new)));  // t >= 1: the lens is regenerated
     auto y = BidirectionalMutation::regenerate(x, 0, n, n_new, s, rng, ctx);
     if (!y) return std::nullopt;
-    double forward = lengths.pmf(new_edges) * BidirectionalMutation::inserted_density(*y, 0, n_new, 0);
+    double forward =
+        lengths.pmf(new_edges) * BidirectionalMutation::inserted_density(*y, 0, n_new, 0);
     double reverse = TwoTailedGeometric(new_edges, ctx.min_edges, ctx.max_edges).pmf(edges);
     if (bug_ != RegenerationBug::DropReverseDensity)
       reverse *= BidirectionalMutation::inserted_density(x, 0, n, 0);
@@ -101,8 +105,11 @@ class EvenLengthRegeneration final : public Mutation {
 class SymmetricBidirectional final : public Mutation {
  public:
   std::string_view name() const override { return "symmetric-bidir"; }
-  bool applies_to(const Path& x, const MutationContext& ctx) const override { return inner_.applies_to(x, ctx); }
-  std::optional<Proposal> propose(const Path& x, Rng& rng, const MutationContext& ctx) const override {
+  bool applies_to(const Path& x, const MutationContext& ctx) const override {
+    return inner_.applies_to(x, ctx);
+  }
+  std::optional<Proposal> propose(const Path& x, Rng& rng,
+                                  const MutationContext& ctx) const override {
     auto p = inner_.propose(x, rng, ctx);
     if (p) p->log_reverse_over_forward = 0.0;
     return p;
@@ -155,9 +162,12 @@ TEST_P(MltClosedBox, BidirectionalChainsReproduceTheExactColour) {
   const int max_depth = 5;
   const auto scene = test::emissive_box(kAlbedo, 1.0f);
   const Rgb exact = test::emissive_box_radiance(kAlbedo, 1.0f, max_depth);
-  const Image image = render(MltIntegrator(), *scene, mlt_settings(max_depth, direct_separate)).image;
+  const Image image =
+      render(MltIntegrator(), *scene, mlt_settings(max_depth, direct_separate)).image;
   const Rgb error = relative_error(image, exact);
-  for (int c = 0; c < 3; ++c) EXPECT_LT(std::abs(error[c]), 0.02) << "channel " << c << " direct_separate " << direct_separate;
+  for (int c = 0; c < 3; ++c)
+    EXPECT_LT(std::abs(error[c]), 0.02)
+        << "channel " << c << " direct_separate " << direct_separate;
   // And pixel blocks agree too (the box is uniform).
   for (int by = 0; by < 16; by += 8)
     for (int bx = 0; bx < 16; bx += 8) {
@@ -181,7 +191,8 @@ TEST(MltInjectedBugs, SymmetricProposalAssumptionShiftsTheColour) {
   broken.mix = mix_with(std::make_unique<SymmetricBidirectional>(), 1000.0);
   const Image image = render(MltIntegrator(broken), *scene, mlt_settings(max_depth, false)).image;
   const Rgb error = relative_error(image, exact);
-  EXPECT_GT(std::max(std::abs(error.x), std::abs(error.z)), 0.06) << error.x << " " << error.y << " " << error.z;
+  EXPECT_GT(std::max(std::abs(error.x), std::abs(error.z)), 0.06)
+      << error.x << " " << error.y << " " << error.z;
 }
 
 TEST(MltSelectionProbability, MixedApplicabilityIsCorrectOnlyWithTheSelectionTerm) {
@@ -190,12 +201,14 @@ TEST(MltSelectionProbability, MixedApplicabilityIsCorrectOnlyWithTheSelectionTer
   const Rgb exact = test::emissive_box_radiance(kAlbedo, 1.0f, max_depth);
   MltOptions options;
   options.mix = mix_with(std::make_unique<EvenLengthRegeneration>(), 4.0);
-  const Rgb good = relative_error(render(MltIntegrator(options), *scene, mlt_settings(max_depth, false)).image, exact);
+  const Rgb good = relative_error(
+      render(MltIntegrator(options), *scene, mlt_settings(max_depth, false)).image, exact);
   // The regeneration moves make the chains noisier (blue, carried by one-segment paths,
   // most): measured errors stay within +-4.5 % across seeds, the bug below gives +42 %.
   for (int c = 0; c < 3; ++c) EXPECT_LT(std::abs(good[c]), 0.06) << "channel " << c;
   options.ignore_selection_probability = true;
-  const Rgb bad = relative_error(render(MltIntegrator(options), *scene, mlt_settings(max_depth, false)).image, exact);
+  const Rgb bad = relative_error(
+      render(MltIntegrator(options), *scene, mlt_settings(max_depth, false)).image, exact);
   EXPECT_GT(std::abs(bad.z), 0.2) << bad.x << " " << bad.y << " " << bad.z;
 }
 
@@ -208,7 +221,8 @@ TEST(MltInjectedBugs, DroppedReverseDensityOrSingleSplitDensityIsCaught) {
                               RegenerationBug::SampledSplitOnly}) {
     MltOptions options;
     options.mix = mix_with(std::make_unique<EvenLengthRegeneration>(bug, false), 4.0);
-    const Rgb e = relative_error(render(MltIntegrator(options), *scene, mlt_settings(max_depth, false)).image, exact);
+    const Rgb e = relative_error(
+        render(MltIntegrator(options), *scene, mlt_settings(max_depth, false)).image, exact);
     const float worst = std::max(std::abs(e.x), std::abs(e.z));
     if (bug == RegenerationBug::None)
       EXPECT_LT(worst, 0.05) << e.x << " " << e.y << " " << e.z;
@@ -228,12 +242,14 @@ TEST(MltDeterminism, SameBitsOnOneAndTwoThreads) {
   s.seed = 5;
   const Image other = render(MltIntegrator(), *scene, s).image;
   EXPECT_EQ(0, std::memcmp(one.pixels.data(), two.pixels.data(), one.pixels.size() * sizeof(Rgb)));
-  EXPECT_NE(0, std::memcmp(one.pixels.data(), other.pixels.data(), one.pixels.size() * sizeof(Rgb)));
+  EXPECT_NE(0,
+            std::memcmp(one.pixels.data(), other.pixels.data(), one.pixels.size() * sizeof(Rgb)));
 }
 
 namespace {
 std::unique_ptr<Scene> small_scene(const std::string& name, int size) {
-  SceneDescription d = load_scene_description(test::source_path("scenes/" + name + "/scene.json"), {});
+  SceneDescription d =
+      load_scene_description(test::source_path("scenes/" + name + "/scene.json"), {});
   d.camera.width = d.camera.height = size;
   return Scene::build(std::move(d));
 }
@@ -261,6 +277,40 @@ TEST(MltCornellBox, ConvergesToBdpt) {
         }
       EXPECT_NEAR(sa / sb, 1.0, 0.06) << "quadrant " << qx << "," << qy;
     }
+}
+
+// Which budget the separate direct pass gets: --direct-spp when given, one sample per
+// mutation per pixel (rounded up) under --mpp, and a fixed share of a pure --time budget.
+TEST(MltDirectPass, TakesItsSamplesOrItsShareOfTheTimeBudget) {
+  const auto scene = small_scene("cornell-box", 16);
+  RenderSettings s = mlt_settings(-1, true);
+  s.mutations = "";
+  s.bootstrap_samples = 2000;
+  s.progress = false;
+  ProgressReporter quiet(false);
+  {
+    const MltIntegrator mlt;
+    s.mutations_per_pixel = 2.5;
+    mlt.render(*scene, s, quiet);
+    EXPECT_EQ(mlt.statistics().direct_spp, 3);
+    s.direct_spp = 7;
+    mlt.render(*scene, s, quiet);
+    EXPECT_EQ(mlt.statistics().direct_spp, 7);
+  }
+  // Time only: the direct pass runs whole passes for about 15 % of the budget, the chains
+  // take the rest. The bounds are loose (a loaded machine stretches any pass).
+  const MltIntegrator mlt;
+  s.direct_spp = 0;
+  s.mutations_per_pixel = 0.0;
+  s.time_limit_s = 2.0;
+  mlt.render(*scene, s, quiet);
+  const MltStatistics& st = mlt.statistics();
+  EXPECT_GE(st.direct_spp, 2);
+  EXPECT_GT(st.direct_seconds, 0.05 * s.time_limit_s);
+  EXPECT_LT(st.direct_seconds, 0.4 * s.time_limit_s);
+  EXPECT_GT(st.seconds, 0.9 * s.time_limit_s);
+  EXPECT_GT(st.seconds - st.direct_seconds, 0.5 * s.time_limit_s);  // the chains' share
+  EXPECT_GT(st.chain_mutations_per_second(), 0.0);
 }
 
 TEST(MltBootstrap, NormalisationMatchesTheBdptImage) {
@@ -293,8 +343,8 @@ TEST(MltBootstrap, SceneWhoseLightReachesNothingGivesABlackImage) {
   const int white = test::add_material(d, make_lambertian(Rgb(0.5f)));
   test::add_quad(d, Vec3(-1, 0, -1), Vec3(-1, 0, 1), Vec3(1, 0, 1), Vec3(1, 0, -1), white);
   // Emits downwards... into the void below the floor's back side? It faces -y under y = -1.
-  test::add_quad(d, Vec3(-0.2f, -1, -0.2f), Vec3(0.2f, -1, -0.2f), Vec3(0.2f, -1, 0.2f), Vec3(-0.2f, -1, 0.2f), white,
-                 Rgb(5.0f));
+  test::add_quad(d, Vec3(-0.2f, -1, -0.2f), Vec3(0.2f, -1, -0.2f), Vec3(0.2f, -1, 0.2f),
+                 Vec3(-0.2f, -1, 0.2f), white, Rgb(5.0f));
   d.camera = test::camera_at(Vec3(0, 2, -3), Vec3(0), 8);
   const auto scene = Scene::build(std::move(d));
   RenderSettings s = mlt_settings(5, false);

@@ -24,7 +24,15 @@ namespace emlt {
 struct MltStatistics {
   double b = 0.0, b_standard_error = 0.0;
   uint64_t bootstrap_samples = 0, chains = 0, mutations = 0;
-  double seconds = 0.0;
+  double seconds = 0.0;            // the whole render: direct pass, bootstrap and chains
+  double direct_seconds = 0.0;     // the separate direct-lighting pass (--direct separate)
+  int direct_spp = 0;              // its samples per pixel (0 with --direct mlt)
+  double bootstrap_seconds = 0.0;  // bootstrap and chain seeding
+  // Mutations per second of the chains alone (what the benchmark calls "chain only").
+  double chain_mutations_per_second() const {
+    const double chain_seconds = seconds - direct_seconds - bootstrap_seconds;
+    return chain_seconds > 0.0 ? double(mutations) / chain_seconds : 0.0;
+  }
   std::vector<std::string> strategy_names;
   std::vector<StrategyStats> strategies;
   // Ensemble MLT only (ensemble_size 0 otherwise).
