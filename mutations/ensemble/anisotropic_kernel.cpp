@@ -37,6 +37,7 @@
 // and the reverse from x_{j-1}; ray_cast_log_area_density takes the origin explicitly.
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -50,7 +51,6 @@ namespace {
 
 constexpr double kTwoPiDouble = 6.28318530717958647692;
 constexpr double kNegativeInfinity = -std::numeric_limits<double>::infinity();
-constexpr size_t kStackGuides = 64;
 
 // Orthonormal tangent basis in double precision from emlt's Frame (re-orthonormalised:
 // the float basis is orthonormal only to ~1e-7).
@@ -75,6 +75,21 @@ void set_covariance(TangentGaussian& gaussian, double ss, double st, double tt) 
 
 }  // namespace
 
+NormalisedWeights guide_weights(const Vec3& point, const GuideSet& guides,
+                                const SimilarityParams* similarity, std::span<double> weights) {
+  const size_t count = guides.points.size();
+  assert(weights.size() == count);
+  // Products of similarities underflow: kept as SimilarityProducts, normalised as such.
+  GuideBuffer<SimilarityProduct> products(count);
+  for (size_t n = 0; n < count; ++n) {
+    SimilarityProduct& product = products[n];
+    product = guides.context.empty() ? SimilarityProduct{} : guides.context[n];
+    if (!guides.log_context_weights.empty()) product.multiply_log(guides.log_context_weights[n]);
+    if (similarity) product.multiply(vertex_similarity(point, guides.points[n], *similarity));
+  }
+  return normalise_weights(std::span<const SimilarityProduct>(products.span()), weights);
+}
+
 TangentGaussian fit_tangent_gaussian(const Vec3& centre, const Vec3& normal, const GuideSet& guides,
                                      const AnisotropicParams& params) {
   TangentGaussian gaussian;
@@ -88,25 +103,14 @@ TangentGaussian fit_tangent_gaussian(const Vec3& centre, const Vec3& normal, con
     return gaussian;
   }
 
-  // Weights of eq. 11 (normalised in log space: products of similarities underflow).
-  std::array<double, kStackGuides> stack_log_weights{}, stack_weights{};
-  std::vector<double> heap_log_weights, heap_weights;
-  std::span<double> log_weights(stack_log_weights.data(), std::min(count, kStackGuides));
-  std::span<double> weights(stack_weights.data(), std::min(count, kStackGuides));
-  if (count > kStackGuides) {
-    heap_log_weights.resize(count);
-    heap_weights.resize(count);
-    log_weights = heap_log_weights;
-    weights = heap_weights;
-  }
-  log_similarities_to_guides(centre, guides.points, params.similarity, log_weights);
-  if (!guides.log_context_weights.empty())
-    for (size_t n = 0; n < count; ++n) log_weights[n] += guides.log_context_weights[n];
-  gaussian.effective_guides = normalise_log_weights(log_weights, weights);
-  // All weights zero (or unusable): normalise_log_weights would fall back to uniform
-  // selection weights, but a fit needs real weights - use the fallback kernel.
-  const double largest_log_weight = *std::max_element(log_weights.begin(), log_weights.end());
-  const bool weights_vanish = !std::isfinite(largest_log_weight);
+  GuideBuffer<double> weight_buffer(count);
+  const std::span<double> weights = weight_buffer.span();
+  const NormalisedWeights normalised = guide_weights(
+      centre, guides, params.weight_by_similarity ? &params.similarity : nullptr, weights);
+  gaussian.effective_guides = normalised.effective_guides;
+  // All weights zero (or unusable): the selection rule would fall back to uniform weights,
+  // but a fit needs real weights - use the fallback kernel.
+  const bool weights_vanish = !normalised.usable;
 
   // Weighted mean and scatter of the projected guides in tangent coordinates (West's
   // incremental update: no cancellation when the guides are far from x).

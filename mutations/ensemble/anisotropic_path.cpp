@@ -11,7 +11,9 @@ using ensemble::TangentGaussian;
 
 // Image points live on the plane z = 0 of a 3-D frame, so the tangent-plane Gaussian of
 // kernels.h serves the image plane too.
-Vec3 on_image_plane(const Vec2& raster) { return {raster.x, raster.y, 0.0f}; }
+Vec3 on_image_plane(const Vec2& raster) {
+  return {raster.x, raster.y, 0.0f};
+}
 
 AnisotropicParams world_params(const AnisotropicPathParams& p, const MutationContext& ctx) {
   AnisotropicParams params;
@@ -25,46 +27,50 @@ AnisotropicParams world_params(const AnisotropicPathParams& p, const MutationCon
 
 AnisotropicParams image_params(const AnisotropicPathParams& p) {
   AnisotropicParams params;
-  // Guides are weighted by the similarity of their world-space vertex only (context): a
-  // huge length scale makes the image-plane similarity 1 for every guide.
-  params.similarity.length_scale = 1e30;
+  // Guides are weighted by the similarity of their world-space vertex only (context).
+  params.weight_by_similarity = false;
   params.covariance_scale = p.image_covariance_scale;
   params.floor_sigma = p.image_floor_sigma;
   params.fallback_sigma = p.image_fallback_sigma;
   return params;
 }
 
-// Guide points and context weights for a fit at vertex j. The context is the similarity
-// of vertex `context_index` of `path` to the guides' (none when -1).
+// Guide points and context weights for a fit. The context is the similarity of one vertex
+// of a path to the guides'.
 struct GuideData {
-  std::vector<Vec3> points;
-  std::vector<double> log_context;
-  ensemble::GuideSet set() const { return {points, log_context}; }
+  std::span<const Vec3> points;
+  ensemble::GuideBuffer<ensemble::SimilarityProduct> context;
+  explicit GuideData(std::span<const Vec3> guide_points)
+      : points(guide_points), context(guide_points.size()) {}
+  ensemble::GuideSet set() const { return {points, {}, context.span()}; }
 };
 
-GuideData vertex_guides(std::span<const Path* const> guides, int j) {
-  GuideData data;
-  for (const Path* g : guides) data.points.push_back(g->vertices[size_t(j)].position);
-  return data;
-}
+// The guides' points for a fit: their image points (on the plane z = 0), or their vertex j.
+struct GuidePoints {
+  ensemble::GuideBuffer<Vec3> points;
+  explicit GuidePoints(const GuideView& guides) : points(guides.size()) {
+    for (size_t n = 0; n < guides.size(); ++n) points[n] = on_image_plane(guides.rasters()[n]);
+  }
+  GuidePoints(const GuideView& guides, int j) : points(guides.size()) {
+    for (size_t n = 0; n < guides.size(); ++n) points[n] = guides.position(n, j);
+  }
+};
 
-GuideData image_guides(std::span<const Path* const> guides) {
-  GuideData data;
-  for (const Path* g : guides) data.points.push_back(on_image_plane(g->raster()));
-  return data;
-}
-
-void set_context(GuideData& data, const Path& path, std::span<const Path* const> guides, int index,
+void set_context(GuideData& data, const Path& path, const GuideView& guides, int index,
                  const MutationContext& ctx) {
-  ensemble::log_path_similarities(path, guides, index, index, ensemble::similarity_params(ctx), data.log_context);
+  ensemble::path_similarities(path, guides, index, index, ensemble::similarity_params(ctx),
+                              data.context.span());
 }
 
-TangentGaussian fit_at(const PathVertex& v, const GuideData& data, const AnisotropicParams& params) {
+TangentGaussian fit_at(const PathVertex& v, const GuideData& data,
+                       const AnisotropicParams& params) {
   return ensemble::fit_tangent_gaussian(v.position, v.normal, data.set(), params);
 }
 
-TangentGaussian fit_at_raster(const Vec2& raster, const GuideData& data, const AnisotropicParams& params) {
-  return ensemble::fit_tangent_gaussian(on_image_plane(raster), Vec3(0.0f, 0.0f, 1.0f), data.set(), params);
+TangentGaussian fit_at_raster(const Vec2& raster, const GuideData& data,
+                              const AnisotropicParams& params) {
+  return ensemble::fit_tangent_gaussian(on_image_plane(raster), Vec3(0.0f, 0.0f, 1.0f), data.set(),
+                                        params);
 }
 
 // The Σ-not-refitted bug: x's Gaussian moved to y's point.
@@ -74,14 +80,17 @@ TangentGaussian recentred(TangentGaussian gaussian, const Vec3& centre) {
 }
 
 // The vertex hit by the ray from `origin` through `through`.
-std::optional<PathVertex> cast_through(const Scene& scene, const PathVertex& origin, const Vec3& through) {
+std::optional<PathVertex> cast_through(const Scene& scene, const PathVertex& origin,
+                                       const Vec3& through) {
   const Vec3 d = through - origin.position;
   const float length = glm::length(d);
   if (!(length > 0.0f)) return std::nullopt;
   return perturbation::trace_surface(scene, spawn_ray(origin.position, origin.normal, d / length));
 }
 
-bool usable(const PathVertex& v) { return !v.delta && !v.is_camera(); }
+bool usable(const PathVertex& v) {
+  return !v.delta && !v.is_camera();
+}
 
 }  // namespace
 
@@ -89,9 +98,9 @@ bool AnisotropicPathPerturbation::applies_to(const Path& x, const MutationContex
   const int k = x.edges();
   if (k < 4) return false;  // x_c must not be the emitter vertex (see the header)
   const auto& v = x.vertices;
-  return v[size_t(k - 1)].is_surface() && v[size_t(k - 2)].is_surface() && usable(v[size_t(k - 1)]) &&
-         usable(v[size_t(k - 2)]) && !x.type.is_specular(k - 1) && !x.type.is_specular(k - 2) &&
-         !x.type.is_specular(k - 3);
+  return v[size_t(k - 1)].is_surface() && v[size_t(k - 2)].is_surface() &&
+         usable(v[size_t(k - 1)]) && usable(v[size_t(k - 2)]) && !x.type.is_specular(k - 1) &&
+         !x.type.is_specular(k - 2) && !x.type.is_specular(k - 3);
 }
 
 std::optional<Proposal> AnisotropicPathPerturbation::propose(const Path& x, Rng& rng,
@@ -101,15 +110,17 @@ std::optional<Proposal> AnisotropicPathPerturbation::propose(const Path& x, Rng&
   return from_camera(x, guides, rng, ctx);
 }
 
-std::optional<Proposal> AnisotropicPathPerturbation::from_camera(const Path& x, std::span<const Path* const> guides,
-                                                                 Rng& rng, const MutationContext& ctx) const {
+std::optional<Proposal> AnisotropicPathPerturbation::from_camera(const Path& x,
+                                                                 const GuideView& guides, Rng& rng,
+                                                                 const MutationContext& ctx) const {
   const Scene& scene = ctx.scene;
   const int k = x.edges(), a = k - 1, b = k - 2, c = k - 3;
   const auto& xv = x.vertices;
   const AnisotropicParams image = image_params(params_), world = world_params(params_, ctx);
 
   // Image point: Gaussian fitted to the guides' image points, weighted by their x_a.
-  GuideData image_data = image_guides(guides);
+  const GuidePoints image_points(guides);
+  GuideData image_data(image_points.points.span());
   set_context(image_data, x, guides, a, ctx);
   const TangentGaussian image_x = fit_at_raster(x.raster(), image_data, image);
   const Vec3 sample = ensemble::sample_tangent_gaussian(image_x, rng);
@@ -121,38 +132,44 @@ std::optional<Proposal> AnisotropicPathPerturbation::from_camera(const Path& x, 
   y = x;
   auto& yv = y.vertices;
   yv.back().raster = raster;
-  auto hit_a = perturbation::trace_surface(scene, scene.camera().generate_ray_from_lens_point(raster, xv.back().position));
+  auto hit_a = perturbation::trace_surface(
+      scene, scene.camera().generate_ray_from_lens_point(raster, xv.back().position));
   if (!hit_a) return std::nullopt;
   yv[size_t(a)] = *hit_a;
 
   // x_b: Gaussian on its tangent plane, weighted by x_b and the fixed x_c; cast from y_a.
-  GuideData world_data = vertex_guides(guides, b);
+  const GuidePoints world_points(guides, b);
+  GuideData world_data(world_points.points.span());
   set_context(world_data, x, guides, c, ctx);
   const TangentGaussian world_x = fit_at(xv[size_t(b)], world_data, world);
   auto hit_b = cast_through(scene, yv[size_t(a)], ensemble::sample_tangent_gaussian(world_x, rng));
   if (!hit_b) return std::nullopt;
   yv[size_t(b)] = *hit_b;
-  const Rgb connection = connect_vertices(scene, c >= 1 ? &yv[size_t(c - 1)] : nullptr, yv[size_t(c)],
-                                          yv[size_t(b)], &yv[size_t(a)]);
+  const Rgb connection = connect_vertices(scene, c >= 1 ? &yv[size_t(c - 1)] : nullptr,
+                                          yv[size_t(c)], yv[size_t(b)], &yv[size_t(a)]);
   if (is_black(connection) || !is_finite(connection)) return std::nullopt;
   if (!perturbation::finish_proposal(scene, x, y)) return std::nullopt;
 
   const double log_forward =
       ensemble::tangent_gaussian_log_pdf(image_x, on_image_plane(raster)) +
-      ensemble::ray_cast_log_area_density(world_x, yv[size_t(a)].position, yv[size_t(b)].position, yv[size_t(b)].normal);
-  GuideData image_data_y = image_guides(guides);
+      ensemble::ray_cast_log_area_density(world_x, yv[size_t(a)].position, yv[size_t(b)].position,
+                                          yv[size_t(b)].normal);
+  GuideData image_data_y(image_points.points.span());
   set_context(image_data_y, y, guides, a, ctx);
-  const TangentGaussian image_y = bugs_.sigma_not_refitted ? recentred(image_x, on_image_plane(raster))
-                                                           : fit_at_raster(raster, image_data_y, image);
-  const TangentGaussian world_y =
-      bugs_.sigma_not_refitted ? recentred(world_x, yv[size_t(b)].position) : fit_at(yv[size_t(b)], world_data, world);
+  const TangentGaussian image_y = bugs_.sigma_not_refitted
+                                      ? recentred(image_x, on_image_plane(raster))
+                                      : fit_at_raster(raster, image_data_y, image);
+  const TangentGaussian world_y = bugs_.sigma_not_refitted
+                                      ? recentred(world_x, yv[size_t(b)].position)
+                                      : fit_at(yv[size_t(b)], world_data, world);
   const double log_reverse =
       bugs_.drop_reverse_density
           ? log_forward
           : ensemble::tangent_gaussian_log_pdf(image_y, on_image_plane(x.raster())) +
-                ensemble::ray_cast_log_area_density(world_y, xv[size_t(a)].position, xv[size_t(b)].position,
-                                                    xv[size_t(b)].normal);
-  proposal.log_reverse_over_forward = log_reverse - log_forward + perturbation::log_eye_jacobian(x, a) -
+                ensemble::ray_cast_log_area_density(world_y, xv[size_t(a)].position,
+                                                    xv[size_t(b)].position, xv[size_t(b)].normal);
+  proposal.log_reverse_over_forward = log_reverse - log_forward +
+                                      perturbation::log_eye_jacobian(x, a) -
                                       perturbation::log_eye_jacobian(y, a);
   if (std::isnan(proposal.log_reverse_over_forward)) return std::nullopt;
   return proposal;

@@ -41,14 +41,16 @@ struct AnisotropicPathParams {
 
 class AnisotropicPathPerturbation final : public Mutation {
  public:
-  explicit AnisotropicPathPerturbation(AnisotropicPathParams params = {}, ensemble::InjectedBugs bugs = {})
+  explicit AnisotropicPathPerturbation(AnisotropicPathParams params = {},
+                                       ensemble::InjectedBugs bugs = {})
       : params_(params), bugs_(bugs) {}
   std::string_view name() const override { return "emlt-aniso"; }
   bool applies_to(const Path& x, const MutationContext& ctx) const override;
-  std::optional<Proposal> propose(const Path& x, Rng& rng, const MutationContext& ctx) const override;
+  std::optional<Proposal> propose(const Path& x, Rng& rng,
+                                  const MutationContext& ctx) const override;
 
  private:
-  std::optional<Proposal> from_camera(const Path& x, std::span<const Path* const> guides, Rng& rng,
+  std::optional<Proposal> from_camera(const Path& x, const GuideView& guides, Rng& rng,
                                       const MutationContext& ctx) const;
 
   AnisotropicPathParams params_;

@@ -38,7 +38,6 @@ namespace {
 
 constexpr double kPiDouble = 3.14159265358979323846;
 constexpr double kTwoPiDouble = 2.0 * kPiDouble;
-constexpr size_t kStackGuides = 64;
 // Below this kappa the vMF is uniform to double precision in the formulas used here.
 constexpr double kUniformConcentration = 1e-8;
 
@@ -56,27 +55,14 @@ VmfFit fit_vmf(const Vec3& current, const GuideSet& directions, const Directiona
   const size_t count = directions.points.size();
   if (count == 0) return fit;
 
-  std::array<double, kStackGuides> stack_log_weights{}, stack_weights{};
-  std::vector<double> heap_log_weights, heap_weights;
-  std::span<double> log_weights(stack_log_weights.data(), std::min(count, kStackGuides));
-  std::span<double> weights(stack_weights.data(), std::min(count, kStackGuides));
-  if (count > kStackGuides) {
-    heap_log_weights.resize(count);
-    heap_weights.resize(count);
-    log_weights = heap_log_weights;
-    weights = heap_weights;
-  }
-  if (params.weight_by_direction_similarity) {
-    const Vec3 unit_current(glm::normalize(DVec3(current)));
-    log_similarities_to_guides(unit_current, directions.points, params.similarity, log_weights);
-  } else {
-    std::fill(log_weights.begin(), log_weights.end(), 0.0);
-  }
-  if (!directions.log_context_weights.empty())
-    for (size_t n = 0; n < count; ++n) log_weights[n] += directions.log_context_weights[n];
-  const double largest_log_weight = *std::max_element(log_weights.begin(), log_weights.end());
-  fit.effective_guides = normalise_log_weights(log_weights, weights);
-  if (!std::isfinite(largest_log_weight) || !(fit.effective_guides >= params.min_effective_guides))
+  GuideBuffer<double> weight_buffer(count);
+  const std::span<double> weights = weight_buffer.span();
+  const Vec3 unit_current(glm::normalize(DVec3(current)));
+  const NormalisedWeights normalised =
+      guide_weights(unit_current, directions,
+                    params.weight_by_direction_similarity ? &params.similarity : nullptr, weights);
+  fit.effective_guides = normalised.effective_guides;
+  if (!normalised.usable || !(fit.effective_guides >= params.min_effective_guides))
     return fit;  // fallback: no usable weights, or too few effective guides
 
   DVec3 resultant(0.0);

@@ -14,7 +14,8 @@ bool EnvironmentPerturbation::applies_to(const Path& x, const MutationContext&) 
          !x.vertices[1].delta;
 }
 
-std::optional<Path> EnvironmentPerturbation::with_sky_direction(const Path& x, const Vec3& direction,
+std::optional<Path> EnvironmentPerturbation::with_sky_direction(const Path& x,
+                                                                const Vec3& direction,
                                                                 const MutationContext& ctx) {
   Path y = x;
   y.vertices[0] = make_environment_vertex(ctx.scene, direction);
@@ -25,35 +26,45 @@ std::optional<Path> EnvironmentPerturbation::with_sky_direction(const Path& x, c
 
 std::optional<Proposal> EnvironmentPerturbation::propose(const Path& x, Rng& rng,
                                                          const MutationContext& ctx) const {
-  std::vector<const Path*> guides;
-  for (const Path* g : ensemble::guides_for(x, ctx))
-    if (g->vertices[0].is_environment()) guides.push_back(g);
+  // Only guides lit by the sky take part, weighted by the similarity of their x_1 to ours.
+  const GuideView upsilon = ensemble::guides_for(x, ctx);
+  ensemble::GuideBuffer<ensemble::SimilarityProduct> similarities(upsilon.size()),
+      weights(upsilon.size());
+  ensemble::GuideBuffer<Vec3> sky(upsilon.size());
+  size_t count = 0;
+  if (upsilon.has_environment()) {
+    ensemble::path_similarities(x, upsilon, 1, 1, ensemble::similarity_params(ctx),
+                                similarities.span());
+    for (size_t n = 0; n < upsilon.size(); ++n)
+      if (upsilon.environment(0)[n]) {
+        weights[count] = similarities[n];
+        sky[count++] = upsilon.sky_directions(0)[n];
+      }
+  }
+  const std::span<const ensemble::SimilarityProduct> guide_weights = weights.span().first(count);
+  const std::span<const Vec3> guide_sky = sky.span().first(count);
   const Vec3 current = x.vertices[0].sky_direction;
   Proposal proposal;
   Vec3 direction;
   double log_kernel_ratio = 0.0;
-  if (guides.size() < 2) {
-    direction = perturbation::perturb_direction(current, kFallbackThetaMin, kFallbackThetaMax, rng.uniform2());
+  if (count < 2) {
+    direction = perturbation::perturb_direction(current, kFallbackThetaMin, kFallbackThetaMax,
+                                                rng.uniform2());
     proposal.fallback = true;
+  } else if (rng.uniform() < 0.5f) {
+    const ensemble::GuideChoice choice = ensemble::choose_guide(guide_weights, rng);
+    const auto step = ensemble::propose_great_arc(current, guide_sky[choice.index],
+                                                  ensemble::stretch_params(ctx), rng);
+    if (!step.valid) return std::nullopt;
+    direction = step.direction;
+    log_kernel_ratio = step.log_density_ratio;
   } else {
-    std::vector<double> weights;
-    ensemble::log_path_similarities(x, guides, 1, 1, ensemble::similarity_params(ctx), weights);
-    if (rng.uniform() < 0.5f) {
-      const ensemble::GuideChoice choice = ensemble::choose_guide(weights, rng);
-      const auto step = ensemble::propose_great_arc(current, guides[choice.index]->vertices[0].sky_direction,
-                                                    ensemble::stretch_params(ctx), rng);
-      if (!step.valid) return std::nullopt;
-      direction = step.direction;
-      log_kernel_ratio = step.log_density_ratio;
-    } else {
-      std::vector<Vec3> sky;
-      for (const Path* g : guides) sky.push_back(g->vertices[0].sky_direction);
-      ensemble::DirectionalParams params;
-      params.similarity = ensemble::similarity_params(ctx);
-      const auto step = ensemble::propose_directional(current, {sky, weights}, params, rng);
-      direction = step.direction;
-      log_kernel_ratio = step.log_density_ratio();
-    }
+    ensemble::DirectionalParams params;
+    params.similarity = ensemble::similarity_params(ctx);
+    const auto step =
+        ensemble::propose_directional(current, {guide_sky, {}, guide_weights}, params, rng);
+    direction = step.direction;
+    log_kernel_ratio = step.log_density_ratio();
   }
   auto y = with_sky_direction(x, direction, ctx);
   if (!y) return std::nullopt;

@@ -8,18 +8,21 @@ std::optional<Proposal> GuidedCausticPerturbation::propose(const Path& x, Rng& r
   if (guides.size() < 2) return ensemble::unguided_step(veach_, x, rng, ctx);
   const int l = CausticPerturbation::fixed_vertex(x.type);
   if (l < 0) return std::nullopt;
-  const ensemble::GuideChoice choice = ensemble::choose_similar_guide(x, guides, l, l + 1, ctx, rng);
+  const ensemble::GuideChoice choice =
+      ensemble::choose_similar_guide(x, guides, l, l + 1, ctx, rng);
   const PathVertex& fixed = x.vertices[size_t(l)];
   const Vec3 current = direction_between(fixed, x.vertices[size_t(l + 1)]);
-  const Vec3 towards_guide = direction_between(fixed, guides[choice.index]->vertices[size_t(l + 1)]);
-  const auto step = ensemble::propose_great_arc(current, towards_guide, ensemble::stretch_params(ctx), rng);
+  const Vec3 towards_guide =
+      direction_between(fixed, ensemble::guide_vertex(guides, choice.index, l + 1));
+  const auto step =
+      ensemble::propose_great_arc(current, towards_guide, ensemble::stretch_params(ctx), rng);
   if (!step.valid) return std::nullopt;
   auto proposal = veach_.retrace(x, step.direction, ctx);
   if (!proposal) return std::nullopt;
   proposal->log_reverse_over_forward +=
       (bugs_.drop_reverse_density ? 0.0 : step.log_density_ratio) +
-      ensemble::log_selection_ratio(proposal->path, guides, choice.index, choice.log_probability, l, l + 1,
-                                    ctx, bugs_);
+      ensemble::log_selection_ratio(proposal->path, guides, choice.index, choice.log_probability, l,
+                                    l + 1, ctx, bugs_);
   return proposal;
 }
 

@@ -1,13 +1,19 @@
 #include "mutations/ensemble/guided_common.h"
 
+#include <algorithm>
+#include <cassert>
+
 namespace emlt::ensemble {
 
-std::vector<const Path*> guides_for(const Path& x, const MutationContext& ctx) {
+GuideView guides_for(const Path& x, const MutationContext& ctx) {
   if (!ctx.ensemble) return {};
+  // x is often cold (a chain takes few steps per swap, one on small images); its vertices
+  // are read next.
+  for (const PathVertex& v : x.vertices) __builtin_prefetch(&v);
   return ctx.ensemble->upsilon(x.type, ctx.chain, ctx.step);
 }
 
-std::vector<const Path*> guides_for_next_step(const Path& y, const MutationContext& ctx) {
+GuideView guides_for_next_step(const Path& y, const MutationContext& ctx) {
   if (!ctx.ensemble) return {};
   return ctx.ensemble->upsilon(y.type, ctx.chain, ctx.step + 1);
 }
@@ -17,6 +23,16 @@ std::optional<Proposal> unguided_step(const Mutation& fallback, const Path& x, R
   auto proposal = fallback.propose(x, rng, ctx);
   if (proposal) proposal->fallback = true;
   return proposal;
+}
+
+PathVertex guide_vertex(const GuideView& guides, size_t n, int i) {
+  PathVertex v;
+  v.position = guides.position(n, i);
+  if (guides.has_environment()) {
+    if (guides.environment(i)[n]) v.kind = VertexKind::Environment;
+    v.sky_direction = guides.sky_directions(i)[n];
+  }
+  return v;
 }
 
 SimilarityParams similarity_params(const MutationContext& ctx) {
@@ -32,39 +48,53 @@ StretchParams stretch_params(const MutationContext& ctx) {
   return params;
 }
 
-void log_path_similarities(const Path& x, std::span<const Path* const> guides, int first, int last,
-                           const SimilarityParams& params, std::vector<double>& out) {
-  out.assign(guides.size(), 0.0);
-  for (size_t n = 0; n < guides.size(); ++n)
-    for (int i = first; i <= last; ++i) {
-      const PathVertex &a = x.vertices[size_t(i)], &b = guides[n]->vertices[size_t(i)];
-      // A sky vertex is a direction: compare directions (unit vectors) instead of points.
-      out[n] += a.is_environment() || b.is_environment()
-                    ? log_vertex_similarity(a.sky_direction, b.sky_direction, params)
-                    : log_vertex_similarity(a.position, b.position, params);
+void path_similarities(const Path& x, const GuideView& guides, int first, int last,
+                       const SimilarityParams& params, std::span<SimilarityProduct> out) {
+  assert(out.size() == guides.size());
+  std::fill(out.begin(), out.end(), SimilarityProduct{});
+  const size_t count = guides.size();
+  GuideBuffer<double> row(count);
+  for (int i = first; i <= last; ++i) {
+    const PathVertex& a = x.vertices[size_t(i)];
+    // A sky vertex is a direction: compare directions (unit vectors) instead of points.
+    if (guides.has_environment()) {
+      const std::span<const Vec3> sky = guides.sky_directions(i);
+      const std::span<const uint8_t> environment = guides.environment(i);
+      for (size_t n = 0; n < count; ++n)
+        out[n].multiply(a.is_environment() || environment[n]
+                            ? vertex_similarity(a.sky_direction, sky[n], params)
+                            : vertex_similarity(a.position, guides.position(n, i), params));
+    } else if (a.is_environment()) {
+      // No guide keeps a sky direction in Υ's arrays: read the paths (rare).
+      for (size_t n = 0; n < count; ++n)
+        out[n].multiply(vertex_similarity(a.sky_direction,
+                                          guides[n]->vertices[size_t(i)].sky_direction, params));
+    } else {
+      similarities_to_guides(a.position, guides.coordinates(i, 0), guides.coordinates(i, 1),
+                             guides.coordinates(i, 2), params, row.span());
+      for (size_t n = 0; n < count; ++n) out[n].multiply(row[n]);
     }
-}
-
-GuideChoice choose_similar_guide(const Path& x, std::span<const Path* const> guides, int first, int last,
-                                 const MutationContext& ctx, Rng& rng) {
-  std::vector<double> weights;
-  log_path_similarities(x, guides, first, last, similarity_params(ctx), weights);
-  return choose_guide(weights, rng);
-}
-
-double log_selection_ratio(const Path& y, std::span<const Path* const> guides, uint32_t index,
-                           double log_probability_x, int first, int last, const MutationContext& ctx,
-                           const InjectedBugs& bugs) {
-  if (bugs.ignore_selection) return 0.0;
-  std::vector<double> weights;
-  if (bugs.upsilon_from_proposal) {
-    const auto other = guides_for_next_step(y, ctx);
-    if (index >= other.size()) return 0.0;
-    log_path_similarities(y, other, first, last, similarity_params(ctx), weights);
-  } else {
-    log_path_similarities(y, guides, first, last, similarity_params(ctx), weights);
   }
-  return guide_log_probability(weights, index) - log_probability_x;
+}
+
+GuideChoice choose_similar_guide(const Path& x, const GuideView& guides, int first, int last,
+                                 const MutationContext& ctx, Rng& rng) {
+  GuideBuffer<SimilarityProduct> weights(guides.size());
+  path_similarities(x, guides, first, last, similarity_params(ctx), weights.span());
+  return choose_guide(std::span<const SimilarityProduct>(weights.span()), rng);
+}
+
+double log_selection_ratio(const Path& y, const GuideView& guides, uint32_t index,
+                           double log_probability_x, int first, int last,
+                           const MutationContext& ctx, const InjectedBugs& bugs) {
+  if (bugs.ignore_selection) return 0.0;
+  const GuideView reverse_guides =
+      bugs.upsilon_from_proposal ? guides_for_next_step(y, ctx) : guides;
+  if (index >= reverse_guides.size()) return 0.0;
+  GuideBuffer<SimilarityProduct> weights(reverse_guides.size());
+  path_similarities(y, reverse_guides, first, last, similarity_params(ctx), weights.span());
+  return guide_log_probability(std::span<const SimilarityProduct>(weights.span()), index) -
+         log_probability_x;
 }
 
 }  // namespace emlt::ensemble

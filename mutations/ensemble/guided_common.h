@@ -22,32 +22,36 @@ struct InjectedBugs {
 };
 
 // Υ of x at this step (empty without an ensemble).
-std::vector<const Path*> guides_for(const Path& x, const MutationContext& ctx);
+GuideView guides_for(const Path& x, const MutationContext& ctx);
 // Υ as the buggy reverse evaluation would choose it (InjectedBugs::upsilon_from_proposal).
-std::vector<const Path*> guides_for_next_step(const Path& y, const MutationContext& ctx);
+GuideView guides_for_next_step(const Path& y, const MutationContext& ctx);
 
 // A step of the unguided strategy, marked as a fallback for the statistics (what a guided
 // strategy does when Υ holds fewer than two paths).
 std::optional<Proposal> unguided_step(const Mutation& fallback, const Path& x, Rng& rng,
                                       const MutationContext& ctx);
 
+// Guide n's vertex i as far as direction_between reads it (whether it is a sky vertex, its
+// position and its sky direction), from Υ's arrays: the guide's path is not touched.
+PathVertex guide_vertex(const GuideView& guides, size_t n, int i);
+
 SimilarityParams similarity_params(const MutationContext& ctx);
 // The stretch move's distribution with this swap's α.
 StretchParams stretch_params(const MutationContext& ctx);
 
-// out[n] = log S(x, v^n, first, last) (eq. 9) over vertices [first, last] (same-type paths,
-// so the indices correspond).
-void log_path_similarities(const Path& x, std::span<const Path* const> guides, int first, int last,
-                           const SimilarityParams& params, std::vector<double>& out);
+// out[n] = S(x, v^n, first, last) (eq. 9) over vertices [first, last] (same-type paths, so
+// the indices correspond); out.size() == guides.size().
+void path_similarities(const Path& x, const GuideView& guides, int first, int last,
+                       const SimilarityParams& params, std::span<SimilarityProduct> out);
 
 // One guide drawn with P(n | x) proportional to S(x, v^n, first, last) (eq. 9).
-GuideChoice choose_similar_guide(const Path& x, std::span<const Path* const> guides, int first, int last,
+GuideChoice choose_similar_guide(const Path& x, const GuideView& guides, int first, int last,
                                  const MutationContext& ctx, Rng& rng);
 
 // log P(n | y) / P(n | x) for a guide chosen with similarity weights over [first, last];
 // `log_probability_x` is what choose_guide reported for x.
-double log_selection_ratio(const Path& y, std::span<const Path* const> guides, uint32_t index,
-                           double log_probability_x, int first, int last, const MutationContext& ctx,
-                           const InjectedBugs& bugs);
+double log_selection_ratio(const Path& y, const GuideView& guides, uint32_t index,
+                           double log_probability_x, int first, int last,
+                           const MutationContext& ctx, const InjectedBugs& bugs);
 
 }  // namespace emlt::ensemble

@@ -7,16 +7,17 @@ std::optional<Proposal> GuidedLensPerturbation::propose(const Path& x, Rng& rng,
   const auto guides = ensemble::guides_for(x, ctx);
   if (guides.size() < 2) return ensemble::unguided_step(veach_, x, rng, ctx);
   const int first = LensPerturbation::fixed_vertex(x.type) + 1, last = x.edges();
-  const ensemble::GuideChoice choice = ensemble::choose_similar_guide(x, guides, first, last, ctx, rng);
-  const auto step = ensemble::propose_linear(x.raster(), guides[choice.index]->raster(),
+  const ensemble::GuideChoice choice =
+      ensemble::choose_similar_guide(x, guides, first, last, ctx, rng);
+  const auto step = ensemble::propose_linear(x.raster(), guides.rasters()[choice.index],
                                              ensemble::stretch_params(ctx), rng);
   if (!step.valid) return std::nullopt;
   auto proposal = veach_.perturb_to(x, step.state, ctx);
   if (!proposal) return std::nullopt;
   proposal->log_reverse_over_forward +=
       (bugs_.drop_reverse_density ? 0.0 : step.log_density_ratio) +
-      ensemble::log_selection_ratio(proposal->path, guides, choice.index, choice.log_probability, first,
-                                    last, ctx, bugs_);
+      ensemble::log_selection_ratio(proposal->path, guides, choice.index, choice.log_probability,
+                                    first, last, ctx, bugs_);
   return proposal;
 }
 

@@ -9,11 +9,12 @@ std::optional<Proposal> GuidedMultiChainPerturbation::propose(const Path& x, Rng
   const int l = MultiChainPerturbation::fixed_vertex(x.type);
   if (l < 0) return std::nullopt;
   const int first = l + 1, last = x.edges();
-  const ensemble::GuideChoice choice = ensemble::choose_similar_guide(x, guides, first, last, ctx, rng);
-  const Path& guide = *guides[choice.index];
+  const ensemble::GuideChoice choice =
+      ensemble::choose_similar_guide(x, guides, first, last, ctx, rng);
   const ensemble::StretchParams stretch = ensemble::stretch_params(ctx);
 
-  const auto image_step = ensemble::propose_linear(x.raster(), guide.raster(), stretch, rng);
+  const auto image_step =
+      ensemble::propose_linear(x.raster(), guides.rasters()[choice.index], stretch, rng);
   if (!image_step.valid) return std::nullopt;
   double log_kernel_ratio = image_step.log_density_ratio;
   std::vector<Vec3> directions;
@@ -21,7 +22,9 @@ std::optional<Proposal> GuidedMultiChainPerturbation::propose(const Path& x, Rng
   for (int i = x.edges() - 1; i >= l + 2; --i) {
     if (xv[size_t(i)].delta) continue;
     const Vec3 current = direction_between(xv[size_t(i)], xv[size_t(i - 1)]);
-    const Vec3 guide_direction = direction_between(guide.vertices[size_t(i)], guide.vertices[size_t(i - 1)]);
+    const Vec3 guide_direction =
+        direction_between(ensemble::guide_vertex(guides, choice.index, i),
+                          ensemble::guide_vertex(guides, choice.index, i - 1));
     const auto step = ensemble::propose_great_arc(current, guide_direction, stretch, rng);
     if (!step.valid) return std::nullopt;
     directions.push_back(step.direction);
@@ -31,8 +34,8 @@ std::optional<Proposal> GuidedMultiChainPerturbation::propose(const Path& x, Rng
   if (!proposal) return std::nullopt;
   proposal->log_reverse_over_forward +=
       (bugs_.drop_reverse_density ? 0.0 : log_kernel_ratio) +
-      ensemble::log_selection_ratio(proposal->path, guides, choice.index, choice.log_probability, first,
-                                    last, ctx, bugs_);
+      ensemble::log_selection_ratio(proposal->path, guides, choice.index, choice.log_probability,
+                                    first, last, ctx, bugs_);
   return proposal;
 }
 

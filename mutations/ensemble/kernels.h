@@ -103,11 +103,18 @@ GreatArcProposal propose_great_arc(const Vec3& current, const Vec3& guide,
 // Guides of the kernels that fit a distribution to all M guides (anisotropic, directional):
 // per-guide points (vertex positions / directions) and optional per-guide log weights that
 // do not depend on the perturbed vertex (e.g. log S(x_{j+1}, v_{j+1}) of eq. 11 for an
-// unmoved neighbour). Empty context = all zero.
+// unmoved neighbour). Empty context = all zero. The context may be given instead as
+// similarity products (`context`, the cheaper form), or both, which then multiply.
 struct GuideSet {
   std::span<const Vec3> points;
   std::span<const double> log_context_weights;
+  std::span<const SimilarityProduct> context = {};
 };
+
+// The normalised weights of eq. 11, w(n) proportional to S(point, points[n]) * context(n)
+// (without the S factor when `similarity` is null), as normalise_weights reports them.
+NormalisedWeights guide_weights(const Vec3& point, const GuideSet& guides,
+                                const SimilarityParams* similarity, std::span<double> weights);
 
 // ---------------------------------------------------------------------------------------
 // Anisotropic kernel (eqs. 11-12). At a vertex x with normal N: weights w(n) proportional
@@ -121,6 +128,7 @@ struct GuideSet {
 
 struct AnisotropicParams {
   SimilarityParams similarity;
+  bool weight_by_similarity = true;   // false: w(n) ~ context(n) alone
   double covariance_scale = 1.0;      // multiplies the fitted covariance
   double floor_sigma = 1e-3;          // + floor_sigma^2 * I (keeps Sigma positive definite)
   double fallback_sigma = 0.05;       // width of the isotropic fallback Gaussian

@@ -4,21 +4,12 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace emlt::ensemble {
 
-double log_similarity_from_squared_distance(double squared_distance,
-                                            const SimilarityParams& params) {
-  const double scaled = squared_distance / (params.length_scale * params.length_scale);
-  const double inverse_distance = 1.0 / std::max(scaled, params.epsilon);  // d of eq. 8
-  // 2 / (1 + e^-d) - 1 = (1 - e^-d) / (1 + e^-d) = tanh(d / 2). For d -> 0 (far apart)
-  // tanh(d/2) ~ d/2 keeps full relative precision, which the literal form would not.
-  return std::log(std::tanh(0.5 * inverse_distance));
-}
-
 double log_vertex_similarity(const Vec3& a, const Vec3& b, const SimilarityParams& params) {
-  const DVec3 offset = DVec3(a) - DVec3(b);
-  return log_similarity_from_squared_distance(glm::dot(offset, offset), params);
+  return std::log(vertex_similarity(a, b, params));
 }
 
 double log_vertex_similarity(const Vec2& a, const Vec2& b, const SimilarityParams& params) {
@@ -33,6 +24,44 @@ double log_path_similarity(std::span<const Vec3> path_vertices,
   for (size_t i = 0; i < path_vertices.size(); ++i)
     log_product += log_vertex_similarity(path_vertices[i], guide_vertices[i], params);
   return log_product;
+}
+
+namespace {
+
+// The floored squared distances, and the far range's series for every guide, without
+// branches (a branch around the division would keep the loop from vectorising).
+template <bool kScaled>
+void far_similarity_row(const DVec3& point, std::span<const double> x, std::span<const double> y,
+                        std::span<const double> z, const SimilarityParams& params,
+                        std::span<double> floored, std::span<double> out) {
+  const double length_squared = params.length_scale * params.length_scale;
+  const double epsilon = params.epsilon;
+  const size_t count = out.size();
+  for (size_t n = 0; n < count; ++n) {
+    // As vertex_similarity: glm::dot sums (x^2 + y^2) + z^2.
+    const double dx = point.x - x[n], dy = point.y - y[n], dz = point.z - z[n];
+    const double squared = dx * dx + dy * dy + dz * dz;
+    const double scaled = kScaled ? squared / length_squared : squared;
+    const double f = scaled < epsilon ? epsilon : scaled;  // std::max(scaled, epsilon)
+    floored[n] = f;
+    out[n] = far_similarity(f);
+  }
+}
+
+}  // namespace
+
+void similarities_to_guides(const Vec3& point, std::span<const double> x, std::span<const double> y,
+                            std::span<const double> z, const SimilarityParams& params,
+                            std::span<double> out) {
+  assert(x.size() == out.size() && y.size() == out.size() && z.size() == out.size());
+  GuideBuffer<double> floored(out.size());
+  if (params.length_scale * params.length_scale == 1.0)
+    far_similarity_row<false>(DVec3(point), x, y, z, params, floored.span(), out);
+  else
+    far_similarity_row<true>(DVec3(point), x, y, z, params, floored.span(), out);
+  // The near and middle ranges: rare but for vertices every path shares (a pinhole lens).
+  for (size_t n = 0; n < out.size(); ++n)
+    if (!(floored[n] > kFarSimilarity)) out[n] = similarity_from_floored(floored[n]);
 }
 
 void log_similarities_to_guides(const Vec3& point, std::span<const Vec3> guides,
@@ -98,22 +127,94 @@ GuideChoice choose_guide(std::span<const double> log_weights, Rng& rng) {
     const uint32_t index = rng.uniform_index(static_cast<uint32_t>(count));
     return {index, -std::log(static_cast<double>(count))};
   }
+  // The shifted weights once, for the total and the inverse CDF.
+  GuideBuffer<double> weights(count);
   double total = 0.0;
-  for (double w : log_weights)
-    if (!std::isnan(w)) total += std::exp(w - largest);
+  for (size_t n = 0; n < count; ++n) {
+    weights[n] = std::isnan(log_weights[n]) ? 0.0 : std::exp(log_weights[n] - largest);
+    total += weights[n];
+  }
   // Inverse CDF; the last guide with a positive weight absorbs rounding at the top end.
   const double target = rng.uniform_double() * total;
   double cumulative = 0.0;
   uint32_t chosen = 0;
   for (size_t n = 0; n < count; ++n) {
-    if (std::isnan(log_weights[n])) continue;
-    const double w = std::exp(log_weights[n] - largest);
-    if (w <= 0.0) continue;
+    if (!(weights[n] > 0.0)) continue;
     chosen = static_cast<uint32_t>(n);
-    cumulative += w;
+    cumulative += weights[n];
     if (target < cumulative) break;
   }
   return {chosen, (log_weights[chosen] - largest) - std::log(total)};
+}
+
+namespace {
+
+// The sum of the weights if every weight can be used as it is (plain and positive): then
+// P(n) = w_n / sum w. Four partial sums, so that the additions do not wait on each other.
+std::optional<double> plain_total(std::span<const SimilarityProduct> weights) {
+  std::array<double, 4> partial{};
+  bool plain = true;
+  for (size_t n = 0; n < weights.size(); ++n) {
+    plain &= weights[n].is_plain() && weights[n].plain() > 0.0;
+    partial[n % 4] += weights[n].plain();
+  }
+  if (!plain) return std::nullopt;
+  return (partial[0] + partial[1]) + (partial[2] + partial[3]);
+}
+
+void logs_of(std::span<const SimilarityProduct> weights, std::span<double> out) {
+  for (size_t n = 0; n < weights.size(); ++n) out[n] = weights[n].log();
+}
+
+}  // namespace
+
+NormalisedWeights normalise_weights(std::span<const SimilarityProduct> weights,
+                                    std::span<double> probabilities) {
+  assert(probabilities.size() == weights.size());
+  const std::optional<double> total = plain_total(weights);
+  if (!total) {
+    GuideBuffer<double> log_weights(weights.size());
+    logs_of(weights, log_weights.span());
+    const double largest = *std::max_element(log_weights.span().begin(), log_weights.span().end());
+    return {normalise_log_weights(log_weights.span(), probabilities), std::isfinite(largest)};
+  }
+  double sum_of_squares = 0.0;
+  for (size_t n = 0; n < weights.size(); ++n) {
+    probabilities[n] = weights[n].plain() / *total;
+    sum_of_squares += probabilities[n] * probabilities[n];
+  }
+  return {1.0 / sum_of_squares, true};
+}
+
+GuideChoice choose_guide(std::span<const SimilarityProduct> weights, Rng& rng) {
+  assert(!weights.empty());
+  const std::optional<double> total = plain_total(weights);
+  if (!total) {
+    GuideBuffer<double> log_weights(weights.size());
+    logs_of(weights, log_weights.span());
+    return choose_guide(log_weights.span(), rng);
+  }
+  // Inverse CDF; the last guide absorbs rounding at the top end.
+  const double target = rng.uniform_double() * *total;
+  double cumulative = 0.0;
+  uint32_t chosen = 0;
+  for (size_t n = 0; n < weights.size(); ++n) {
+    chosen = static_cast<uint32_t>(n);
+    cumulative += weights[n].plain();
+    if (target < cumulative) break;
+  }
+  return {chosen, std::log(weights[chosen].plain()) - std::log(*total)};
+}
+
+double guide_log_probability(std::span<const SimilarityProduct> weights, size_t index) {
+  assert(index < weights.size());
+  const std::optional<double> total = plain_total(weights);
+  if (!total) {
+    GuideBuffer<double> log_weights(weights.size());
+    logs_of(weights, log_weights.span());
+    return guide_log_probability(log_weights.span(), index);
+  }
+  return std::log(weights[index].plain()) - std::log(*total);
 }
 
 }  // namespace emlt::ensemble

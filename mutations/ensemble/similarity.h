@@ -9,17 +9,22 @@
 //
 // l is an optional length scale (design notes section 3: S depends on the scene's units;
 // l = 1 is the paper's literal form). We evaluate tanh(d/2) rather than 2/(1+e^-d) - 1
-// because the latter loses every digit for small d (far vertices, S ~ d/2), and we work
-// with log S so that products over many vertices neither underflow nor lose precision.
+// because the latter loses every digit for small d (far vertices, S ~ d/2), and keep
+// products over many vertices as SimilarityProducts (or logs), which neither underflow nor
+// lose precision.
 //
 // Guide selection. A strategy that picks one guide v^n with P(n | x) proportional to a
 // weight (e.g. S(x, v^n)) is a mixture of kernels whose mixture weights depend on the state.
 // Detailed balance holds component by component only if the acceptance ratio contains
 // P(n | y) / P(n | x), with P(n | y) computed from the proposed state's own weights against
 // the same Upsilon (design notes section 3). `guide_log_probability` provides both factors.
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "emlt/core/math.h"
 #include "emlt/core/rng.h"
@@ -28,30 +33,122 @@ namespace emlt::ensemble {
 
 inline constexpr double kPaperSimilarityEpsilon = 1e-4;
 
+// Scratch space with one entry per guide, on the stack up to kStackGuides (the CLI caps M
+// at 64): a heap allocation per guided step cost as much as the step's arithmetic.
+inline constexpr size_t kStackGuides = 64;
+
+template <class T>
+class GuideBuffer {
+ public:
+  explicit GuideBuffer(size_t size) : size_(size) {
+    if (size > kStackGuides) heap_.resize(size);
+  }
+  GuideBuffer(const GuideBuffer&) = delete;
+  GuideBuffer& operator=(const GuideBuffer&) = delete;
+
+  std::span<T> span() { return {size_ > kStackGuides ? heap_.data() : stack_.data(), size_}; }
+  std::span<const T> span() const {
+    return {size_ > kStackGuides ? heap_.data() : stack_.data(), size_};
+  }
+  T& operator[](size_t n) { return span()[n]; }
+  size_t size() const { return size_; }
+
+ private:
+  std::array<T, kStackGuides> stack_;  // left uninitialised for arithmetic types
+  std::vector<T> heap_;
+  size_t size_;
+};
+
 struct SimilarityParams {
   double epsilon = kPaperSimilarityEpsilon;  // floor on the (scaled) squared distance
   double length_scale = 1.0;                 // distances are divided by it; 1 = paper literal
 };
 
-// log S for two vertices a squared distance apart (eq. 8). Always <= 0; -inf only when
-// the squared distance is infinite.
-double log_similarity_from_squared_distance(double squared_distance,
-                                            const SimilarityParams& params);
-
+// S for two vertices a squared distance apart (eq. 8), in [0, 1]. It is tanh(d / 2) to
+// double rounding: 1 exactly where tanh rounds to 1, and a Taylor series where d is small
+// enough for it to agree with tanh to 2e-16 (far vertices, the common case), both cheaper
+// than tanh. Computed from f = max(|x - v|^2 / l^2, eps) = 1 / d in three ranges:
+inline double floored_scaled_distance(double squared_distance, const SimilarityParams& params) {
+  const double length_squared = params.length_scale * params.length_scale;
+  const double scaled =
+      length_squared == 1.0 ? squared_distance : squared_distance / length_squared;
+  return std::max(scaled, params.epsilon);
+}
+// f < kNearSimilarity: d/2 > 25, where tanh(d/2) rounds to 1 (it does from 19.07 on).
+inline constexpr double kNearSimilarity = 0.02;
+// f > kFarSimilarity: d/2 <= 2^-6, where the series below is exact to double rounding.
+inline constexpr double kFarSimilarity = 32.0;
+// tanh(y) = y (1 - y^2/3 + 2y^4/15 - 17y^6/315 + 62y^8/2835 - ...); the first omitted term
+// is below 1e-20 relative for y <= 2^-6.
+inline double far_similarity(double floored) {
+  const double half_d = 0.5 * (1.0 / floored);
+  const double y2 = half_d * half_d;
+  return half_d * (1.0 + y2 * (-1.0 / 3.0 +
+                               y2 * (2.0 / 15.0 + y2 * (-17.0 / 315.0 + y2 * (62.0 / 2835.0)))));
+}
+inline double similarity_from_floored(double floored) {
+  if (floored < kNearSimilarity) return 1.0;
+  if (floored > kFarSimilarity) return far_similarity(floored);
+  return std::tanh(0.5 * (1.0 / floored));
+}
 inline double similarity_from_squared_distance(double squared_distance,
                                                const SimilarityParams& params) {
-  return std::exp(log_similarity_from_squared_distance(squared_distance, params));
+  return similarity_from_floored(floored_scaled_distance(squared_distance, params));
+}
+
+// log S (eq. 8). Always <= 0; -inf only when the squared distance is infinite.
+inline double log_similarity_from_squared_distance(double squared_distance,
+                                                   const SimilarityParams& params) {
+  return std::log(similarity_from_squared_distance(squared_distance, params));
+}
+
+inline double vertex_similarity(const Vec3& a, const Vec3& b, const SimilarityParams& params) {
+  const DVec3 offset = DVec3(a) - DVec3(b);
+  return similarity_from_squared_distance(glm::dot(offset, offset), params);
 }
 
 double log_vertex_similarity(const Vec3& a, const Vec3& b, const SimilarityParams& params);
 double log_vertex_similarity(const Vec2& a, const Vec2& b, const SimilarityParams& params);
-inline double vertex_similarity(const Vec3& a, const Vec3& b, const SimilarityParams& params) {
-  return std::exp(log_vertex_similarity(a, b, params));
-}
+
+// A product of similarities (eq. 9) kept as product * exp(log_part): one log per product
+// instead of one per factor, without underflow however many small factors it has.
+class SimilarityProduct {
+ public:
+  void multiply(double similarity) {
+    // Both factors >= kRenormalise keeps the product a normal double.
+    if (similarity < kRenormalise) {
+      log_part_ += std::log(similarity);  // 0 gives -inf; NaN passes on to the product
+      return;
+    }
+    product_ *= similarity;
+    if (product_ < kRenormalise) {
+      log_part_ += std::log(product_);
+      product_ = 1.0;
+    }
+  }
+  // A factor given as its log (a weight kept in log space elsewhere).
+  void multiply_log(double log_factor) { log_part_ += log_factor; }
+  // The product itself when no factor needed the log part (NaN stays NaN).
+  bool is_plain() const { return log_part_ == 0.0; }
+  double plain() const { return product_; }
+  double log() const { return log_part_ + std::log(product_); }
+
+ private:
+  static constexpr double kRenormalise = 1e-150;
+  double product_ = 1.0;
+  double log_part_ = 0.0;
+};
 
 // log of eq. 9: sum over corresponding vertices of the two spans (same length required).
 double log_path_similarity(std::span<const Vec3> path_vertices,
                            std::span<const Vec3> guide_vertices, const SimilarityParams& params);
+
+// out[n] = S(point, v_n) = vertex_similarity(point, v_n) for guide points given as
+// coordinate arrays, v_n = (x[n], y[n], z[n]) (the float positions, converted): the layout
+// in which the common case vectorises.
+void similarities_to_guides(const Vec3& point, std::span<const double> x, std::span<const double> y,
+                            std::span<const double> z, const SimilarityParams& params,
+                            std::span<double> out);
 
 // out[n] = log S(point, guides[n]) for every guide (out.size() == guides.size()).
 void log_similarities_to_guides(const Vec3& point, std::span<const Vec3> guides,
@@ -66,6 +163,17 @@ void log_similarities_to_guides(const Vec2& point, std::span<const Vec2> guides,
 // of guides, (sum w)^2 / sum w^2, of the normalised weights.
 double normalise_log_weights(std::span<const double> log_weights, std::span<double> probabilities);
 
+// normalise_log_weights for weights given as similarity products (weight n =
+// exp(weights[n].log())): the same rule, without a log and an exp per weight when every
+// weight is a plain positive double. `usable` is false when no weight is positive and
+// finite (then the probabilities are uniform).
+struct NormalisedWeights {
+  double effective_guides = 0.0;
+  bool usable = false;
+};
+NormalisedWeights normalise_weights(std::span<const SimilarityProduct> weights,
+                                    std::span<double> probabilities);
+
 // log P(index | state) for the weights of that state.
 double guide_log_probability(std::span<const double> log_weights, size_t index);
 
@@ -77,5 +185,12 @@ struct GuideChoice {
 // Draws one guide with probability proportional to exp(log_weights[n]). Requires at least
 // one weight.
 GuideChoice choose_guide(std::span<const double> log_weights, Rng& rng);
+
+// The same rule for weights given as similarity products (weight n = exp(weights[n].log())),
+// without a log and an exp per guide when every weight is a plain positive double; else
+// the log-weight functions above decide (zero and NaN weights included). The choice's
+// log_probability is exactly guide_log_probability(weights, index).
+GuideChoice choose_guide(std::span<const SimilarityProduct> weights, Rng& rng);
+double guide_log_probability(std::span<const SimilarityProduct> weights, size_t index);
 
 }  // namespace emlt::ensemble

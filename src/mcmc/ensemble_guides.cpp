@@ -1,5 +1,8 @@
 #include "emlt/mcmc/ensemble_guides.h"
 
+#include <algorithm>
+#include <cassert>
+
 #include "mutations/ensemble/adaptive_alpha.h"
 
 namespace emlt {
@@ -9,24 +12,103 @@ void EnsembleGuides::build(std::span<const Path* const> paths, int width, int he
   params_ = params;
   seed_ = seed;
   paths_.clear();
+  std::vector<PathType> types;
+  types.reserve(paths.size());
   for (const Path* p : paths)
-    if (p && !p->vertices.empty()) paths_.push_back(p);
-  std::vector<PathType> types(paths_.size());
-  std::vector<Vec2> raster(paths_.size());
-  for (size_t i = 0; i < paths_.size(); ++i) {
-    types[i] = paths_[i]->type;
-    raster[i] = paths_[i]->raster();
-  }
+    if (p && !p->vertices.empty()) {
+      paths_.push_back(p);
+      types.push_back(p->type);
+    }
   index_.build(types);
-  alpha_ = params.adaptive_alpha ? ensemble::adaptive_alpha(ensemble::image_coverage(raster, width, height))
-                                 : params.alpha_fixed;
+
+  // Lay out the blocks: an Υ of up to M entries starting anywhere in a list of `size`
+  // needs min(M, size) - 1 entries repeated past its end.
+  const size_t m = params_.neighbours > 0 ? size_t(params_.neighbours) : 0;
+  blocks_.assign(index_.type_count(), Block{});
+  size_t entries = 0, vertex_entries = 0;
+  for (size_t g = 0; g < blocks_.size(); ++g) {
+    const size_t size = index_.group_members(g).size();
+    Block& block = blocks_[g];
+    block.first = entries;
+    block.stride = size + std::min(m, size) - (m > 0 ? 1 : 0);
+    block.vertex_data = vertex_entries;
+    entries += block.stride;
+    vertex_entries += block.stride * index_.group_type(g).vertices;
+  }
+  guide_paths_.resize(entries);
+  rasters_.resize(entries);
+  coordinates_.resize(3 * vertex_entries);
+
+  // Each path is read once per swap (instead of once per guided step that draws it as a
+  // guide). The reads are scattered, so the paths a few entries ahead are prefetched; the
+  // writes are in order.
+  std::vector<Vec2> raster(paths_.size());
+  for (size_t g = 0; g < blocks_.size(); ++g) {
+    Block& block = blocks_[g];
+    const std::span<const uint32_t> members = index_.group_members(g);
+    const size_t vertices = index_.group_type(g).vertices;
+    for (size_t k = 0; k < block.stride; ++k) {
+      if (k + 16 < members.size()) __builtin_prefetch(paths_[members[k + 16]]);
+      if (k + 8 < members.size()) {
+        const Path* ahead = paths_[members[k + 8]];
+        for (const PathVertex& v : ahead->vertices) __builtin_prefetch(&v);
+      }
+      const uint32_t member = members[k % members.size()];
+      const Path* path = paths_[member];
+      assert(path->vertices.size() == vertices);
+      for (size_t i = 0; i < vertices; ++i) {
+        const PathVertex& v = path->vertices[i];
+        for (size_t axis = 0; axis < 3; ++axis)
+          coordinates_[3 * block.vertex_data + (3 * i + axis) * block.stride + k] =
+              v.position[int(axis)];
+        block.has_environment |= v.is_environment();
+      }
+      guide_paths_[block.first + k] = path;
+      rasters_[block.first + k] = raster[member] = path->raster();  // the last vertex, just read
+    }
+  }
+  alpha_ = params.adaptive_alpha
+               ? ensemble::adaptive_alpha(ensemble::image_coverage(raster, width, height))
+               : params.alpha_fixed;
+
+  // Sky directions only for the types that have an environment vertex (none in most scenes).
+  size_t sky_entries = 0;
+  for (size_t g = 0; g < blocks_.size(); ++g) {
+    Block& block = blocks_[g];
+    block.sky_data = sky_entries;
+    if (block.has_environment) sky_entries += block.stride * index_.group_type(g).vertices;
+  }
+  sky_directions_.resize(sky_entries);
+  environment_.resize(sky_entries);
+  for (size_t g = 0; g < blocks_.size(); ++g) {
+    const Block& block = blocks_[g];
+    if (!block.has_environment) continue;
+    for (size_t k = 0; k < block.stride; ++k) {
+      const Path* path = guide_paths_[block.first + k];
+      for (size_t i = 0; i < index_.group_type(g).vertices; ++i) {
+        const PathVertex& v = path->vertices[i];
+        sky_directions_[block.sky_data + i * block.stride + k] = v.sky_direction;
+        environment_[block.sky_data + i * block.stride + k] = uint8_t(v.is_environment());
+      }
+    }
+  }
 }
 
-std::vector<const Path*> EnsembleGuides::upsilon(const PathType& type, uint64_t chain, uint64_t step) const {
-  const std::vector<uint32_t> members = index_.guides(type, seed_, chain, step, params_.neighbours);
-  std::vector<const Path*> out(members.size());
-  for (size_t i = 0; i < members.size(); ++i) out[i] = paths_[members[i]];
-  return out;
+GuideView EnsembleGuides::upsilon(const PathType& type, uint64_t chain, uint64_t step) const {
+  const PathTypeIndex::Window window = index_.window(type, seed_, chain, step, params_.neighbours);
+  GuideView view;
+  if (window.count == 0) return view;
+  const Block& block = blocks_[window.group];
+  view.paths_ =
+      std::span<const Path* const>(guide_paths_.data() + block.first + window.start, window.count);
+  view.rasters_ = rasters_.data() + block.first + window.start;
+  view.coordinates_ = coordinates_.data() + 3 * block.vertex_data + window.start;
+  if (block.has_environment) {
+    view.sky_directions_ = sky_directions_.data() + block.sky_data + window.start;
+    view.environment_ = environment_.data() + block.sky_data + window.start;
+  }
+  view.stride_ = block.stride;
+  return view;
 }
 
 }  // namespace emlt

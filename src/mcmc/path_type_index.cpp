@@ -1,46 +1,58 @@
 #include "emlt/mcmc/path_type_index.h"
 
-#include <tbb/parallel_sort.h>
-
 #include <algorithm>
+#include <numeric>
 #include <tuple>
+#include <unordered_map>
 
 #include "emlt/core/rng.h"
 
 namespace emlt {
 
-namespace {
-struct Keyed {
-  uint8_t vertices;
-  uint64_t mask;
-  uint32_t member;
-  bool operator<(const Keyed& o) const {
-    return std::tie(vertices, mask, member) < std::tie(o.vertices, o.mask, o.member);
-  }
-};
-}  // namespace
-
 void PathTypeIndex::build(std::span<const PathType> types) {
-  std::vector<Keyed> keyed(types.size());
-  for (size_t i = 0; i < types.size(); ++i)
-    keyed[i] = {types[i].vertices, types[i].specular_mask, uint32_t(i)};
-  // The member index breaks ties, so the order (and each group's list) is unique.
-  tbb::parallel_sort(keyed.begin(), keyed.end());
-  members_.resize(keyed.size());
-  groups_.clear();
-  for (size_t i = 0; i < keyed.size(); ++i) {
-    members_[i] = keyed[i].member;
-    if (groups_.empty() || groups_.back().vertices != keyed[i].vertices || groups_.back().mask != keyed[i].mask)
-      groups_.push_back({keyed[i].mask, keyed[i].vertices, uint32_t(i), uint32_t(i)});
-    groups_.back().end = uint32_t(i + 1);
+  // An ensemble holds few distinct types: number them in order of first appearance, sort
+  // the distinct types, then place the members by a counting sort, which keeps each group in
+  // ensemble order. Linear in the ensemble size; sorting the members was a noticeable part
+  // of a swap.
+  std::unordered_map<PathType, uint32_t> first_seen;
+  std::vector<PathType> distinct;
+  std::vector<uint32_t> type_of(types.size());
+  for (size_t i = 0; i < types.size(); ++i) {
+    const auto [it, inserted] = first_seen.try_emplace(types[i], uint32_t(distinct.size()));
+    if (inserted) distinct.push_back(types[i]);
+    type_of[i] = it->second;
   }
+  std::vector<uint32_t> order(distinct.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+    return std::tie(distinct[a].vertices, distinct[a].specular_mask) <
+           std::tie(distinct[b].vertices, distinct[b].specular_mask);
+  });
+  std::vector<uint32_t> group_of(distinct.size());
+  for (size_t g = 0; g < order.size(); ++g) group_of[order[g]] = uint32_t(g);
+
+  std::vector<uint32_t> sizes(distinct.size(), 0);
+  for (uint32_t t : type_of) ++sizes[group_of[t]];
+  groups_.clear();
+  std::vector<uint32_t> cursor(distinct.size());
+  uint32_t begin = 0;
+  for (size_t g = 0; g < order.size(); ++g) {
+    const PathType& type = distinct[order[g]];
+    groups_.push_back({type.specular_mask, type.vertices, begin, begin + sizes[g]});
+    cursor[g] = begin;
+    begin += sizes[g];
+  }
+  members_.resize(types.size());
+  for (size_t i = 0; i < types.size(); ++i) members_[cursor[group_of[type_of[i]]]++] = uint32_t(i);
 }
 
 const PathTypeIndex::Group* PathTypeIndex::find(const PathType& type) const {
-  const auto it = std::lower_bound(groups_.begin(), groups_.end(), type, [](const Group& g, const PathType& t) {
-    return std::tie(g.vertices, g.mask) < std::tie(t.vertices, t.specular_mask);
-  });
-  if (it == groups_.end() || it->vertices != type.vertices || it->mask != type.specular_mask) return nullptr;
+  const auto it =
+      std::lower_bound(groups_.begin(), groups_.end(), type, [](const Group& g, const PathType& t) {
+        return std::tie(g.vertices, g.mask) < std::tie(t.vertices, t.specular_mask);
+      });
+  if (it == groups_.end() || it->vertices != type.vertices || it->mask != type.specular_mask)
+    return nullptr;
   return &*it;
 }
 
@@ -50,15 +62,35 @@ std::span<const uint32_t> PathTypeIndex::members(const PathType& type) const {
   return std::span<const uint32_t>(members_.data() + g->begin, g->end - g->begin);
 }
 
+std::span<const uint32_t> PathTypeIndex::group_members(size_t group) const {
+  const Group& g = groups_[group];
+  return std::span<const uint32_t>(members_.data() + g.begin, g.end - g.begin);
+}
+
+PathType PathTypeIndex::group_type(size_t group) const {
+  PathType type;
+  type.vertices = groups_[group].vertices;
+  type.specular_mask = groups_[group].mask;
+  return type;
+}
+
+PathTypeIndex::Window PathTypeIndex::window(const PathType& type, uint64_t seed, uint64_t chain,
+                                            uint64_t step, int m) const {
+  const Group* g = find(type);
+  if (!g || m <= 0) return {};
+  const size_t size = g->end - g->begin;
+  const uint64_t start = mix_bits(derive_stream_seed(seed, chain) ^ mix_bits(step)) % size;
+  return {size_t(g - groups_.data()), size_t(start), std::min(size, size_t(m))};
+}
+
 std::vector<uint32_t> PathTypeIndex::guides(const PathType& type, uint64_t seed, uint64_t chain,
                                             uint64_t step, int m) const {
-  const std::span<const uint32_t> list = members(type);
+  const Window w = window(type, seed, chain, step, m);
   std::vector<uint32_t> out;
-  if (list.empty() || m <= 0) return out;
-  const size_t count = std::min(list.size(), size_t(m));
-  const uint64_t start = mix_bits(derive_stream_seed(seed, chain) ^ mix_bits(step)) % list.size();
-  out.reserve(count);
-  for (size_t i = 0; i < count; ++i) out.push_back(list[(start + i) % list.size()]);
+  if (w.count == 0) return out;
+  const std::span<const uint32_t> list = group_members(w.group);
+  out.reserve(w.count);
+  for (size_t i = 0; i < w.count; ++i) out.push_back(list[(w.start + i) % list.size()]);
   return out;
 }
 

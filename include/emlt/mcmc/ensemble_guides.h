@@ -24,6 +24,53 @@ struct EnsembleParams {
   double alpha_fixed = 0.5;
 };
 
+// Υ as the guided strategies read it: the guide paths, and the vertex data that the
+// similarity weights and the kernels' fits read from every guide, stored contiguously.
+// Reading those from the paths themselves costs a cache miss per guide (the paths of Y lie
+// scattered in memory), which dominated a guided step. Guide n is entry n of every span.
+class GuideView {
+ public:
+  size_t size() const { return paths_.size(); }
+  bool empty() const { return paths_.empty(); }
+  const Path* operator[](size_t n) const { return paths_[n]; }
+  std::span<const Path* const> paths() const { return paths_; }
+  // Each guide's raster() (where it lands on the film).
+  std::span<const Vec2> rasters() const { return {rasters_, size()}; }
+  // vertices[i].position of every guide, one coordinate (axis 0, 1, 2 = x, y, z) per array,
+  // converted to double (exactly): the layout in which the similarity of one point to every
+  // guide vectorises. i < the type's vertex count.
+  std::span<const double> coordinates(int i, int axis) const {
+    return {coordinates_ + (3 * size_t(i) + size_t(axis)) * stride_, size()};
+  }
+  // vertices[i].position of guide n.
+  Vec3 position(size_t n, int i) const {
+    return Vec3(float(coordinates(i, 0)[n]), float(coordinates(i, 1)[n]),
+                float(coordinates(i, 2)[n]));
+  }
+  // Whether any guide has an environment vertex. When not, sky_directions() and
+  // environment() are empty, and a guide's sky_direction must be read from its path.
+  bool has_environment() const { return sky_directions_ != nullptr; }
+  std::span<const Vec3> sky_directions(int i) const {
+    return has_environment() ? std::span<const Vec3>(sky_directions_ + size_t(i) * stride_, size())
+                             : std::span<const Vec3>();
+  }
+  // vertices[i].is_environment() of every guide, as 0 / 1.
+  std::span<const uint8_t> environment(int i) const {
+    return has_environment() ? std::span<const uint8_t>(environment_ + size_t(i) * stride_, size())
+                             : std::span<const uint8_t>();
+  }
+
+ private:
+  friend class EnsembleGuides;
+
+  std::span<const Path* const> paths_;
+  const Vec2* rasters_ = nullptr;
+  const double* coordinates_ = nullptr;   // row (i, axis) starts at (3 i + axis) * stride_
+  const Vec3* sky_directions_ = nullptr;  // row i starts at i * stride_
+  const uint8_t* environment_ = nullptr;  // likewise
+  size_t stride_ = 0;
+};
+
 class EnsembleGuides {
  public:
   // Rebuilds from Y (null paths, chains without a seed, are left out). `seed` keys the
@@ -32,18 +79,36 @@ class EnsembleGuides {
              const EnsembleParams& params);
 
   // Υ for a path of this type at this chain's step: up to M paths of Y of the same type.
-  std::vector<const Path*> upsilon(const PathType& type, uint64_t chain, uint64_t step) const;
+  // The view stays valid until the next build().
+  GuideView upsilon(const PathType& type, uint64_t chain, uint64_t step) const;
 
   const EnsembleParams& params() const { return params_; }
   double alpha() const { return alpha_; }
   size_t size() const { return paths_.size(); }
 
  private:
+  // A type's members and their vertex data, in the index's member order and extended
+  // cyclically by its first entries, so that every Υ (M consecutive members, cyclically) is
+  // one contiguous range of each array.
+  struct Block {
+    size_t first = 0;        // of the block's entries in guide_paths_ and rasters_
+    size_t stride = 0;       // entries per row: members + extension
+    size_t vertex_data = 0;  // offset of the block's rows in coordinates_, in units of 3 rows
+    size_t sky_data = 0;     // offset of the block's rows in sky_directions_ / environment_
+    bool has_environment = false;
+  };
+
   std::vector<const Path*> paths_;
   PathTypeIndex index_;
   EnsembleParams params_;
   uint64_t seed_ = 0;
   double alpha_ = 0.5;
+  std::vector<Block> blocks_;  // one per group of index_
+  std::vector<const Path*> guide_paths_;
+  std::vector<Vec2> rasters_;
+  std::vector<double> coordinates_;
+  std::vector<Vec3> sky_directions_;
+  std::vector<uint8_t> environment_;
 };
 
 }  // namespace emlt

@@ -4,6 +4,7 @@
 // for Upsilon, the M guide paths of its current path's type. The choice depends only on
 // (type, seed, chain, step), never on the current path's vertices or on the proposal, so
 // T(x->y | Y) and T(y->x | Y) are evaluated against the same Upsilon (emlt-notes.md §2).
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -14,8 +15,8 @@ namespace emlt {
 
 class PathTypeIndex {
  public:
-  // Groups ensemble members by type, in parallel; member i is types[i]. Deterministic:
-  // each group lists its members in ensemble order, whatever the thread count.
+  // Groups ensemble members by type; member i is types[i]. Deterministic: each group lists
+  // its members in ensemble order.
   void build(std::span<const PathType> types);
 
   size_t type_count() const { return groups_.size(); }
@@ -26,6 +27,18 @@ class PathTypeIndex {
   // fewer members.
   std::vector<uint32_t> guides(const PathType& type, uint64_t seed, uint64_t chain, uint64_t step,
                                int m) const;
+
+  // The same choice without building the list: guides() is entries start, start + 1, ...
+  // (cyclically) of group_members(group), `count` of them; count = 0 when there are none.
+  struct Window {
+    size_t group = 0;
+    size_t start = 0;
+    size_t count = 0;
+  };
+  Window window(const PathType& type, uint64_t seed, uint64_t chain, uint64_t step, int m) const;
+  // Groups are numbered 0 .. type_count() - 1.
+  std::span<const uint32_t> group_members(size_t group) const;
+  PathType group_type(size_t group) const;
 
  private:
   struct Group {

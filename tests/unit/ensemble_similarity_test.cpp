@@ -1,0 +1,219 @@
+// The fast forms of EMLT's similarity weights (mutations/ensemble/similarity.h) against the
+// definitions they replace, and Υ's contiguous guide data (EnsembleGuides::upsilon) against
+// the guide paths themselves. The guided strategies' acceptance ratios need P(n | x) to be
+// the same function of the state in both directions and equal to what is sampled; the
+// statistical tests check the ratios, these check the shortcuts behind them.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "emlt/core/rng.h"
+#include "emlt/mcmc/ensemble_guides.h"
+#include "mutations/ensemble/similarity.h"
+
+using namespace emlt;
+using namespace emlt::ensemble;
+
+namespace {
+
+// eq. 8 with the library's tanh: the definition the series and the shortcuts must match.
+double reference_similarity(double squared_distance, const SimilarityParams& params) {
+  const double scaled = squared_distance / (params.length_scale * params.length_scale);
+  return std::tanh(0.5 / std::max(scaled, params.epsilon));
+}
+
+Vec3 random_point(Rng& rng, float scale) {
+  return Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f) * scale;
+}
+
+}  // namespace
+
+TEST(EnsembleSimilarityShortcuts, EqualTanhToDoubleRoundingOverEveryRange) {
+  for (double length : {1.0, 0.3, 7.0}) {
+    const SimilarityParams params{kPaperSimilarityEpsilon, length};
+    // Squared distances from below the floor (S = 1) through the middle range (tanh) to far
+    // (the series), 200 per decade.
+    for (double exponent = -8.0; exponent <= 12.0; exponent += 0.005) {
+      const double squared = std::pow(10.0, exponent);
+      const double expected = reference_similarity(squared, params);
+      const double actual = similarity_from_squared_distance(squared, params);
+      ASSERT_NEAR(actual, expected, 1e-15 * expected) << "squared distance " << squared;
+      if (expected == 1.0) {
+        ASSERT_EQ(actual, 1.0);
+      }
+    }
+  }
+  const SimilarityParams paper;
+  EXPECT_EQ(similarity_from_squared_distance(0.0, paper), 1.0);
+  EXPECT_EQ(similarity_from_squared_distance(std::numeric_limits<double>::infinity(), paper), 0.0);
+  EXPECT_TRUE(std::isnan(similarity_from_squared_distance(std::nan(""), paper)));
+}
+
+TEST(EnsembleSimilarityShortcuts, RowOfGuidesEqualsVertexSimilarityBitForBit) {
+  Rng rng(11, 0);
+  for (double length : {1.0, 0.37}) {
+    const SimilarityParams params{kPaperSimilarityEpsilon, length};
+    for (int trial = 0; trial < 50; ++trial) {
+      const Vec3 point = random_point(rng, 10.0f);
+      // Far, middle and near guides, and one on the point itself; odd counts leave a tail
+      // after the vectorised pairs.
+      const size_t count = 1 + size_t(trial) % 40;
+      std::vector<double> x(count), y(count), z(count), row(count);
+      std::vector<Vec3> guides(count);
+      for (size_t n = 0; n < count; ++n) {
+        const float spread = n % 3 == 0 ? 100.0f : n % 3 == 1 ? 1.0f : 0.05f;
+        guides[n] = n == 0 ? point : point + random_point(rng, spread);
+        x[n] = guides[n].x;
+        y[n] = guides[n].y;
+        z[n] = guides[n].z;
+      }
+      similarities_to_guides(point, x, y, z, params, row);
+      for (size_t n = 0; n < count; ++n)
+        ASSERT_EQ(row[n], vertex_similarity(point, guides[n], params)) << "guide " << n;
+    }
+  }
+}
+
+TEST(EnsembleSimilarityShortcuts, ProductNeitherUnderflowsNorLosesDigits) {
+  SimilarityProduct plain, tiny;
+  double log_sum = 0.0, product = 1.0;
+  for (int i = 0; i < 5; ++i) {
+    const double s = 0.1 + 0.2 * i;
+    plain.multiply(s);
+    product *= s;
+  }
+  EXPECT_TRUE(plain.is_plain());
+  EXPECT_EQ(plain.plain(), product);
+  for (int i = 0; i < 400; ++i) {
+    const double s = i % 2 ? 1e-10 : 1e-200;  // the second is kept as its log at once
+    tiny.multiply(s);
+    log_sum += std::log(s);
+  }
+  EXPECT_FALSE(tiny.is_plain());
+  EXPECT_NEAR(tiny.log(), log_sum, 1e-13 * std::abs(log_sum));
+  SimilarityProduct zero;
+  zero.multiply(0.0);
+  EXPECT_EQ(zero.log(), -std::numeric_limits<double>::infinity());
+}
+
+TEST(EnsembleSimilarityShortcuts, SelectionFromProductsEqualsSelectionFromLogs) {
+  Rng rng(5, 1);
+  // Plain weights, then with one vanishing (zero) or underflowing weight, which take the
+  // log-weight rule.
+  for (int variant = 0; variant < 3; ++variant) {
+    const size_t count = 32;
+    std::vector<SimilarityProduct> products(count);
+    std::vector<double> logs(count);
+    for (size_t n = 0; n < count; ++n) {
+      products[n].multiply(std::pow(10.0, -12.0 * rng.uniform_double()));
+      products[n].multiply(rng.uniform_double() + 1e-3);
+    }
+    if (variant == 1) products[7].multiply(0.0);
+    if (variant == 2)
+      for (int i = 0; i < 40; ++i) products[3].multiply(1e-9);
+    for (size_t n = 0; n < count; ++n) logs[n] = products[n].log();
+
+    for (size_t n = 0; n < count; ++n) {
+      const double expected = guide_log_probability(logs, n);
+      if (std::isinf(expected))  // the zero weight
+        EXPECT_EQ(guide_log_probability(products, n), expected);
+      else
+        EXPECT_NEAR(guide_log_probability(products, n), expected, 1e-12);
+    }
+    std::vector<double> from_products(count), from_logs(count);
+    const NormalisedWeights normalised = normalise_weights(products, from_products);
+    const double effective = normalise_log_weights(logs, from_logs);
+    EXPECT_TRUE(normalised.usable);
+    EXPECT_NEAR(normalised.effective_guides, effective, 1e-12 * effective);
+    for (size_t n = 0; n < count; ++n) EXPECT_NEAR(from_products[n], from_logs[n], 1e-14);
+    // What the choice reports is the probability the reverse move evaluates.
+    for (int draw = 0; draw < 200; ++draw) {
+      const GuideChoice choice = choose_guide(std::span<const SimilarityProduct>(products), rng);
+      ASSERT_EQ(choice.log_probability, guide_log_probability(products, choice.index));
+    }
+  }
+  // No usable weight: uniform, and flagged for the fits.
+  std::vector<SimilarityProduct> none(4);
+  for (SimilarityProduct& p : none) p.multiply(0.0);
+  std::vector<double> probabilities(4);
+  EXPECT_FALSE(normalise_weights(none, probabilities).usable);
+  EXPECT_NEAR(guide_log_probability(none, 2), std::log(0.25), 1e-12);
+}
+
+namespace {
+
+// Paths with only what EnsembleGuides reads: type, vertex kinds and positions, raster.
+Path synthetic_path(Rng& rng, int vertices, uint64_t mask, bool sky) {
+  Path path;
+  path.vertices.resize(size_t(vertices));
+  for (PathVertex& v : path.vertices) v.position = random_point(rng, 500.0f);
+  if (sky) {
+    path.vertices[0].kind = VertexKind::Environment;
+    path.vertices[0].sky_direction = glm::normalize(random_point(rng, 1.0f) + Vec3(0, 0, 1));
+  }
+  path.vertices.back().raster = Vec2(rng.uniform() * 64.0f, rng.uniform() * 64.0f);
+  path.type.vertices = uint8_t(vertices);
+  path.type.specular_mask = mask;
+  return path;
+}
+
+}  // namespace
+
+TEST(EnsembleGuideView, HoldsTheGuidePathsOwnDataForEveryWindow) {
+  Rng rng(9, 2);
+  std::vector<Path> paths;
+  // Types of 40, 7 (fewer than M) and 1 member, one of them lit by the sky.
+  for (int i = 0; i < 48; ++i) {
+    const int kind = i == 47 ? 2 : i % 6 == 5 ? 1 : 0;
+    paths.push_back(kind == 0   ? synthetic_path(rng, 4, 0, false)
+                    : kind == 1 ? synthetic_path(rng, 5, 0b100, true)
+                                : synthetic_path(rng, 3, 0, false));
+  }
+  std::vector<const Path*> pointers;
+  for (const Path& p : paths) pointers.push_back(&p);
+  pointers.push_back(nullptr);  // a chain without a seed
+  EnsembleGuides ensemble;
+  EnsembleParams params;
+  params.neighbours = 16;
+  ensemble.build(pointers, 64, 64, 3, params);
+  EXPECT_EQ(ensemble.size(), paths.size());
+
+  for (const Path* type_of : {&paths[0], &paths[5], &paths[47]}) {
+    std::vector<const Path*> members;  // the type's list, in ensemble order
+    for (const Path& p : paths)
+      if (p.type == type_of->type) members.push_back(&p);
+    for (uint64_t step = 0; step < 40; ++step) {
+      const GuideView view = ensemble.upsilon(type_of->type, 4, step);
+      ASSERT_EQ(view.size(), std::min<size_t>(members.size(), 16));
+      // M consecutive members, cyclically, as PathTypeIndex::guides chooses them.
+      const size_t start =
+          size_t(std::find(members.begin(), members.end(), view[0]) - members.begin());
+      ASSERT_LT(start, members.size());
+      for (size_t n = 0; n < view.size(); ++n) {
+        const Path& guide = *view[n];
+        ASSERT_EQ(&guide, members[(start + n) % members.size()]);
+        EXPECT_EQ(view.paths()[n], &guide);
+        EXPECT_EQ(view.rasters()[n], guide.raster());
+        for (int i = 0; i < int(guide.vertices.size()); ++i) {
+          EXPECT_EQ(view.position(n, i), guide.vertices[size_t(i)].position);
+          for (int axis = 0; axis < 3; ++axis)
+            EXPECT_EQ(view.coordinates(i, axis)[n],
+                      double(guide.vertices[size_t(i)].position[axis]));
+          if (view.has_environment()) {
+            EXPECT_EQ(view.environment(i)[n] != 0, guide.vertices[size_t(i)].is_environment());
+            EXPECT_EQ(view.sky_directions(i)[n], guide.vertices[size_t(i)].sky_direction);
+          }
+        }
+      }
+      EXPECT_EQ(view.has_environment(), type_of == &paths[5]);
+      // The same (type, chain, step): the same Υ.
+      EXPECT_EQ(ensemble.upsilon(type_of->type, 4, step)[0], view[0]);
+    }
+  }
+  PathType absent;
+  absent.vertices = 9;
+  EXPECT_TRUE(ensemble.upsilon(absent, 0, 0).empty());
+}
