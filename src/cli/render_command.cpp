@@ -88,6 +88,10 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
   command.add_option("--ensemble-alpha", s.ensemble_alpha,
                      "emlt: fixed stretch scale alpha of the linear kernels (0 = adaptive, paper 3.4)")
       ->check(CLI::Range(0.0, 100.0));
+  command.add_option("--ensemble-similarity-length", s.ensemble_similarity_length,
+                     "emlt: length (scene units) dividing distances in the path similarity "
+                     "(0 = the paper's literal 1)")
+      ->check(CLI::Range(0.0, 1e30));
   command.add_option("--aniso-map", s.aniso_map_path,
                      "mlt/gamlt/emlt: write the predominant image-plane direction of the proposals "
                      "per pixel to this PNG (red horizontal, green vertical, yellow isotropic)");
@@ -136,6 +140,8 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   if (given("--ensemble-iterations")) settings.ensemble_iterations = cli.ensemble_iterations;
   if (given("--aniso-map")) settings.aniso_map_path = cli.aniso_map_path;
   if (given("--ensemble-alpha")) settings.ensemble_alpha = cli.ensemble_alpha;
+  if (given("--ensemble-similarity-length"))
+    settings.ensemble_similarity_length = cli.ensemble_similarity_length;
   if (given("--bdpt-strategies")) settings.bdpt_strategies_dir = cli.bdpt_strategies_dir;
   settings.mis = o.mis == "balance" ? MisHeuristic::Balance : MisHeuristic::Power;
   settings.direct_point_set =

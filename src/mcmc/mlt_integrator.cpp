@@ -323,6 +323,8 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   EnsembleGuides guides;
   EnsembleParams ensemble_params = options_.ensemble_params;
   if (settings.ensemble_neighbours > 0) ensemble_params.neighbours = settings.ensemble_neighbours;
+  if (settings.ensemble_similarity_length > 0.0)
+    ensemble_params.similarity_length = settings.ensemble_similarity_length;
   if (settings.ensemble_alpha > 0.0) {
     ensemble_params.adaptive_alpha = false;
     ensemble_params.alpha_fixed = settings.ensemble_alpha;

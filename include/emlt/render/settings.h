@@ -44,6 +44,9 @@ struct RenderSettings {
   int ensemble_neighbours = 32; // M, the guide paths of one step
   int ensemble_iterations = 0;  // steps per path between swaps; 0: floor(W H / (|X| + |Y|))
   double ensemble_alpha = 0.0;  // > 0: fixed α of the linear kernels; 0: adaptive (paper §3.4)
+  // > 0: distances in the similarity (eq. 8) are divided by this length (scene units);
+  // 0: the paper's literal form (length 1).
+  double ensemble_similarity_length = 0.0;
 
   // Receives images at power-of-two samples (mutations) per pixel; not owned. Null: none.
   SnapshotSink* snapshots = nullptr;
