@@ -11,11 +11,13 @@
 
 namespace emlt::cli {
 
-void report_mlt_statistics(const MltStatistics& st, const std::string& json_path) {
+void report_mlt_statistics(const std::string& name, const MltStatistics& st,
+                           const std::string& json_path) {
   std::fprintf(stderr,
-               "mlt: b = %.6g +- %.2g (%llu bootstrap samples), %llu chains, %llu mutations, %.3f "
+               "%s: b = %.6g +- %.2g (%llu bootstrap samples), %llu chains, %llu mutations, %.3f "
                "M mutations/s\n",
-               st.b, st.b_standard_error, static_cast<unsigned long long>(st.bootstrap_samples),
+               name.c_str(), st.b, st.b_standard_error,
+               static_cast<unsigned long long>(st.bootstrap_samples),
                static_cast<unsigned long long>(st.chains),
                static_cast<unsigned long long>(st.mutations),
                st.seconds > 0.0 ? double(st.mutations) / st.seconds * 1e-6 : 0.0);

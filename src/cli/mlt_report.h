@@ -7,6 +7,8 @@ namespace emlt::cli {
 
 // The per-strategy table on stderr, and (when path is set) the same as JSON, written
 // atomically.
-void report_mlt_statistics(const MltStatistics& stats, const std::string& json_path);
+// `name`: the integrator (mlt, gamlt, emlt) that the printed lines start with.
+void report_mlt_statistics(const std::string& name, const MltStatistics& stats,
+                           const std::string& json_path);
 
 }  // namespace emlt::cli

@@ -278,6 +278,21 @@ TEST(Cli, EmltWritesEnsembleStatisticsAndTheAnisotropyMap) {
   EXPECT_EQ(stats["ensemble"]["iterations"].get<uint64_t>(), 4u);  // 256 pixels / 64 paths
   EXPECT_EQ(stats["strategies"][1]["name"], "emlt-aniso");
   EXPECT_NE(text.find("swaps"), std::string::npos) << text;
+  EXPECT_GT(stats["chain_mutations_per_second"].get<double>(), 0.0);
+  EXPECT_EQ(stats["direct_spp"].get<int>(), 8);  // one per mutation per pixel
+  // The similarity's length scale changes which guides are chosen, hence the image.
+  const std::string lin = "render " + cornell() + " --integrator emlt --mutations emlt-lin --mpp 8 --bootstrap 5000"
+                          " --width 16 --height 16 --ensemble-size 32 --quiet -o ";
+  ASSERT_EQ(0, test::run_command(emlt_cmd(lin + (dir / "literal.pfm").string())));
+  ASSERT_EQ(0, test::run_command(emlt_cmd(lin + (dir / "scaled.pfm").string() + " --ensemble-similarity-length 50")));
+  const auto bytes = [](const fs::path& path) {
+    std::ifstream file(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(file), {});
+  };
+  EXPECT_FALSE(bytes(dir / "literal.pfm").empty());
+  EXPECT_NE(bytes(dir / "literal.pfm"), bytes(dir / "scaled.pfm"));
+  expect_clean_failure(lin + (dir / "o.exr").string() + " --ensemble-similarity-length -1",
+                       "ensemble-similarity-length", dir / "o.exr");
   // Absurd ensembles are refused before anything is allocated or written.
   expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() +
                            " --integrator emlt --ensemble-size 100000000",
