@@ -76,12 +76,14 @@ void BounceRays(benchmark::State& state) {
       uint64_t n = 0;
       for (int x = 0; x < scene.camera().width(); ++x) {
         SurfaceHit hit;
-        if (!scene.intersect(scene.camera().generate_ray(Vec2(x + 0.5f, y + 0.5f), Vec2(0.5f)), hit))
+        if (!scene.intersect(scene.camera().generate_ray(Vec2(x + 0.5f, y + 0.5f), Vec2(0.5f)),
+                             hit))
           continue;
         // Cosine-distributed secondary rays: incoherent across neighbouring pixels.
         const Vec3 d = hit.shading.to_world(square_to_cosine_hemisphere(rng.uniform2()));
         SurfaceHit next;
-        benchmark::DoNotOptimize(scene.intersect(spawn_ray(hit.position, hit.geometric_normal, d), next));
+        benchmark::DoNotOptimize(
+            scene.intersect(spawn_ray(hit.position, hit.geometric_normal, d), next));
         ++n;
       }
       return n;
@@ -109,8 +111,12 @@ void IntegratorSamples(benchmark::State& state, const Integrator& integrator) {
   state.counters["threads"] = settings.threads;
 }
 
-void PathTracerSamples(benchmark::State& state) { IntegratorSamples(state, PathTracer()); }
-void BdptSamples(benchmark::State& state) { IntegratorSamples(state, BidirectionalPathTracer()); }
+void PathTracerSamples(benchmark::State& state) {
+  IntegratorSamples(state, PathTracer());
+}
+void BdptSamples(benchmark::State& state) {
+  IntegratorSamples(state, BidirectionalPathTracer());
+}
 
 const Scene& shipped_scene_256(const std::string& name) {
   static std::map<std::string, std::unique_ptr<Scene>> scenes;
@@ -118,8 +124,8 @@ const Scene& shipped_scene_256(const std::string& name) {
   const std::lock_guard guard(lock);
   auto& scene = scenes[name];
   if (!scene) {
-    SceneDescription desc =
-        load_scene_description(std::string(EMLT_SOURCE_DIR) + "/scenes/" + name + "/scene.json", {});
+    SceneDescription desc = load_scene_description(
+        std::string(EMLT_SOURCE_DIR) + "/scenes/" + name + "/scene.json", {});
     desc.camera.width = desc.camera.height = 256;
     scene = Scene::build(std::move(desc));
   }
@@ -132,42 +138,37 @@ const Scene& shipped_scene_256(const std::string& name) {
 // of the chains' rate (the figure the README and issue 4 quote). "chain mutations/s" takes
 // that fixed part out: each iteration also times, untimed by the framework, the same render
 // with a single mutation, and divides the mutations by the difference of the two times.
-void MltMutations(benchmark::State& state, const std::string& scene_name, const std::string& mix) {
+void MltMutations(benchmark::State& state, const std::string& scene_name, const std::string& mix,
+                  const std::string& integrator_name) {
   const Scene& scene = shipped_scene_256(scene_name);
   RenderSettings settings;
   settings.threads = int(state.range(0));
   settings.progress = false;
   settings.mutations = mix;
   settings.mutations_per_pixel = 4;
-  settings.chains = 64;
+  settings.chains = integrator_name == "emlt" ? 0 : 64;  // EMLT's chains are its ensembles
   settings.bootstrap_samples = 10000;
   settings.direct_spp = 1;
-  RenderSettings setup_only = settings;
-  setup_only.mutations_per_pixel = 1.0 / (double(scene.camera().width()) * scene.camera().height());
   ProgressReporter progress(false);
   uint64_t mutations = 0;
   double acceptance_sum = 0.0, proposed = 0.0, chain_seconds = 0.0;
-  const auto seconds = [](auto&& body) {
-    const auto start = std::chrono::steady_clock::now();
-    body();
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  };
   for (auto _ : state) {
-    const MltIntegrator mlt;
-    chain_seconds += seconds([&] { mlt.render(scene, settings, progress); });
-    mutations += mlt.statistics().mutations;
-    for (const auto& s : mlt.statistics().strategies) {
+    const auto integrator = make_integrator(integrator_name);
+    const auto& mlt = dynamic_cast<const MltIntegrator&>(*integrator);
+    mlt.render(scene, settings, progress);
+    const MltStatistics& st = mlt.statistics();
+    mutations += st.mutations;
+    chain_seconds += st.seconds - st.direct_seconds - st.bootstrap_seconds;
+    for (const auto& s : st.strategies) {
       acceptance_sum += s.acceptance_sum;
       proposed += double(s.proposed);
     }
-    state.PauseTiming();
-    setup_only.seed = settings.seed;
-    chain_seconds -= seconds([&] { MltIntegrator().render(scene, setup_only, progress); });
-    state.ResumeTiming();
     settings.seed++;
   }
-  state.counters["mutations/s"] = benchmark::Counter(double(mutations), benchmark::Counter::kIsRate);
-  state.counters["chain mutations/s"] = chain_seconds > 0.0 ? double(mutations) / chain_seconds : 0.0;
+  state.counters["mutations/s"] =
+      benchmark::Counter(double(mutations), benchmark::Counter::kIsRate);
+  state.counters["chain mutations/s"] =
+      chain_seconds > 0.0 ? double(mutations) / chain_seconds : 0.0;
   state.counters["acceptance"] = proposed > 0.0 ? acceptance_sum / proposed : 0.0;
   state.counters["threads"] = settings.threads;
 }
@@ -178,9 +179,14 @@ BENCHMARK(CameraRays)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTim
 BENCHMARK(BounceRays)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(PathTracerSamples)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BdptSamples)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
-#define EMLT_MLT_BENCH(name, scene, mix)                                                     \
-  BENCHMARK_CAPTURE(MltMutations, name, std::string(scene), std::string(mix))              \
-      ->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()
+#define EMLT_MLT_BENCH(name, scene, mix) EMLT_INTEGRATOR_BENCH(name, scene, mix, "mlt")
+#define EMLT_INTEGRATOR_BENCH(name, scene, mix, integrator)                   \
+  BENCHMARK_CAPTURE(MltMutations, name, std::string(scene), std::string(mix), \
+                    std::string(integrator))                                  \
+      ->Arg(1)                                                                \
+      ->Arg(2)                                                                \
+      ->Unit(benchmark::kMillisecond)                                         \
+      ->UseRealTime()
 EMLT_MLT_BENCH(cornell_bidir, "cornell-box", "bidir=1");
 EMLT_MLT_BENCH(cornell_lens, "cornell-box", "lens=1");
 EMLT_MLT_BENCH(cornell_caustic, "cornell-box", "caustic=1");
@@ -191,4 +197,9 @@ EMLT_MLT_BENCH(door_caustic, "door-ajar", "caustic=1");
 EMLT_MLT_BENCH(door_default_mix, "door-ajar", "bidir=3,lens=2,caustic=2,multichain=2");
 EMLT_MLT_BENCH(glass_bidir_multichain, "cornell-glass", "bidir=1,multichain=4");
 EMLT_MLT_BENCH(glass_default_mix, "cornell-glass", "bidir=3,lens=2,caustic=2,multichain=2");
+// Ensemble MLT with its default mix (empty: the integrator's own) and the ablation presets.
+EMLT_INTEGRATOR_BENCH(cornell_emlt, "cornell-box", "", "emlt");
+EMLT_INTEGRATOR_BENCH(cornell_emlt_lin, "cornell-box", "emlt-lin", "emlt");
+EMLT_INTEGRATOR_BENCH(cornell_emlt_ani, "cornell-box", "emlt-ani", "emlt");
+EMLT_INTEGRATOR_BENCH(door_emlt, "door-ajar", "", "emlt");
 BENCHMARK_MAIN();
