@@ -88,6 +88,23 @@ std::optional<PathVertex> cast_through(const Scene& scene, const PathVertex& ori
   return perturbation::trace_surface(scene, spawn_ray(origin.position, origin.normal, d / length));
 }
 
+// log density per unit area of reaching `to` by sampling `gaussian` and casting from `from`.
+// With the keep_degenerate_casts bug, rays parallel to the plane are evaluated anyway.
+double cast_density(const TangentGaussian& gaussian, const PathVertex& from, const PathVertex& to,
+                    const ensemble::InjectedBugs& bugs) {
+  return ensemble::ray_cast_log_area_density(
+      gaussian, from.position, to.position, to.normal,
+      bugs.keep_degenerate_casts ? 0.0 : ensemble::kMinPlaneCosine);
+}
+
+// y was sampled, so T(x->y) > 0 in exact arithmetic; a forward density that evaluates to zero
+// means the cast ran (within rounding) along the kernel's plane, where the plane point is
+// not a function of the hit. Such moves are refused, exactly as their reverse evaluates to
+// zero, so both directions agree; accepting them with the infinite ratio biases the image.
+bool refused(double log_forward, const ensemble::InjectedBugs& bugs) {
+  return !std::isfinite(log_forward) && !bugs.keep_degenerate_casts;
+}
+
 bool usable(const PathVertex& v) {
   return !v.delta && !v.is_camera();
 }
@@ -96,18 +113,80 @@ bool usable(const PathVertex& v) {
 
 bool AnisotropicPathPerturbation::applies_to(const Path& x, const MutationContext&) const {
   const int k = x.edges();
-  if (k < 4) return false;  // x_c must not be the emitter vertex (see the header)
+  if (k < params_.min_edges || k < 3) return false;
   const auto& v = x.vertices;
   return v[size_t(k - 1)].is_surface() && v[size_t(k - 2)].is_surface() &&
-         usable(v[size_t(k - 1)]) && usable(v[size_t(k - 2)]) && !x.type.is_specular(k - 1) &&
-         !x.type.is_specular(k - 2) && !x.type.is_specular(k - 3);
+         v[size_t(k - 3)].is_surface() && usable(v[size_t(k - 1)]) && usable(v[size_t(k - 2)]) &&
+         !v[size_t(k - 3)].delta && !x.type.is_specular(k - 1) && !x.type.is_specular(k - 2) &&
+         !x.type.is_specular(k - 3);
 }
 
 std::optional<Proposal> AnisotropicPathPerturbation::propose(const Path& x, Rng& rng,
                                                              const MutationContext& ctx) const {
   const auto guides = ensemble::guides_for(x, ctx);
   if (guides.size() < 2) return ensemble::unguided_step(fallback_, x, rng, ctx);
+  if (rng.uniform_double() < params_.toward_camera_probability)
+    return toward_camera(x, guides, rng, ctx);
   return from_camera(x, guides, rng, ctx);
+}
+
+std::optional<Proposal> AnisotropicPathPerturbation::toward_camera(
+    const Path& x, const GuideView& guides, Rng& rng, const MutationContext& ctx) const {
+  const Scene& scene = ctx.scene;
+  const int k = x.edges(), a = k - 1, b = k - 2, c = k - 3;
+  const auto& xv = x.vertices;
+  const AnisotropicParams world = world_params(params_, ctx);
+
+  // x_b: Gaussian on its tangent plane, weighted by x_b and the fixed x_c; cast from x_c.
+  const GuidePoints points_b(guides, b);
+  GuideData data_b(points_b.points.span());
+  set_context(data_b, x, guides, c, ctx);
+  const TangentGaussian b_x = fit_at(xv[size_t(b)], data_b, world);
+  Proposal proposal;
+  Path& y = proposal.path;
+  y = x;
+  auto& yv = y.vertices;
+  auto hit_b = cast_through(scene, xv[size_t(c)], ensemble::sample_tangent_gaussian(b_x, rng));
+  if (!hit_b) return std::nullopt;
+  yv[size_t(b)] = *hit_b;
+
+  // x_a: Gaussian on its tangent plane, weighted by x_a and the centre path's own x_b (x's
+  // here, y's for the reverse fit); cast from the new y_b.
+  const GuidePoints points_a(guides, a);
+  GuideData data_a_x(points_a.points.span());
+  set_context(data_a_x, x, guides, b, ctx);
+  const TangentGaussian a_x = fit_at(xv[size_t(a)], data_a_x, world);
+  auto hit_a = cast_through(scene, yv[size_t(b)], ensemble::sample_tangent_gaussian(a_x, rng));
+  if (!hit_a) return std::nullopt;
+  yv[size_t(a)] = *hit_a;
+
+  // The fixed lens point sees y_a: the image point moves.
+  PathVertex& lens = yv.back();
+  const auto raster =
+      scene.camera().raster_position(lens.position, direction_between(lens, yv[size_t(a)]));
+  if (!raster) return std::nullopt;
+  lens.raster = *raster;
+  const Rgb connection = connect_vertices(scene, &yv[size_t(b)], yv[size_t(a)], lens, nullptr);
+  if (is_black(connection) || !is_finite(connection)) return std::nullopt;
+  if (!perturbation::finish_proposal(scene, x, y)) return std::nullopt;
+
+  // Both moves are densities per unit area of (y_b, y_a) and of (x_b, x_a): no Jacobian.
+  const double log_forward = cast_density(b_x, xv[size_t(c)], yv[size_t(b)], bugs_) +
+                             cast_density(a_x, yv[size_t(b)], yv[size_t(a)], bugs_);
+  if (refused(log_forward, bugs_)) return std::nullopt;
+  GuideData data_a_y(points_a.points.span());
+  set_context(data_a_y, y, guides, b, ctx);
+  const TangentGaussian b_y = bugs_.sigma_not_refitted ? recentred(b_x, yv[size_t(b)].position)
+                                                       : fit_at(yv[size_t(b)], data_b, world);
+  const TangentGaussian a_y = bugs_.sigma_not_refitted ? recentred(a_x, yv[size_t(a)].position)
+                                                       : fit_at(yv[size_t(a)], data_a_y, world);
+  const double log_reverse = bugs_.drop_reverse_density
+                                 ? log_forward
+                                 : cast_density(b_y, xv[size_t(c)], xv[size_t(b)], bugs_) +
+                                       cast_density(a_y, xv[size_t(b)], xv[size_t(a)], bugs_);
+  proposal.log_reverse_over_forward = log_reverse - log_forward;
+  if (std::isnan(proposal.log_reverse_over_forward)) return std::nullopt;
+  return proposal;
 }
 
 std::optional<Proposal> AnisotropicPathPerturbation::from_camera(const Path& x,
@@ -150,10 +229,9 @@ std::optional<Proposal> AnisotropicPathPerturbation::from_camera(const Path& x,
   if (is_black(connection) || !is_finite(connection)) return std::nullopt;
   if (!perturbation::finish_proposal(scene, x, y)) return std::nullopt;
 
-  const double log_forward =
-      ensemble::tangent_gaussian_log_pdf(image_x, on_image_plane(raster)) +
-      ensemble::ray_cast_log_area_density(world_x, yv[size_t(a)].position, yv[size_t(b)].position,
-                                          yv[size_t(b)].normal);
+  const double log_forward = ensemble::tangent_gaussian_log_pdf(image_x, on_image_plane(raster)) +
+                             cast_density(world_x, yv[size_t(a)], yv[size_t(b)], bugs_);
+  if (refused(log_forward, bugs_)) return std::nullopt;
   GuideData image_data_y(image_points.points.span());
   set_context(image_data_y, y, guides, a, ctx);
   const TangentGaussian image_y = bugs_.sigma_not_refitted
@@ -166,8 +244,7 @@ std::optional<Proposal> AnisotropicPathPerturbation::from_camera(const Path& x,
       bugs_.drop_reverse_density
           ? log_forward
           : ensemble::tangent_gaussian_log_pdf(image_y, on_image_plane(x.raster())) +
-                ensemble::ray_cast_log_area_density(world_y, xv[size_t(a)].position,
-                                                    xv[size_t(b)].position, xv[size_t(b)].normal);
+                cast_density(world_y, xv[size_t(a)], xv[size_t(b)], bugs_);
   proposal.log_reverse_over_forward = log_reverse - log_forward +
                                       perturbation::log_eye_jacobian(x, a) -
                                       perturbation::log_eye_jacobian(y, a);

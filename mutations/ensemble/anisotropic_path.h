@@ -1,25 +1,30 @@
 #pragma once
 // EMLT's anisotropic path perturbation (Bashford-Rogers et al. 2021, §3.3, Fig. 10): the
 // first two non-specular vertices from the camera, x_a = x_{k-1} and x_b = x_{k-2}, move by
-// the guided anisotropic kernel (kernels.h, eqs. 11-12), starting from the camera: the image
-// point moves by an anisotropic Gaussian fitted to the guides' image points (weighted by the
-// similarity of their x_a, eq. 11), the eye ray gives x'_a; then x'_b is sampled on the
-// tangent plane at x_b from a Gaussian fitted to the guides' x_b (weighted by x_b and the
-// fixed neighbour x_c = x_{k-3}) and ray-cast from x'_a; x'_b is connected to x_c.
+// the guided anisotropic kernel (kernels.h, eqs. 11-12), in one of two orders picked at
+// random (the paper's "from or toward the camera"):
+//  - from the camera: the image point moves by an anisotropic Gaussian fitted to the guides'
+//    image points (weighted by the similarity of their x_a, eq. 11) and the eye ray gives
+//    y_a; then y_b is sampled on the tangent plane at x_b from a Gaussian fitted to the
+//    guides' x_b (weighted by x_b and the fixed x_c = x_{k-3}), ray-cast from y_a, and
+//    connected to x_c;
+//  - toward the camera: y_b from the same Gaussian at x_b, ray-cast from x_c; then y_a from
+//    a Gaussian on the tangent plane at x_a (weighted by x_a and the centre path's own x_b),
+//    ray-cast from y_b; y_a is connected to the fixed lens point, which gives the new pixel.
+// x_c may be the emitter vertex (L D D E paths).
 //
-// Densities are per unit area of the moved vertices. Forward:
-//   T = N_x(u_y) W H pdf_eye(y_a) * K_{x_b}(y_b | cast from y_a),
-// reverse: N_y(u_x) W H pdf_eye(x_a) * K_{y_b}(x_b | cast from x_a), every Gaussian refitted
-// at the point it is centred on (Σ of the reverse move from y's weights and tangent plane).
+// Densities are per unit area of the moved vertices, every Gaussian refitted at the point it
+// is centred on for the reverse move (Σ from y's weights and tangent planes). From the camera:
+//   T(x->y) = N_x(u_y) W H pdf_eye(y_a) * K_{x_b}(y_b | cast from y_a),
+// toward the camera:
+//   T(x->y) = K_{x_b}(y_b | cast from x_c) * K_{x_a}(y_a | cast from y_b),
+// and the reverse of each with x and y exchanged.
 //
-// Scope (a deliberate restriction, see the closing notes of issue 6): the paper also samples
-// "toward the camera" (x'_b cast from x_c, then x'_a, then connected to the lens) and allows
-// x_c to be the emitter vertex. Our statistical tests found the toward-camera variant, and
-// either variant on paths whose x_c is x_0 (L D D E), to be biased by 3-10 % in parts of the
-// Cornell box although each kernel passes its analytic test, and the cause is not found
-// yet; both are left out, so the strategy applies to paths of four or more segments whose
-// last three vertices before the lens are non-specular. With fewer than two guides of x's
-// type the step is Veach's lens perturbation (which applies to every such path).
+// A cast that runs along the Gaussian's plane (the origin lands on that plane, e.g. y_a on
+// x_b's face) has no density the kernel can evaluate: such moves are refused, and their
+// reverse reported impossible (kernels.h). Accepting them with an infinite ratio was the
+// 3-10 % bias that earlier sessions saw on these paths (tests/statistical/emlt_test.cpp).
+// With fewer than two guides of x's type the step is Veach's lens perturbation.
 #include "mutations/ensemble/guided_common.h"
 #include "mutations/lens_perturbation.h"
 
@@ -37,6 +42,10 @@ struct AnisotropicPathParams {
   double image_covariance_scale = 0.05;
   double image_floor_sigma = 0.1;
   double image_fallback_sigma = 2.0;
+  // Probability of the toward-camera variant (the paper picks either at random).
+  double toward_camera_probability = 0.5;
+  // Shortest path (in segments) the strategy applies to; 3 lets x_c be the emitter vertex.
+  int min_edges = 3;
 };
 
 class AnisotropicPathPerturbation final : public Mutation {
@@ -52,6 +61,8 @@ class AnisotropicPathPerturbation final : public Mutation {
  private:
   std::optional<Proposal> from_camera(const Path& x, const GuideView& guides, Rng& rng,
                                       const MutationContext& ctx) const;
+  std::optional<Proposal> toward_camera(const Path& x, const GuideView& guides, Rng& rng,
+                                        const MutationContext& ctx) const;
 
   AnisotropicPathParams params_;
   ensemble::InjectedBugs bugs_;

@@ -19,6 +19,7 @@ struct InjectedBugs {
   bool sigma_not_refitted = false;     // reverse anisotropic density with x's Σ, recentred
   bool ignore_selection = false;       // P(n|y) / P(n|x) left out
   bool upsilon_from_proposal = false;  // P(n|y) evaluated against the Υ of y's next step
+  bool keep_degenerate_casts = false;  // ray-cast moves nearly parallel to the plane kept
 };
 
 // Υ of x at this step (empty without an ensemble).

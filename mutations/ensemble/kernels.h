@@ -169,8 +169,12 @@ std::optional<Vec3> project_through_onto_plane(const Vec3& origin, const Vec3& t
 //   forward: fit at x_j,  origin x'_{j-1}, surface point x'_j
 //   reverse: fit at x'_j, origin x_{j-1},  surface point x_j
 // (the reverse z is the central, not the orthogonal, projection of x_j: see the .cpp).
+// Rays within min_plane_cosine of parallel to the plane get zero density (see the .cpp):
+// the forward move refuses them, the reverse reports them impossible.
+inline constexpr double kMinPlaneCosine = 1e-3;
 double ray_cast_log_area_density(const TangentGaussian& gaussian, const Vec3& origin,
-                                 const Vec3& surface_point, const Vec3& surface_normal);
+                                 const Vec3& surface_point, const Vec3& surface_normal,
+                                 double min_plane_cosine = kMinPlaneCosine);
 
 // Standalone planar version: the surface is the tangent plane itself, so the ray-cast is
 // the identity and the Jacobian is 1.

@@ -434,6 +434,27 @@ TEST(EnsembleKernels, RayCastAreaDensityMatchesLandingHistogram) {
   }
 }
 
+// A cast from an origin on (or within rounding of) the Gaussian's plane runs along the plane:
+// the plane point is then no function of the hit, and the density must be zero rather than
+// a number made of rounding errors; a slightly raised origin gives an ordinary density.
+TEST(EnsembleKernels, RayCastAlongThePlaneHasZeroDensity) {
+  AnisotropicParams params;
+  const TangentGaussian gaussian = fit_tangent_gaussian(Vec3(0.0f), kPlaneNormal, {}, params);
+  const Vec3 surface_point(0.0f, 1.0f, 2e-6f), surface_normal(0.0f, -1.0f, 0.0f);  // a wall
+  for (const float height : {0.0f, 1e-6f, -1e-6f}) {
+    const Vec3 origin(0.3f, -2.0f, height);
+    EXPECT_EQ(ray_cast_log_area_density(gaussian, origin, surface_point, surface_normal),
+              -std::numeric_limits<double>::infinity())
+        << height;
+  }
+  const Vec3 raised(0.3f, -2.0f, 1.0f);
+  EXPECT_TRUE(std::isfinite(ray_cast_log_area_density(gaussian, raised, Vec3(0.01f, 0.02f, 0.0f),
+                                                      kPlaneNormal)));
+  // Without the guard (the injected bug's setting) the grazing ray gets a finite density.
+  EXPECT_TRUE(std::isfinite(ray_cast_log_area_density(gaussian, Vec3(0.3f, -2.0f, -1e-6f),
+                                                      surface_point, surface_normal, 0.0)));
+}
+
 // ---------------------------------------------------------------------------------------
 // Each kernel alone keeps pi invariant; each injected bug does not.
 
