@@ -27,21 +27,25 @@ double luminance(const DVec3& c) {
 
 struct Chain {
   Path current;
-  DVec3 contribution{0.0};                   // F(x)
-  double target = 0.0;                       // f*(x)
-  double carried = 0.0;                      // expected-value weight not yet splatted for x
-  std::vector<uint8_t> applicable;           // which strategies apply to `current`
-  std::vector<uint8_t> proposal_applicable;  // the same for the latest proposal (reused buffer)
+  DVec3 contribution{0.0};      // F(x)
+  double target = 0.0;          // f*(x)
+  double carried = 0.0;         // expected-value weight not yet splatted for x
+  StrategyMask applicable = 0;  // which strategies apply to `current`
   Rng rng;
   uint64_t steps_taken = 0;  // keys EMLT's choice of guides (ensemble_guides.h)
-  std::vector<StrategyStats> stats;
 };
 
-// What one block of chains writes: its film and, when requested, the image-plane moves of
-// its proposals per pixel of the current path (sum dx^2, sum dy^2, count) for --aniso-map.
+// What one block of chains writes: its film, its strategies' counters and, when requested,
+// the image-plane moves of its proposals per pixel of the current path (sum dx^2, sum dy^2,
+// count) for --aniso-map. Blocks are a fixed partition of the chains, so the counters, like
+// the film, sum to the same bits on any thread count; kept per block rather than per chain
+// because a chain visited for a single step (EMLT) would miss the cache on its own counters.
 struct BlockOutput {
   std::vector<DVec3> film;
   std::vector<DVec3> moves;
+  // Each on its own cache lines: blocks run on different cores.
+  struct alignas(64) Counters : StrategyStats {};
+  std::vector<Counters> stats;
 };
 
 // The film pixel a path lands in.
@@ -69,12 +73,12 @@ void run_chain(Chain& chain, uint64_t chain_index, uint64_t steps, const Strateg
     double p_forward = 0.0;
     const int chosen = mix.choose(chain.applicable, chain.rng.uniform(), &p_forward);
     for (size_t i = 0; i < mix.size(); ++i)
-      if (!chain.applicable[i]) ++chain.stats[i].not_applicable;
+      if (!((chain.applicable >> i) & 1u)) ++out.stats[i].not_applicable;
     if (chosen < 0) {  // nothing applies: the path stays
       chain.carried += 1.0;
       continue;
     }
-    StrategyStats& stats = chain.stats[size_t(chosen)];
+    StrategyStats& stats = out.stats[size_t(chosen)];
     ++stats.proposed;
 
     double acceptance = 0.0;
@@ -87,6 +91,7 @@ void run_chain(Chain& chain, uint64_t chain_index, uint64_t steps, const Strateg
     }
     DVec3 contribution(0.0);
     double target = 0.0;
+    StrategyMask proposal_applicable = 0;
     if (proposal) {
       // Proposals land anywhere on the image, so the splat below would usually wait on
       // memory (a block's film is larger than the caches): start loading the pixel now,
@@ -95,10 +100,10 @@ void run_chain(Chain& chain, uint64_t chain_index, uint64_t steps, const Strateg
       contribution = path_contribution(ctx.scene, proposal->path);
       target = luminance(contribution);
       if (target > 0.0 && std::isfinite(target)) {
-        mix.applicable(proposal->path, ctx, chain.proposal_applicable);
+        proposal_applicable = mix.applicable(proposal->path, ctx);
         const double p_reverse =
             ignore_selection ? p_forward
-                             : mix.selection_probability(size_t(chosen), chain.proposal_applicable);
+                             : mix.selection_probability(size_t(chosen), proposal_applicable);
         const double ratio = target / chain.target * std::exp(proposal->log_reverse_over_forward) *
                              (p_reverse / p_forward);
         acceptance = std::isfinite(ratio) ? std::clamp(ratio, 0.0, 1.0) : (ratio > 0.0 ? 1.0 : 0.0);
@@ -116,7 +121,7 @@ void run_chain(Chain& chain, uint64_t chain_index, uint64_t steps, const Strateg
       chain.current = std::move(proposal->path);
       chain.contribution = contribution;
       chain.target = target;
-      std::swap(chain.applicable, chain.proposal_applicable);
+      chain.applicable = proposal_applicable;
       chain.carried = 0.0;
       ++stats.accepted;
     }
@@ -270,7 +275,6 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     }
     chain.rng = Rng::for_item(derive_stream_seed(settings.seed, kChainStream), uint64_t(c));
     chain.applicable = mix.applicable(chain.current, ctx);
-    chain.stats.assign(mix.size(), StrategyStats{});
   }
   bootstrap_done();
 
@@ -279,6 +283,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
       size_t(std::min(ensemble ? int(ensemble_size) : chain_count, kMaxBlocks)));
   for (BlockOutput& block : blocks) {
     block.film.assign(pixels, DVec3(0.0));
+    block.stats.assign(mix.size(), BlockOutput::Counters{});
     if (record_moves) block.moves.assign(pixels, DVec3(0.0));
   }
 
@@ -304,7 +309,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     std::vector<StrategyAcceptance> out;
     for (size_t i = 0; i < mix.size(); ++i) {
       StrategyStats merged;
-      for (const Chain& chain : chains) merged.merge(chain.stats[i]);
+      for (const BlockOutput& block : blocks) merged.merge(block.stats[i]);
       out.push_back({mix.name(i), merged.mean_acceptance()});
     }
     return out;
@@ -365,14 +370,18 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
       tbb::parallel_for(0, block_count, [&](int block) {
         const uint64_t begin = count * uint64_t(block) / uint64_t(block_count);
         const uint64_t end = count * uint64_t(block + 1) / uint64_t(block_count);
+        // Progress once per block: a shared counter per chain would bounce between cores
+        // (EMLT chains take one step at a time).
+        uint64_t block_steps = 0;
         for (uint64_t j = begin; j < end; ++j) {
           Chain& chain = chains[size_t(first + j)];
           if (!(chain.target > 0.0)) continue;
           const uint64_t steps = sweep / count + (j < sweep % count ? 1 : 0);
           run_chain(chain, first + j, steps, mix, ctx, options_.ignore_selection_probability,
                     blocks[size_t(block)], width, height);
-          progress.advance(steps);
+          block_steps += steps;
         }
+        progress.advance(block_steps);
       });
     });
     done += sweep;
@@ -390,8 +399,8 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
 
   result.image = compose(done);
   if (record_moves) write_move_map(settings.aniso_map_path, blocks, width, height);
-  for (const Chain& chain : chains)
-    for (size_t i = 0; i < mix.size(); ++i) stats_.strategies[i].merge(chain.stats[i]);
+  for (const BlockOutput& block : blocks)
+    for (size_t i = 0; i < mix.size(); ++i) stats_.strategies[i].merge(block.stats[i]);
   stats_.chains = uint64_t(chain_count);
   stats_.mutations = done;
   stats_.seconds = elapsed() - snapshot_seconds;

@@ -45,31 +45,35 @@ StrategyMix StrategyMix::parse(const std::string& given) {
 }
 
 void StrategyMix::add(std::string name, std::unique_ptr<Mutation> strategy, double weight) {
+  if (strategies_.size() >= kMaxStrategies)
+    throw Error("--mutations: more than " + std::to_string(kMaxStrategies) + " strategies");
   strategies_.push_back(std::move(strategy));
   weights_.push_back(weight);
   names_.push_back(std::move(name));
 }
 
-std::vector<uint8_t> StrategyMix::applicable(const Path& x, const MutationContext& ctx) const {
-  std::vector<uint8_t> flags;
-  applicable(x, ctx, flags);
-  return flags;
+StrategyMask StrategyMix::applicable(const Path& x, const MutationContext& ctx) const {
+  StrategyMask mask = 0;
+  for (size_t i = 0; i < strategies_.size(); ++i)
+    if (strategies_[i]->applies_to(x, ctx)) mask |= StrategyMask(1) << i;
+  return mask;
 }
 
-void StrategyMix::applicable(const Path& x, const MutationContext& ctx, std::vector<uint8_t>& flags) const {
-  flags.resize(strategies_.size());
-  for (size_t i = 0; i < strategies_.size(); ++i) flags[i] = strategies_[i]->applies_to(x, ctx);
+namespace {
+bool has(StrategyMask mask, size_t i) {
+  return (mask >> i) & 1u;
 }
+}  // namespace
 
-int StrategyMix::choose(const std::vector<uint8_t>& applicable, float u, double* probability) const {
+int StrategyMix::choose(StrategyMask applicable, float u, double* probability) const {
   double total = 0.0;
   for (size_t i = 0; i < weights_.size(); ++i)
-    if (applicable[i]) total += weights_[i];
+    if (has(applicable, i)) total += weights_[i];
   if (total <= 0.0) return -1;
   double target = double(u) * total;
   int chosen = -1;
   for (size_t i = 0; i < weights_.size(); ++i) {
-    if (!applicable[i]) continue;
+    if (!has(applicable, i)) continue;
     chosen = int(i);
     target -= weights_[i];
     if (target < 0.0) break;
@@ -78,11 +82,11 @@ int StrategyMix::choose(const std::vector<uint8_t>& applicable, float u, double*
   return chosen;
 }
 
-double StrategyMix::selection_probability(size_t i, const std::vector<uint8_t>& applicable) const {
-  if (!applicable[i]) return 0.0;
+double StrategyMix::selection_probability(size_t i, StrategyMask applicable) const {
+  if (!has(applicable, i)) return 0.0;
   double total = 0.0;
   for (size_t j = 0; j < weights_.size(); ++j)
-    if (applicable[j]) total += weights_[j];
+    if (has(applicable, j)) total += weights_[j];
   return weights_[i] / total;
 }
 

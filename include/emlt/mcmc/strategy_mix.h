@@ -55,6 +55,10 @@ std::string expand_mix_preset(const std::string& spec);
 std::unique_ptr<Mutation> make_mutation(const std::string& name);
 std::vector<std::string> mutation_names();
 
+// One bit per strategy of a mix (so a mix holds at most kMaxStrategies).
+using StrategyMask = uint32_t;
+inline constexpr size_t kMaxStrategies = 32;
+
 class StrategyMix {
  public:
   // "name=weight,..." (a bare name has weight 1); throws emlt::Error on unknown names,
@@ -67,14 +71,13 @@ class StrategyMix {
   double weight(size_t i) const { return weights_[i]; }
   const std::string& name(size_t i) const { return names_[i]; }
 
-  // Which strategies apply to x (one flag per strategy).
-  std::vector<uint8_t> applicable(const Path& x, const MutationContext& ctx) const;
-  // The same into `flags` (resized to size()), so that a chain can reuse one buffer for
-  // every proposal instead of allocating a vector per step.
-  void applicable(const Path& x, const MutationContext& ctx, std::vector<uint8_t>& flags) const;
+  // Which strategies apply to x: bit i for strategy i. A mask rather than a container, so
+  // that a chain's state holds it inline (EMLT visits each of its tens of thousands of
+  // chains for one step at a time, and every separate allocation is a cache miss).
+  StrategyMask applicable(const Path& x, const MutationContext& ctx) const;
   // Picks a strategy among the applicable ones; -1 when none applies.
-  int choose(const std::vector<uint8_t>& applicable, float u, double* probability) const;
-  double selection_probability(size_t i, const std::vector<uint8_t>& applicable) const;
+  int choose(StrategyMask applicable, float u, double* probability) const;
+  double selection_probability(size_t i, StrategyMask applicable) const;
 
  private:
   std::vector<std::unique_ptr<Mutation>> strategies_;
