@@ -79,6 +79,14 @@ TangentGaussian recentred(TangentGaussian gaussian, const Vec3& centre) {
   return gaussian;
 }
 
+// The reverse move's Gaussian at y's vertex: refitted there, or (the injected bug) the
+// forward one moved.
+TangentGaussian reverse_fit(const TangentGaussian& forward, const PathVertex& at,
+                            const GuideData& data, const AnisotropicParams& params,
+                            const ensemble::InjectedBugs& bugs) {
+  return bugs.sigma_not_refitted ? recentred(forward, at.position) : fit_at(at, data, params);
+}
+
 // The vertex hit by the ray from `origin` through `through`.
 std::optional<PathVertex> cast_through(const Scene& scene, const PathVertex& origin,
                                        const Vec3& through) {
@@ -86,6 +94,16 @@ std::optional<PathVertex> cast_through(const Scene& scene, const PathVertex& ori
   const float length = glm::length(d);
   if (!(length > 0.0f)) return std::nullopt;
   return perturbation::trace_surface(scene, spawn_ray(origin.position, origin.normal, d / length));
+}
+
+// Samples `gaussian`, casts from `origin` through the sample and puts the hit in `slot`;
+// false when the ray reaches no surface.
+bool sample_and_cast(const Scene& scene, const TangentGaussian& gaussian, const PathVertex& origin,
+                     Rng& rng, PathVertex& slot) {
+  auto hit = cast_through(scene, origin, ensemble::sample_tangent_gaussian(gaussian, rng));
+  if (!hit) return false;
+  slot = *hit;
+  return true;
 }
 
 // log density per unit area of reaching `to` by sampling `gaussian` and casting from `from`.
@@ -146,9 +164,7 @@ std::optional<Proposal> AnisotropicPathPerturbation::toward_camera(
   Path& y = proposal.path;
   y = x;
   auto& yv = y.vertices;
-  auto hit_b = cast_through(scene, xv[size_t(c)], ensemble::sample_tangent_gaussian(b_x, rng));
-  if (!hit_b) return std::nullopt;
-  yv[size_t(b)] = *hit_b;
+  if (!sample_and_cast(scene, b_x, xv[size_t(c)], rng, yv[size_t(b)])) return std::nullopt;
 
   // x_a: Gaussian on its tangent plane, weighted by x_a and the centre path's own x_b (x's
   // here, y's for the reverse fit); cast from the new y_b.
@@ -156,9 +172,7 @@ std::optional<Proposal> AnisotropicPathPerturbation::toward_camera(
   GuideData data_a_x(points_a.points.span());
   set_context(data_a_x, x, guides, b, ctx);
   const TangentGaussian a_x = fit_at(xv[size_t(a)], data_a_x, world);
-  auto hit_a = cast_through(scene, yv[size_t(b)], ensemble::sample_tangent_gaussian(a_x, rng));
-  if (!hit_a) return std::nullopt;
-  yv[size_t(a)] = *hit_a;
+  if (!sample_and_cast(scene, a_x, yv[size_t(b)], rng, yv[size_t(a)])) return std::nullopt;
 
   // The fixed lens point sees y_a: the image point moves.
   PathVertex& lens = yv.back();
@@ -176,10 +190,8 @@ std::optional<Proposal> AnisotropicPathPerturbation::toward_camera(
   if (refused(log_forward, bugs_)) return std::nullopt;
   GuideData data_a_y(points_a.points.span());
   set_context(data_a_y, y, guides, b, ctx);
-  const TangentGaussian b_y = bugs_.sigma_not_refitted ? recentred(b_x, yv[size_t(b)].position)
-                                                       : fit_at(yv[size_t(b)], data_b, world);
-  const TangentGaussian a_y = bugs_.sigma_not_refitted ? recentred(a_x, yv[size_t(a)].position)
-                                                       : fit_at(yv[size_t(a)], data_a_y, world);
+  const TangentGaussian b_y = reverse_fit(b_x, yv[size_t(b)], data_b, world, bugs_);
+  const TangentGaussian a_y = reverse_fit(a_x, yv[size_t(a)], data_a_y, world, bugs_);
   const double log_reverse = bugs_.drop_reverse_density
                                  ? log_forward
                                  : cast_density(b_y, xv[size_t(c)], xv[size_t(b)], bugs_) +
@@ -221,9 +233,7 @@ std::optional<Proposal> AnisotropicPathPerturbation::from_camera(const Path& x,
   GuideData world_data(world_points.points.span());
   set_context(world_data, x, guides, c, ctx);
   const TangentGaussian world_x = fit_at(xv[size_t(b)], world_data, world);
-  auto hit_b = cast_through(scene, yv[size_t(a)], ensemble::sample_tangent_gaussian(world_x, rng));
-  if (!hit_b) return std::nullopt;
-  yv[size_t(b)] = *hit_b;
+  if (!sample_and_cast(scene, world_x, yv[size_t(a)], rng, yv[size_t(b)])) return std::nullopt;
   const Rgb connection = connect_vertices(scene, c >= 1 ? &yv[size_t(c - 1)] : nullptr,
                                           yv[size_t(c)], yv[size_t(b)], &yv[size_t(a)]);
   if (is_black(connection) || !is_finite(connection)) return std::nullopt;
@@ -237,9 +247,7 @@ std::optional<Proposal> AnisotropicPathPerturbation::from_camera(const Path& x,
   const TangentGaussian image_y = bugs_.sigma_not_refitted
                                       ? recentred(image_x, on_image_plane(raster))
                                       : fit_at_raster(raster, image_data_y, image);
-  const TangentGaussian world_y = bugs_.sigma_not_refitted
-                                      ? recentred(world_x, yv[size_t(b)].position)
-                                      : fit_at(yv[size_t(b)], world_data, world);
+  const TangentGaussian world_y = reverse_fit(world_x, yv[size_t(b)], world_data, world, bugs_);
   const double log_reverse =
       bugs_.drop_reverse_density
           ? log_forward
