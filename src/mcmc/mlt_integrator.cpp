@@ -340,14 +340,18 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
 
   tbb::task_arena arena(threads);
   progress.start(options_.name.c_str(), timed ? 0 : planned, settings.time_limit_s);
-  // Sweeps: MLT rounds of one mutation per pixel over all chains, or EMLT half-sweeps of
-  // `it` steps for each path of X. No sweep crosses a checkpoint (a power of two in
-  // mutations per pixel), so snapshots fall on them exactly; the time budget is checked
-  // between sweeps.
+  // Sweeps: for MLT, every chain takes its share of the steps up to the next checkpoint (a
+  // power of two in mutations per pixel) in one visit, so that its path stays in cache
+  // (one round of a mutation per pixel at a time ran 10 % slower with 16384 chains); a
+  // timed render starts with one round and doubles the sweep while sweeps are short, since
+  // the time budget is checked between sweeps. For EMLT, half-sweeps of `it` steps for
+  // each path of X. No sweep crosses a checkpoint, so snapshots fall on them exactly.
   const uint64_t round_size = std::max<uint64_t>(pixels, uint64_t(chain_count));
+  uint64_t timed_rounds = 1;
   uint64_t done = 0, next_checkpoint = 1, half = 0;
   while (done < planned) {
-    uint64_t first = 0, count = uint64_t(chain_count), sweep = round_size;
+    uint64_t first = 0, count = uint64_t(chain_count);
+    uint64_t sweep = timed ? timed_rounds * round_size : planned - done;
     if (ensemble) {
       first = half * ensemble_size;
       count = ensemble_size;
@@ -365,6 +369,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     }
     sweep = std::min(sweep, planned - done);
     if (done < next_checkpoint * pixels) sweep = std::min(sweep, next_checkpoint * pixels - done);
+    const double sweep_start = elapsed();
     const int block_count = int(std::min<uint64_t>(count, blocks.size()));
     arena.execute([&] {
       tbb::parallel_for(0, block_count, [&](int block) {
@@ -385,6 +390,9 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
       });
     });
     done += sweep;
+    if (timed && !ensemble &&
+        elapsed() - sweep_start < std::min(0.05, settings.time_limit_s / 50.0))
+      timed_rounds *= 2;
     if (ensemble) {
       half = 1 - half;
       ++stats_.swaps;

@@ -50,6 +50,16 @@ void StrategyMix::add(std::string name, std::unique_ptr<Mutation> strategy, doub
   strategies_.push_back(std::move(strategy));
   weights_.push_back(weight);
   names_.push_back(std::move(name));
+  totals_.clear();
+  if (weights_.size() <= kTabulatedStrategies) {
+    totals_.resize(size_t(1) << weights_.size());
+    for (StrategyMask mask = 0; mask < totals_.size(); ++mask) {
+      double total = 0.0;
+      for (size_t i = 0; i < weights_.size(); ++i)
+        if ((mask >> i) & 1u) total += weights_[i];
+      totals_[mask] = total;
+    }
+  }
 }
 
 StrategyMask StrategyMix::applicable(const Path& x, const MutationContext& ctx) const {
@@ -65,10 +75,16 @@ bool has(StrategyMask mask, size_t i) {
 }
 }  // namespace
 
-int StrategyMix::choose(StrategyMask applicable, float u, double* probability) const {
+double StrategyMix::total_weight(StrategyMask applicable) const {
+  if (!totals_.empty()) return totals_[applicable];
   double total = 0.0;
   for (size_t i = 0; i < weights_.size(); ++i)
     if (has(applicable, i)) total += weights_[i];
+  return total;
+}
+
+int StrategyMix::choose(StrategyMask applicable, float u, double* probability) const {
+  const double total = total_weight(applicable);
   if (total <= 0.0) return -1;
   double target = double(u) * total;
   int chosen = -1;
@@ -84,10 +100,7 @@ int StrategyMix::choose(StrategyMask applicable, float u, double* probability) c
 
 double StrategyMix::selection_probability(size_t i, StrategyMask applicable) const {
   if (!has(applicable, i)) return 0.0;
-  double total = 0.0;
-  for (size_t j = 0; j < weights_.size(); ++j)
-    if (has(applicable, j)) total += weights_[j];
-  return weights_[i] / total;
+  return weights_[i] / total_weight(applicable);
 }
 
 }  // namespace emlt

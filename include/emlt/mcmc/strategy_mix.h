@@ -83,6 +83,11 @@ class StrategyMix {
   std::vector<std::unique_ptr<Mutation>> strategies_;
   std::vector<double> weights_;
   std::vector<std::string> names_;
+  // Sum of the applicable strategies' weights for every mask, while the mix is small
+  // enough for a table (summed in index order, as the loop it replaces).
+  static constexpr size_t kTabulatedStrategies = 10;
+  std::vector<double> totals_;
+  double total_weight(StrategyMask applicable) const;
 };
 
 }  // namespace emlt
