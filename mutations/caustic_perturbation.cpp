@@ -8,7 +8,8 @@ namespace emlt {
 // the unit direction ω leaving x_l, which maps one-to-one (lobes fixed) onto the moved
 // vertices z = (x_{l+1} .. x_{k-1}). A walk from x_l sampling ω with solid-angle density 1
 // would give z the ν-density (perturbation_common.h)
-//     K(z) = cos(z_{l+1})/|z_{l+1} - x_l|²  ·  Π_{i=l+2}^{k-1} pdf_from_light(z_i) / p_lobe(z_{i-1}),
+//     K(z) = cos(z_{l+1})/|z_{l+1} - x_l|²  ·  Π_{i=l+2}^{k-1} pdf_from_light(z_i) /
+//     p_lobe(z_{i-1}),
 // the area conversions and refraction factors of each Dirac step without its lobe choice.
 // So dω = K(z) dν(z), and with the angular density
 //     p_ω(θ | x) = 1 / (2π ln(θ_2(x)/θ_1(x)) θ sin θ)   for θ_1(x) < θ < θ_2(x), else 0,
@@ -46,7 +47,8 @@ void CausticPerturbation::angle_range(const Path& z, int l, const MutationContex
   double chain_length = 0.0;
   for (int j = l; j <= k - 2; ++j)
     chain_length += glm::length(DVec3(v[size_t(j + 1)].position) - DVec3(v[size_t(j)].position));
-  const double eye_distance = glm::length(DVec3(v[size_t(k - 1)].position) - DVec3(v[size_t(k)].position));
+  const double eye_distance =
+      glm::length(DVec3(v[size_t(k - 1)].position) - DVec3(v[size_t(k)].position));
   const double scale = perturbation::radians_per_pixel(camera) * eye_distance / chain_length;
   *theta_min = double(ctx.lens_min_radius) * scale;
   *theta_max = std::min(r_max * scale, 0.5 * M_PI);
@@ -74,15 +76,17 @@ std::optional<Proposal> CausticPerturbation::retrace(const Path& x, const Vec3& 
     hit->throughput = xv[size_t(i)].throughput;
     yv[size_t(i)] = *hit;
     if (i == k - 1) break;
-    const bool transmission = perturbation::crosses_surface(xv[size_t(i)], xv[size_t(i + 1)], xv[size_t(i - 1)]);
+    const bool transmission =
+        perturbation::crosses_surface(xv[size_t(i)], xv[size_t(i + 1)], xv[size_t(i - 1)]);
     const auto next = perturbation::continue_through_delta(
-        yv[size_t(i)], direction_between(yv[size_t(i)], yv[size_t(i - 1)]), TransportMode::Importance,
-        transmission);
+        yv[size_t(i)], direction_between(yv[size_t(i)], yv[size_t(i - 1)]),
+        TransportMode::Importance, transmission);
     if (!next) return std::nullopt;
     ray = spawn_ray(yv[size_t(i)].position, yv[size_t(i)].normal, *next);
   }
   for (int i = l + 1; i <= k - 2; ++i) {
-    const bool transmission = perturbation::crosses_surface(xv[size_t(i)], xv[size_t(i + 1)], xv[size_t(i - 1)]);
+    const bool transmission =
+        perturbation::crosses_surface(xv[size_t(i)], xv[size_t(i + 1)], xv[size_t(i - 1)]);
     if (!perturbation::fill_delta_record(yv[size_t(i)], yv[size_t(i + 1)], yv[size_t(i - 1)],
                                          TransportMode::Importance, transmission))
       return std::nullopt;
@@ -90,17 +94,21 @@ std::optional<Proposal> CausticPerturbation::retrace(const Path& x, const Vec3& 
 
   // The new non-specular vertex seen from the fixed lens point: the pixel moves.
   PathVertex& lens = yv.back();
-  const auto raster = scene.camera().raster_position(lens.position, direction_between(lens, yv[size_t(k - 1)]));
+  const auto raster =
+      scene.camera().raster_position(lens.position, direction_between(lens, yv[size_t(k - 1)]));
   if (!raster) return std::nullopt;
   lens.raster = *raster;
-  const Rgb connection = connect_vertices(scene, &yv[size_t(k - 2)], yv[size_t(k - 1)], lens, nullptr);
+  const Rgb connection =
+      connect_vertices(scene, &yv[size_t(k - 2)], yv[size_t(k - 1)], lens, nullptr);
   if (is_black(connection) || !is_finite(connection)) return std::nullopt;
   if (!perturbation::finish_proposal(scene, x, y, l + 1, k - 1)) return std::nullopt;
 
-  const double log_jacobians = include_jacobian_ ? perturbation::log_light_jacobian(x, l + 1, k - 1) -
-                                                       perturbation::log_light_jacobian(y, l + 1, k - 1)
-                                                 : 0.0;
-  const double convention = perturbation::log_convention_correction(x, l + 1, k - 2, TransportMode::Importance);
+  const double log_jacobians = include_jacobian_
+                                   ? perturbation::log_light_jacobian(x, l + 1, k - 1) -
+                                         perturbation::log_light_jacobian(y, l + 1, k - 1)
+                                   : 0.0;
+  const double convention =
+      perturbation::log_convention_correction(x, l + 1, k - 2, TransportMode::Importance);
   proposal.log_reverse_over_forward = log_jacobians - convention;
   if (std::isnan(proposal.log_reverse_over_forward)) return std::nullopt;
   return proposal;
@@ -116,16 +124,17 @@ std::optional<Proposal> CausticPerturbation::perturb_to(const Path& x, const Vec
 }
 
 std::optional<Proposal> CausticPerturbation::perturb_within(const Path& x, const Vec3& direction,
-                                                            const MutationContext& ctx, double min_x,
-                                                            double max_x) const {
+                                                            const MutationContext& ctx,
+                                                            double min_x, double max_x) const {
   auto proposal = retrace(x, direction, ctx);
   if (!proposal) return std::nullopt;
   const int l = fixed_vertex(x.type);
   const auto& xv = x.vertices;
   const auto& yv = proposal->path.vertices;
   // Angle between the two directions at x_l, and both moves' ranges.
-  const double theta = perturbation::angle_between(perturbation::precise_direction(xv[size_t(l)], xv[size_t(l + 1)]),
-                                                   perturbation::precise_direction(yv[size_t(l)], yv[size_t(l + 1)]));
+  const double theta = perturbation::angle_between(
+      perturbation::precise_direction(xv[size_t(l)], xv[size_t(l + 1)]),
+      perturbation::precise_direction(yv[size_t(l)], yv[size_t(l + 1)]));
   if (!(theta > min_x && theta < max_x) || !(max_x > min_x)) return std::nullopt;
   double min_y = 0.0, max_y = 0.0;
   angle_range(proposal->path, l, ctx, &min_y, &max_y);
@@ -133,7 +142,12 @@ std::optional<Proposal> CausticPerturbation::perturb_within(const Path& x, const
     proposal->log_reverse_over_forward = -std::numeric_limits<double>::infinity();
     return proposal;
   }
-  proposal->log_reverse_over_forward += std::log(std::log(max_x / min_x)) - std::log(std::log(max_y / min_y));
+  // Both ranges are the same image-plane radii scaled by each path's pixel angle, so their
+  // ratio θ_2/θ_1 is the same unless θ_2 was clamped at π/2: the term is then exactly zero
+  // (and needs no logarithms, which the caustic step would otherwise spend most time on).
+  const double ratio_x = max_x / min_x, ratio_y = max_y / min_y;
+  if (std::abs(ratio_x - ratio_y) > 1e-12 * ratio_x)
+    proposal->log_reverse_over_forward += std::log(std::log(ratio_x) / std::log(ratio_y));
   if (std::isnan(proposal->log_reverse_over_forward)) return std::nullopt;
   return proposal;
 }
@@ -146,8 +160,9 @@ std::optional<Proposal> CausticPerturbation::propose(const Path& x, Rng& rng,
   angle_range(x, l, ctx, &theta_min, &theta_max);
   if (!(theta_max > theta_min) || !(theta_min > 0.0)) return std::nullopt;
   const Vec3 old_direction = direction_between(x.vertices[size_t(l)], x.vertices[size_t(l + 1)]);
-  return perturb_within(x, perturbation::perturb_direction(old_direction, theta_min, theta_max, rng.uniform2()),
-                        ctx, theta_min, theta_max);
+  return perturb_within(
+      x, perturbation::perturb_direction(old_direction, theta_min, theta_max, rng.uniform2()), ctx,
+      theta_min, theta_max);
 }
 
 }  // namespace emlt

@@ -76,12 +76,19 @@ void run_chain(Chain& chain, uint64_t chain_index, uint64_t steps, const Strateg
                int height) {
   std::vector<DVec3>& film = out.film;
   ctx.chain = chain_index;
+  // Steps taken with the current applicability, credited to the strategies that did not
+  // apply whenever it changes (one loop per accepted move instead of one per step).
+  uint64_t steps_with_mask = 0;
+  const auto count_not_applicable = [&] {
+    for (size_t i = 0; i < mix.size(); ++i)
+      if (!((chain.applicable >> i) & 1u)) out.stats[i].not_applicable += steps_with_mask;
+    steps_with_mask = 0;
+  };
   for (uint64_t step = 0; step < steps; ++step) {
     ctx.step = chain.steps_taken++;
     double p_forward = 0.0;
     const int chosen = mix.choose(chain.applicable, chain.rng.uniform(), &p_forward);
-    for (size_t i = 0; i < mix.size(); ++i)
-      if (!((chain.applicable >> i) & 1u)) ++out.stats[i].not_applicable;
+    ++steps_with_mask;
     if (chosen < 0) {  // nothing applies: the path stays
       chain.carried += 1.0;
       continue;
@@ -129,11 +136,13 @@ void run_chain(Chain& chain, uint64_t chain_index, uint64_t steps, const Strateg
       chain.current = std::move(proposal->path);
       chain.contribution = contribution;
       chain.target = target;
+      if (proposal_applicable != chain.applicable) count_not_applicable();
       chain.applicable = proposal_applicable;
       chain.carried = 0.0;
       ++stats.accepted;
     }
   }
+  count_not_applicable();
 }
 
 // The EMLT paper's Figure 12: the predominant image-plane direction of the proposals made
