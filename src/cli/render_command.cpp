@@ -80,7 +80,7 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
                      "emlt: paths in each ensemble, |X| = |Y| (0 = 16384, fewer on small images)")
       ->check(CLI::Range(0, 1 << 17));
   command.add_option("--ensemble-neighbours", s.ensemble_neighbours,
-                     "emlt: guide paths of one step (M)")
+                     "emlt: guide paths of one step (M, default 8)")
       ->check(CLI::Range(1, 64));
   command.add_option("--ensemble-iterations", s.ensemble_iterations,
                      "emlt: steps per path between swaps (0 = W*H / (|X|+|Y|))")

@@ -265,7 +265,7 @@ TEST(Cli, EmltWritesEnsembleStatisticsAndTheAnisotropyMap) {
   std::string text;
   ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "emlt.pfm").string() +
                                           " --integrator emlt --mutations emlt-ani --mpp 8 --bootstrap 5000"
-                                          " --width 16 --height 16 --ensemble-size 32 --ensemble-neighbours 8 --quiet"
+                                          " --width 16 --height 16 --ensemble-size 32 --ensemble-neighbours 12 --quiet"
                                           " --aniso-map " + (dir / "aniso.png").string() +
                                           " --stats " + (dir / "stats.json").string()), &text)) << text;
   EXPECT_TRUE(fs::exists(dir / "emlt.pfm"));
@@ -274,7 +274,7 @@ TEST(Cli, EmltWritesEnsembleStatisticsAndTheAnisotropyMap) {
   const auto stats = nlohmann::json::parse(in);
   EXPECT_EQ(stats["mutations"].get<uint64_t>(), 8u * 16u * 16u);
   EXPECT_EQ(stats["ensemble"]["size"].get<uint64_t>(), 32u);
-  EXPECT_EQ(stats["ensemble"]["neighbours"].get<uint64_t>(), 8u);
+  EXPECT_EQ(stats["ensemble"]["neighbours"].get<uint64_t>(), 12u);
   EXPECT_EQ(stats["ensemble"]["iterations"].get<uint64_t>(), 4u);  // 256 pixels / 64 paths
   EXPECT_EQ(stats["strategies"][1]["name"], "emlt-aniso");
   EXPECT_NE(text.find("swaps"), std::string::npos) << text;

@@ -108,7 +108,11 @@ struct Fixture {
   Fixture() {
     std::vector<const Path*> pointers;
     for (const Path& p : paths) pointers.push_back(&p);
-    ensemble.build(pointers, kImageSize, kImageSize, 3, EnsembleParams{});
+    // M = 32 guides: the fitted Σ then varies enough over the region that the dropped reverse
+    // density shows within a face (with the default 8, p = 0.53 in that test).
+    EnsembleParams params;
+    params.neighbours = 32;
+    ensemble.build(pointers, kImageSize, kImageSize, 3, params);
   }
   // The first L D D E path of the bootstrap whose x_b satisfies `where`.
   const Path* find(const std::function<bool(const PathVertex&)>& where) const {

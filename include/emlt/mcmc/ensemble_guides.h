@@ -15,7 +15,10 @@
 namespace emlt {
 
 struct EnsembleParams {
-  int neighbours = 32;  // M, the size of Υ (--ensemble-neighbours)
+  // M, the size of Υ (--ensemble-neighbours). The paper gives no value. 8 and 32 give the
+  // same error at equal mutations on the Cornell box and the door scene (within 7 %, seeds
+  // 1-3), and a step with 8 costs 16 % less (1.22 against 1.45 µs).
+  int neighbours = 8;
   // Length (scene units) below which two vertices count as the same in the similarity of
   // eq. 8; 0 = the paper's literal form, distances in scene units unscaled.
   double similarity_length = 0.0;

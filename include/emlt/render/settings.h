@@ -41,7 +41,7 @@ struct RenderSettings {
 
   // Ensemble MLT (integrator "emlt"; include/emlt/mcmc/ensemble_guides.h).
   int ensemble_size = 0;        // |X| = |Y|; 0: 16384, fewer on images under 32768 pixels
-  int ensemble_neighbours = 32; // M, the guide paths of one step
+  int ensemble_neighbours = 0;  // M, the guide paths of one step; 0: EnsembleParams' (8)
   int ensemble_iterations = 0;  // steps per path between swaps; 0: floor(W H / (|X| + |Y|))
   double ensemble_alpha = 0.0;  // > 0: fixed α of the linear kernels; 0: adaptive (paper §3.4)
   // > 0: distances in the similarity (eq. 8) are divided by this length (scene units);
