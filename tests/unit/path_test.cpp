@@ -1,11 +1,13 @@
 // The path layer: density bookkeeping, contributions, MIS weights and connections, checked
 // on random paths of the shipped scenes (diffuse, specular glass + rough metal, sky-lit).
+#include "emlt/path/path.h"
+
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <functional>
 
 #include "emlt/path/connection.h"
-#include "emlt/path/path.h"
 #include "emlt/path/random_walk.h"
 #include "emlt/scene/loader.h"
 #include "support/test_support.h"
@@ -15,7 +17,8 @@ using namespace emlt;
 namespace {
 
 std::unique_ptr<Scene> shipped_scene(const std::string& name) {
-  SceneDescription desc = load_scene_description(test::source_path("scenes/" + name + "/scene.json"), {});
+  SceneDescription desc =
+      load_scene_description(test::source_path("scenes/" + name + "/scene.json"), {});
   desc.camera.width = desc.camera.height = 16;
   return Scene::build(std::move(desc));
 }
@@ -35,12 +38,14 @@ struct SampledPath {
 
 // Calls `visit` for every strategy of `samples` random subpath pairs whose connection
 // carries light (no Russian roulette, at most 5 vertices per subpath).
-void for_each_random_path(const Scene& scene, int samples, const std::function<void(const SampledPath&)>& visit) {
+void for_each_random_path(const Scene& scene, int samples,
+                          const std::function<void(const SampledPath&)>& visit) {
   const WalkLimits limits{5, -1};
   std::vector<PathVertex> light, camera;
   for (int i = 0; i < samples; ++i) {
     Rng rng(42, uint64_t(i));
-    const Vec2 raster = rng.uniform2() * Vec2(float(scene.camera().width()), float(scene.camera().height()));
+    const Vec2 raster =
+        rng.uniform2() * Vec2(float(scene.camera().width()), float(scene.camera().height()));
     generate_camera_subpath(scene, rng, raster, rng.uniform2(), limits, camera);
     generate_light_subpath(scene, rng, limits, light);
     for (int t = 1; t <= int(camera.size()); ++t) {
@@ -125,6 +130,69 @@ TEST(PathDensities, StoredDensitiesEqualADirectRecomputationForEverySplit) {
   }
 }
 
+// The mutations recompute only the densities that depend on the vertices they moved
+// (recompute_densities(scene, path, first, last)). Move a stretch [first, last] of a path
+// (its vertices replaced by those of another path of the same length, so positions,
+// normals, BSDFs and Dirac records all change), scramble every density the window must
+// cover, and the windowed recomputation must give exactly the full one's bits; a window one
+// vertex too narrow on either side must not.
+TEST(PathDensities, WindowedRecomputationEqualsTheFullOneBitForBit) {
+  for (const char* name : kScenes) {
+    const auto scene = shipped_scene(name);
+    std::vector<Path> paths;
+    // Current densities, as every path a mutation starts from has them (a walk's own stored
+    // values agree with a recomputation only to rounding).
+    for_each_random_path(*scene, 200, [&](const SampledPath& sample) {
+      paths.push_back(sample.path);
+      recompute_densities(*scene, paths.back());
+    });
+    int compared = 0, narrow_caught = 0, narrow_tried = 0;
+    for (size_t p = 0; p + 1 < paths.size(); ++p) {
+      const Path& x = paths[p];
+      const Path* donor = nullptr;
+      for (size_t q = p + 1; q < paths.size() && !donor; ++q)
+        if (paths[q].vertices.size() == x.vertices.size()) donor = &paths[q];
+      if (!donor) continue;
+      const int k = int(x.vertices.size()) - 1;
+      for (int first = 1; first <= k - 1; ++first)
+        for (int last = first; last <= k - 1; ++last) {
+          Path moved = x;
+          for (int i = first; i <= last; ++i)
+            moved.vertices[size_t(i)] = donor->vertices[size_t(i)];
+          Path full = moved;
+          recompute_densities(*scene, full);
+          const auto windowed = [&](int a, int b) {
+            Path y = moved;
+            for (int i = 0; i <= k; ++i) {  // stale values where the window must write
+              if (i >= first && i <= last + 2) y.vertices[size_t(i)].pdf_from_light = -1.0f;
+              if (i >= first - 2 && i <= last) y.vertices[size_t(i)].pdf_from_eye = -1.0f;
+            }
+            // Outside the moved stretch, x's (current) densities stand in the copy.
+            recompute_densities(*scene, y, a, b);
+            for (int i = 0; i <= k; ++i) {
+              const PathVertex &u = y.vertices[size_t(i)], &v = full.vertices[size_t(i)];
+              if (std::memcmp(&u.pdf_from_light, &v.pdf_from_light, sizeof(float)) != 0 ||
+                  std::memcmp(&u.pdf_from_eye, &v.pdf_from_eye, sizeof(float)) != 0)
+                return false;
+            }
+            return true;
+          };
+          // Densities outside the window come from `moved`, i.e. from x: they are only
+          // right if they do not depend on the moved stretch, which is the window's claim.
+          EXPECT_TRUE(windowed(first, last)) << name << " window [" << first << ", " << last << "]";
+          ++compared;
+          if (last < k - 1) {
+            ++narrow_tried;
+            narrow_caught += !windowed(first, last - 1);
+          }
+        }
+    }
+    EXPECT_GT(compared, 100) << name;
+    // A narrowed window leaves some scrambled or stale density behind.
+    EXPECT_EQ(narrow_caught, narrow_tried) << name;
+  }
+}
+
 TEST(PathDensities, MisWeightsOfEveryPathSumToOne) {
   for (const char* name : kScenes) {
     const auto scene = shipped_scene(name);
@@ -138,7 +206,8 @@ TEST(PathDensities, MisWeightsOfEveryPathSumToOne) {
       }
       // The balance heuristic is p_s / sum of p_s' by definition.
       double total = 0.0;
-      for (int split = 0; split <= int(densities.size()); ++split) total += split_density(densities, split);
+      for (int split = 0; split <= int(densities.size()); ++split)
+        total += split_density(densities, split);
       EXPECT_TRUE(close(mis_weight(densities, sample.s, MisHeuristic::Balance),
                         split_density(densities, sample.s) / total, 1e-4));
     });
@@ -156,7 +225,8 @@ TEST(PathContribution, OverTheGeneratingDensityEqualsTheBdptEstimate) {
         EXPECT_TRUE(close(f[c] / p, sample.estimate[c], 2e-3))
             << name << " s=" << sample.s << " t=" << sample.t << " " << sample.path.type.to_string()
             << ": " << f[c] / p << " vs " << sample.estimate[c];
-      EXPECT_DOUBLE_EQ(path_luminance(*scene, sample.path), 0.2126 * f.x + 0.7152 * f.y + 0.0722 * f.z);
+      EXPECT_DOUBLE_EQ(path_luminance(*scene, sample.path),
+                       0.2126 * f.x + 0.7152 * f.y + 0.0722 * f.z);
       ++checked;
     });
     EXPECT_GT(checked, 100) << name;
@@ -170,7 +240,8 @@ TEST(PathLayer, NoNonFiniteValueLeavesIt) {
     std::vector<PathVertex> light, camera;
     for (int i = 0; i < 2000; ++i) {
       Rng rng(7, uint64_t(i));
-      generate_camera_subpath(*scene, rng, rng.uniform2() * 16.0f, rng.uniform2(), {12, 3}, camera, &invalid);
+      generate_camera_subpath(*scene, rng, rng.uniform2() * 16.0f, rng.uniform2(), {12, 3}, camera,
+                              &invalid);
       generate_light_subpath(*scene, rng, {12, 3}, light, &invalid);
       for (const auto* subpath : {&light, &camera})
         for (const PathVertex& v : *subpath) {
@@ -201,8 +272,9 @@ TEST(Connection, SpecularVerticesAreNeverConnectedAndMarkTheirPathType) {
       const PathVertex& z = camera[j];
       if (!z.bsdf || !z.bsdf->is_purely_delta()) continue;
       ++glass_vertices;
-      EXPECT_TRUE(is_black(connect_vertices(*scene, light.size() > 1 ? &light[light.size() - 2] : nullptr,
-                                            light.back(), z, &camera[j - 1])));
+      EXPECT_TRUE(
+          is_black(connect_vertices(*scene, light.size() > 1 ? &light[light.size() - 2] : nullptr,
+                                    light.back(), z, &camera[j - 1])));
     }
   }
   for_each_random_path(*scene, 500, [&](const SampledPath& sample) {
