@@ -255,6 +255,47 @@ std::unique_ptr<Scene> small_scene(const std::string& name, int size) {
 }
 }  // namespace
 
+// The per-strategy counters the statistics report add up over every step: each step picks
+// one applicable strategy (the bidirectional mutation always applies), a strategy that does
+// not apply to the current path counts that step, and the counts do not depend on the thread
+// count. On the Cornell box (no specular surface) the multi-chain perturbation never applies.
+TEST(MltStatistics, StrategyCountersAddUpOverEveryStep) {
+  const auto scene = small_scene("cornell-box", 16);
+  RenderSettings s = mlt_settings(-1, true);
+  s.mutations = kMltMix;
+  s.mutations_per_pixel = 20;
+  std::vector<StrategyStats> first;
+  for (const int threads : {1, 2}) {
+    s.threads = threads;
+    MltIntegrator mlt;
+    render(mlt, *scene, s);
+    const MltStatistics& st = mlt.statistics();
+    ASSERT_EQ(st.strategy_names.size(), 4u);
+    ASSERT_EQ(st.strategy_names[0], "bidir");
+    ASSERT_EQ(st.strategy_names[3], "multichain");
+    uint64_t proposed = 0;
+    for (const StrategyStats& strategy : st.strategies) {
+      proposed += strategy.proposed;
+      EXPECT_LE(strategy.accepted, strategy.proposed);
+      EXPECT_LE(strategy.failed, strategy.proposed);
+      EXPECT_LE(strategy.proposed + strategy.not_applicable, st.mutations);
+    }
+    EXPECT_EQ(proposed, st.mutations);
+    EXPECT_EQ(st.strategies[0].not_applicable, 0u);
+    EXPECT_EQ(st.strategies[3].proposed, 0u);
+    EXPECT_EQ(st.strategies[3].not_applicable, st.mutations);
+    if (first.empty()) {
+      first = st.strategies;
+    } else {
+      for (size_t i = 0; i < first.size(); ++i) {
+        EXPECT_EQ(first[i].proposed, st.strategies[i].proposed) << i;
+        EXPECT_EQ(first[i].not_applicable, st.strategies[i].not_applicable) << i;
+        EXPECT_EQ(first[i].accepted, st.strategies[i].accepted) << i;
+      }
+    }
+  }
+}
+
 TEST(MltCornellBox, ConvergesToBdpt) {
   const auto scene = small_scene("cornell-box", 24);
   RenderSettings s = mlt_settings(-1, true);
