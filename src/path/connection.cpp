@@ -11,7 +11,9 @@ bool consistent_side(const PathVertex& v, const Vec3& w_world, const Vec3& w_loc
 }
 
 // Surfaces are offset along their normal for shadow rays; lens points are not.
-Vec3 offset_normal(const PathVertex& v) { return v.is_camera() ? Vec3(0.0f) : v.normal; }
+Vec3 offset_normal(const PathVertex& v) {
+  return v.is_camera() ? Vec3(0.0f) : v.normal;
+}
 
 }  // namespace
 
@@ -19,7 +21,8 @@ namespace {
 
 // vertex_factor without the Dirac shortcut: what a connection ending at v evaluates, since
 // the lobe a walk sampled at v to continue plays no part in a path that ends there.
-Rgb smooth_factor_along(const Scene& scene, const PathVertex& v, const Vec3* w_light, const Vec3* w_eye) {
+Rgb smooth_factor_along(const Scene& scene, const PathVertex& v, const Vec3* w_light,
+                        const Vec3* w_eye) {
   if (!w_light) {  // x0: the emitter's radiance towards the rest of the path
     if (!w_eye || !v.light) return Rgb(0.0f);
     if (v.is_environment()) return v.light->emitted(Vec3(0.0f), v.sky_direction);
@@ -45,8 +48,10 @@ Rgb smooth_vertex_factor(const Scene& scene, const PathVertex& v, const PathVert
   const bool interior = light_side && eye_side;
   Vec3 w_light(0.0f), w_eye(0.0f);
   if (light_side && (interior || v.is_camera())) w_light = direction_between(v, *light_side);
-  if (eye_side && (interior || (v.light && !v.is_environment()))) w_eye = direction_between(v, *eye_side);
-  return smooth_factor_along(scene, v, light_side ? &w_light : nullptr, eye_side ? &w_eye : nullptr);
+  if (eye_side && (interior || (v.light && !v.is_environment())))
+    w_eye = direction_between(v, *eye_side);
+  return smooth_factor_along(scene, v, light_side ? &w_light : nullptr,
+                             eye_side ? &w_eye : nullptr);
 }
 
 }  // namespace
@@ -57,7 +62,8 @@ Rgb vertex_factor(const Scene& scene, const PathVertex& v, const PathVertex* lig
   return smooth_vertex_factor(scene, v, light_side, eye_side);
 }
 
-Rgb vertex_factor_along(const Scene& scene, const PathVertex& v, const Vec3* w_light, const Vec3* w_eye) {
+Rgb vertex_factor_along(const Scene& scene, const PathVertex& v, const Vec3* w_light,
+                        const Vec3* w_eye) {
   if (w_light && w_eye && v.delta) return v.delta_value;
   return smooth_factor_along(scene, v, w_light, w_eye);
 }
@@ -121,9 +127,9 @@ float pdf_towards_along(const Scene& scene, const PathVertex* before, const Path
     const auto ior = [&](const Vec3& dir) {
       return glm::dot(from.normal, dir) > 0.0f ? from.delta_ior_ratio : 1.0f;
     };
-    pdf = from.delta_probability *
-          dirac_crossing_factor(ior(w) / ior(w_before), std::abs(glm::dot(from.normal, w_before)),
-                                std::abs(glm::dot(from.normal, w)));
+    pdf = from.delta_probability * dirac_crossing_factor(ior(w) / ior(w_before),
+                                                         std::abs(glm::dot(from.normal, w_before)),
+                                                         std::abs(glm::dot(from.normal, w)));
   } else {
     const Vec3 before_local = from.shading.to_local(w_before), to_local = from.shading.to_local(w);
     if (!consistent_side(from, w_before, before_local) || !consistent_side(from, w, to_local))
@@ -145,7 +151,8 @@ float pdf_light_origin(const Scene& scene, const PathVertex& v) {
   if (!v.light) return 0.0f;
   const float selection = scene.lights().selection_probability(*v.light);
   if (v.is_environment()) {
-    return selection * static_cast<const EnvironmentLight*>(v.light)->pdf_direction(v.sky_direction);
+    return selection *
+           static_cast<const EnvironmentLight*>(v.light)->pdf_direction(v.sky_direction);
   }
   float pdf_position = 0.0f;
   v.light->pdf_emission(v.position, v.normal, v.normal, &pdf_position, nullptr);
@@ -160,12 +167,7 @@ std::optional<PathVertex> sample_camera_vertex(const Scene& scene, const PathVer
   const Camera& camera = scene.camera();
   const auto sample = camera.sample_direct(y.position, u_lens);
   if (!sample) return std::nullopt;
-  PathVertex c;
-  c.kind = VertexKind::Camera;
-  c.position = sample->lens_point;
-  c.normal = camera.forward();
-  c.shading = Frame(c.normal);
-  c.raster = sample->raster;
+  PathVertex c = make_camera_vertex(scene, sample->lens_point, sample->raster);
   float pdf_position = 0.0f, pdf_direction = 0.0f;
   camera.pdf_emission(-sample->wi, &pdf_position, &pdf_direction);
   if (!(pdf_position > 0.0f)) return std::nullopt;

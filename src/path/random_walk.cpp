@@ -69,7 +69,8 @@ int random_walk(const Scene& scene, Rng& rng, TransportMode mode, int steps, int
     const Vec3& segment = out.w;
     const Vec3 segment_local = v.shading.to_local(segment);
     if (glm::dot(v.normal, segment) * segment_local.z <= 0.0f) break;
-    const float cos_wo_shading = std::abs(wo_local.z), cos_wo_geometric = std::abs(glm::dot(v.normal, wo));
+    const float cos_wo_shading = std::abs(wo_local.z),
+                cos_wo_geometric = std::abs(glm::dot(v.normal, wo));
     const float cos_segment_shading = std::abs(segment_local.z);
     const float cos_segment_geometric = std::abs(glm::dot(v.normal, segment));
     float forward_solid_angle = bs->pdf, reverse_solid_angle = bs->pdf_reverse;
@@ -78,7 +79,8 @@ int random_walk(const Scene& scene, Rng& rng, TransportMode mode, int steps, int
       // Dirac lobe: f's factor is the sampled value with the light side's shading cosine
       // moved into it (Veach 1997 §5.3); its density is the lobe probability.
       // bs->eta = n(wi side) / n(wo side), 1 for a reflection (see vertex.h).
-      const float crossing = dirac_crossing_factor(bs->eta, cos_wo_geometric, cos_segment_geometric);
+      const float crossing =
+          dirac_crossing_factor(bs->eta, cos_wo_geometric, cos_segment_geometric);
       v.delta_probability = bs->pdf;
       v.delta_ior_ratio = glm::dot(v.normal, wi) > 0.0f ? bs->eta : 1.0f / bs->eta;
       v.delta_value = bs->value * crossing *
@@ -105,7 +107,8 @@ int random_walk(const Scene& scene, Rng& rng, TransportMode mode, int steps, int
     next->throughput = throughput;
     const float forward = solid_angle_along(forward_solid_angle, *next, out);
     // The lens cannot be hit, so a camera vertex keeps pdf_from_light = 0.
-    const float reverse = previous.is_camera() ? 0.0f : solid_angle_along(reverse_solid_angle, previous, back);
+    const float reverse =
+        previous.is_camera() ? 0.0f : solid_angle_along(reverse_solid_angle, previous, back);
     (importance ? next->pdf_from_light : next->pdf_from_eye) = forward;
     (importance ? previous.pdf_from_eye : previous.pdf_from_light) = reverse;
     subpath.push_back(*next);  // invalidates v and previous
@@ -146,15 +149,17 @@ int generate_light_subpath(const Scene& scene, Rng& rng, const WalkLimits& limit
   auto first = trace_to_vertex(scene, emission->ray);
   if (!first || first->is_environment()) return 1;
   // Le |cos| / (p_select p_position p_direction): f/p of the first segment.
-  const float cos_emission =
-      light->is_environment() ? 1.0f : std::abs(glm::dot(emission->normal, emission->ray.direction));
+  const float cos_emission = light->is_environment()
+                                 ? 1.0f
+                                 : std::abs(glm::dot(emission->normal, emission->ray.direction));
   Rgb throughput = emission->radiance *
                    (cos_emission / (selection * emission->pdf_position * emission->pdf_direction));
   if (!keep_finite(throughput, invalid) || is_black(throughput)) return 1;
   first->throughput = throughput;
-  first->pdf_from_light = light->is_environment()
-                              ? emission->pdf_position * abs_cos_at(*first, emission->ray.direction)
-                              : solid_angle_to_vertex_measure(emission->pdf_direction, origin, *first);
+  first->pdf_from_light =
+      light->is_environment()
+          ? emission->pdf_position * abs_cos_at(*first, emission->ray.direction)
+          : solid_angle_to_vertex_measure(emission->pdf_direction, origin, *first);
   subpath.push_back(*first);
   random_walk(scene, rng, TransportMode::Importance, limits.max_vertices - 2, limits.rr_depth,
               subpath, invalid);
@@ -172,12 +177,7 @@ int generate_camera_subpath(const Scene& scene, Rng& rng, const Vec2& raster, co
   camera.pdf_emission(ray.direction, &pdf_position, &pdf_direction);
   if (!(pdf_position > 0.0f) || !(pdf_direction > 0.0f)) return 0;
 
-  PathVertex lens;
-  lens.kind = VertexKind::Camera;
-  lens.position = ray.origin;
-  lens.normal = camera.forward();
-  lens.shading = Frame(lens.normal);
-  lens.raster = raster;
+  PathVertex lens = make_camera_vertex(scene, ray.origin, raster);
   lens.pdf_from_eye = pdf_position;
   lens.throughput = Rgb(1.0f / pdf_position);
   subpath.push_back(lens);

@@ -24,4 +24,14 @@ PathVertex make_environment_vertex(const Scene& scene, const Vec3& direction) {
   return v;
 }
 
+PathVertex make_camera_vertex(const Scene& scene, const Vec3& lens_point, const Vec2& raster) {
+  PathVertex v;
+  v.kind = VertexKind::Camera;
+  v.position = lens_point;
+  v.normal = scene.camera().forward();
+  v.shading = Frame(v.normal);
+  v.raster = raster;
+  return v;
+}
+
 }  // namespace emlt

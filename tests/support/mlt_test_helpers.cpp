@@ -15,11 +15,14 @@
 namespace emlt::test {
 
 namespace {
-double luminance(const DVec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+double luminance(const DVec3& c) {
+  return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+}
 }  // namespace
 
 std::unique_ptr<Scene> shipped_scene(const std::string& name, int size) {
-  SceneDescription desc = load_scene_description(test::source_path("scenes/" + name + "/scene.json"), {});
+  SceneDescription desc =
+      load_scene_description(test::source_path("scenes/" + name + "/scene.json"), {});
   desc.camera.width = desc.camera.height = size;
   return Scene::build(std::move(desc));
 }
@@ -35,7 +38,8 @@ std::vector<Path> bootstrap_paths(const Scene& scene, int count, int max_edges) 
   std::vector<Path> paths;
   Rng rng(3, 3);
   for (int i = 0; i < count * 4 && int(paths.size()) < count; ++i) {
-    const auto path = rebuild_candidate(scene, params, bootstrap.candidates[bootstrap.choose(rng.uniform_double())]);
+    const auto path = rebuild_candidate(
+        scene, params, bootstrap.candidates[bootstrap.choose(rng.uniform_double())]);
     if (path && path_luminance(scene, *path) > 0.0) paths.push_back(*path);
   }
   return paths;
@@ -74,8 +78,8 @@ Image mlt_image(const Scene& scene, const std::string& mix, double mpp, MltStati
   return image;
 }
 
-void expect_converged_to(const Image& image, const Image& reference, int blocks, double tile_tolerance,
-                         double total_tolerance) {
+void expect_converged_to(const Image& image, const Image& reference, int blocks,
+                         double tile_tolerance, double total_tolerance) {
   const int tile = image.width / blocks;
   std::vector<double> sums, reference_sums;
   double total = 0.0, total_reference = 0.0;
@@ -98,7 +102,8 @@ void expect_converged_to(const Image& image, const Image& reference, int blocks,
   for (size_t i = 0; i < sums.size(); ++i) {
     const double ratio = sums[i] / (reference_sums[i] * scale);
     worst = std::max(worst, std::abs(ratio - 1.0));
-    EXPECT_NEAR(ratio, 1.0, tile_tolerance) << "tile (" << i % size_t(blocks) << ", " << i / size_t(blocks) << ")";
+    EXPECT_NEAR(ratio, 1.0, tile_tolerance)
+        << "tile (" << i % size_t(blocks) << ", " << i / size_t(blocks) << ")";
   }
   std::printf("[ info     ] total ratio %.4f, worst tile deviation %.4f\n", scale, worst);
 }
@@ -110,18 +115,14 @@ Path floor_mirror_light_path(const Scene& scene, const Vec2& raster, const Vec3&
   EXPECT_TRUE(scene.intersect(ray, seen));
   EXPECT_TRUE(scene.intersect(spawn_ray(seen.position, seen.geometric_normal, up), on_mirror));
   const Vec3 down = reflect_about(-up, on_mirror.geometric_normal);
-  EXPECT_TRUE(scene.intersect(spawn_ray(on_mirror.position, on_mirror.geometric_normal, down), lit));
-  EXPECT_TRUE(scene.intersect(spawn_ray(lit.position, lit.geometric_normal, Vec3(0, 1, 0)), on_light));
+  EXPECT_TRUE(
+      scene.intersect(spawn_ray(on_mirror.position, on_mirror.geometric_normal, down), lit));
+  EXPECT_TRUE(
+      scene.intersect(spawn_ray(lit.position, lit.geometric_normal, Vec3(0, 1, 0)), on_light));
   Path path;
-  path.vertices = {make_surface_vertex(on_light), make_surface_vertex(lit), make_surface_vertex(on_mirror),
-                   make_surface_vertex(seen)};
-  PathVertex lens;
-  lens.kind = VertexKind::Camera;
-  lens.position = ray.origin;
-  lens.normal = camera.forward();
-  lens.shading = Frame(lens.normal);
-  lens.raster = raster;
-  path.vertices.push_back(lens);
+  path.vertices = {make_surface_vertex(on_light), make_surface_vertex(lit),
+                   make_surface_vertex(on_mirror), make_surface_vertex(seen)};
+  path.vertices.push_back(make_camera_vertex(scene, ray.origin, raster));
   auto& v = path.vertices;
   EXPECT_TRUE(perturbation::fill_delta_record(v[2], v[3], v[1], TransportMode::Radiance, false));
   path.type = compute_path_type(path.vertices);
@@ -133,7 +134,8 @@ double log_floor_area_per_nu(const Path& path) {
   const auto& v = path.vertices;
   const double d32 = glm::length(DVec3(v[3].position) - DVec3(v[2].position));
   const double d21 = glm::length(DVec3(v[2].position) - DVec3(v[1].position));
-  const double cos2 = std::abs(glm::dot(DVec3(v[2].normal), perturbation::precise_direction(v[2], v[3])));
+  const double cos2 =
+      std::abs(glm::dot(DVec3(v[2].normal), perturbation::precise_direction(v[2], v[3])));
   return std::log(cos2) + 2.0 * (std::log(d32 + d21) - std::log(d32) - std::log(d21));
 }
 
@@ -155,20 +157,15 @@ Path light_floor_eye_path(const Scene& scene, const Vec2& raster) {
   Path path;
   path.vertices.push_back(make_surface_vertex(light_hit));
   path.vertices.push_back(make_surface_vertex(floor_hit));
-  PathVertex lens;
-  lens.kind = VertexKind::Camera;
-  lens.position = ray.origin;
-  lens.normal = camera.forward();
-  lens.shading = Frame(lens.normal);
-  lens.raster = raster;
-  path.vertices.push_back(lens);
+  path.vertices.push_back(make_camera_vertex(scene, ray.origin, raster));
   path.type = compute_path_type(path.vertices);
   recompute_densities(scene, path);
   return path;
 }
 
 double landing_density(const Mutation& mutation, const Path& x, int moved, const Vec3& target,
-                       float radius, int proposals, const MutationContext& ctx, uint64_t seed, int* hits_out) {
+                       float radius, int proposals, const MutationContext& ctx, uint64_t seed,
+                       int* hits_out) {
   Rng rng(seed, 7);
   int hits = 0;
   for (int i = 0; i < proposals; ++i) {

@@ -40,9 +40,9 @@ struct PathVertex {
   VertexKind kind = VertexKind::Surface;
   bool delta = false;  // the walk continued through a Dirac lobe here: S in the path type
 
-  Vec3 position{0.0f};       // surface and lens points (environment: unused)
-  Vec3 normal{0.0f};         // geometric normal; camera: its forward axis; sky: zero
-  Frame shading;             // shading frame (z = shading normal)
+  Vec3 position{0.0f};  // surface and lens points (environment: unused)
+  Vec3 normal{0.0f};    // geometric normal; camera: its forward axis; sky: zero
+  Frame shading;        // shading frame (z = shading normal)
   Vec2 uv{0.0f};
   Vec3 sky_direction{0.0f};  // environment only: unit direction from the scene to the sky
 
@@ -143,5 +143,7 @@ inline float solid_angle_to_vertex_measure(float pdf_solid_angle, const PathVert
 PathVertex make_surface_vertex(const SurfaceHit& hit);
 // An environment vertex for a ray that left the scene along `direction`.
 PathVertex make_environment_vertex(const Scene& scene, const Vec3& direction);
+// A lens vertex at `lens_point`, its primary direction landing at `raster` (no densities).
+PathVertex make_camera_vertex(const Scene& scene, const Vec3& lens_point, const Vec2& raster);
 
 }  // namespace emlt
