@@ -377,21 +377,13 @@ constexpr double kMultiChainTheta1 = 0.005, kMultiChainTheta2 = 0.04;
 // is small for x, whose segment passes the sphere at 4 mm, and at its ceiling for y,
 // whose seen point is 4 pixels further away from it.
 std::unique_ptr<Scene> floor_mirror_sphere_scene() {
-  SceneDescription d;
+  SceneDescription d = test::floor_mirror_description();
   d.source = "floor-mirror-sphere";
-  const int white = test::add_material(d, make_lambertian(Rgb(0.7f)));
-  const int mirror = test::add_material(d, make_mirror(Rgb(0.9f)));
-  test::add_quad(d, {-4, 0, -4}, {-4, 0, 8}, {4, 0, 8}, {4, 0, -4}, white, Rgb(0.0f));  // faces +y
-  test::add_quad(d, {-1.5f, 1, 0.5f}, {1.5f, 1, 0.5f}, {1.5f, 1, 2.5f}, {-1.5f, 1, 2.5f}, mirror,
-                 Rgb(0.0f));  // faces -y
-  const float h = 0.3f, s = 0.3f, zc = 3.2f;
-  test::add_quad(d, {-s, h, zc - s}, {s, h, zc - s}, {s, h, zc + s}, {-s, h, zc + s}, white, Rgb(5.0f));
   SphereDesc sphere;
   sphere.center = Vec3(-0.093f, 0.5f, 0.465f);
   sphere.radius = 0.05f;
-  sphere.material = white;
+  sphere.material = 0;  // the floor's white
   d.spheres.push_back(sphere);
-  d.camera = test::camera_at(Vec3(0.0f, 0.5f, -2.5f), Vec3(0.0f, 0.0f, -0.2f), 32);
   return Scene::build(std::move(d));
 }
 

@@ -140,17 +140,7 @@ TEST(PerturbationDensity, CausticRatioMatchesTheHistogramOfLandingPoints) {
 // The image-point move gives x3 the lens perturbation's strongly varying Jacobian; the
 // angular step at x3 moves x1 through the mirror.
 std::unique_ptr<Scene> floor_mirror_scene() {
-  SceneDescription d;
-  d.source = "floor-mirror";
-  const int white = test::add_material(d, make_lambertian(Rgb(0.7f)));
-  const int mirror = test::add_material(d, make_mirror(Rgb(0.9f)));
-  test::add_quad(d, {-4, 0, -4}, {-4, 0, 8}, {4, 0, 8}, {4, 0, -4}, white, Rgb(0.0f));  // faces +y
-  test::add_quad(d, {-1.5f, 1, 0.5f}, {1.5f, 1, 0.5f}, {1.5f, 1, 2.5f}, {-1.5f, 1, 2.5f}, mirror,
-                 Rgb(0.0f));  // faces -y
-  const float h = 0.3f, s = 0.3f, zc = 3.2f;
-  test::add_quad(d, {-s, h, zc - s}, {s, h, zc - s}, {s, h, zc + s}, {-s, h, zc + s}, white, Rgb(5.0f));
-  d.camera = test::camera_at(Vec3(0.0f, 0.5f, -2.5f), Vec3(0.0f, 0.0f, -0.2f), 32);
-  return Scene::build(std::move(d));
+  return Scene::build(test::floor_mirror_description());
 }
 
 // The L D S D E path seen through `raster` whose direction at the floor point aims at

@@ -56,4 +56,18 @@ Rgb emissive_box_radiance(const Rgb& albedo, float le, int max_segments) {
   return sum;
 }
 
+SceneDescription floor_mirror_description() {
+  SceneDescription d;
+  d.source = "floor-mirror";
+  const int white = add_material(d, make_lambertian(Rgb(0.7f)));
+  const int mirror = add_material(d, make_mirror(Rgb(0.9f)));
+  add_quad(d, {-4, 0, -4}, {-4, 0, 8}, {4, 0, 8}, {4, 0, -4}, white, Rgb(0.0f));  // faces +y
+  add_quad(d, {-1.5f, 1, 0.5f}, {1.5f, 1, 0.5f}, {1.5f, 1, 2.5f}, {-1.5f, 1, 2.5f}, mirror,
+           Rgb(0.0f));  // faces -y
+  const float h = 0.3f, s = 0.3f, zc = 3.2f;
+  add_quad(d, {-s, h, zc - s}, {s, h, zc - s}, {s, h, zc + s}, {-s, h, zc + s}, white, Rgb(5.0f));
+  d.camera = camera_at(Vec3(0.0f, 0.5f, -2.5f), Vec3(0.0f, 0.0f, -0.2f), 32);
+  return d;
+}
+
 }  // namespace emlt::test

@@ -18,4 +18,10 @@ CameraDesc camera_at(Vec3 eye, Vec3 target, int size, Vec3 up = Vec3(0, 1, 0));
 std::unique_ptr<Scene> emissive_box(const Rgb& albedo, float le, int image_size = 16);
 Rgb emissive_box_radiance(const Rgb& albedo, float le, int max_segments);
 
+// The multi-chain perturbation's shortest path, L D S D E: a floor (faces +y), a
+// downward-facing mirror at height 1 above its middle, a small light just above the floor
+// further back, and a camera seeing the floor at a grazing angle. Returned as a description
+// so that a test can add geometry (the geometry-aware test puts a sphere beside the path).
+SceneDescription floor_mirror_description();
+
 }  // namespace emlt::test
