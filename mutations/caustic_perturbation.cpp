@@ -143,8 +143,8 @@ std::optional<Proposal> CausticPerturbation::perturb_within(const Path& x, const
     return proposal;
   }
   // Both ranges are the same image-plane radii scaled by each path's pixel angle, so their
-  // ratio θ_2/θ_1 is the same unless θ_2 was clamped at π/2: the term is then exactly zero
-  // (and needs no logarithms, which the caustic step would otherwise spend most time on).
+  // ratio θ_2/θ_1 is the same unless θ_2 was clamped at π/2: the term is then exactly zero,
+  // and skipping it saves four logarithms a step (about 1 % of an MLT render's time).
   const double ratio_x = max_x / min_x, ratio_y = max_y / min_y;
   if (std::abs(ratio_x - ratio_y) > 1e-12 * ratio_x)
     proposal->log_reverse_over_forward += std::log(std::log(ratio_x) / std::log(ratio_y));
