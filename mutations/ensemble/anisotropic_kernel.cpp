@@ -13,10 +13,14 @@
 // Sigma matters, and Sigma depends on x through the weights and the tangent plane.
 //
 // Fallback. If the Kish effective number of guides (sum w)^2 / sum w^2 is below
-// min_effective_guides, or det(Sigma_fit) < min_determinant, the kernel is an isotropic
-// Gaussian of width fallback_sigma on the same tangent plane. (The paper falls back to a
-// concentrated vMF about x'_{j-1} -> x_j; an isotropic Gaussian on the plane is the other
-// option it names, and keeps one Jacobian for both branches.) The decision is a function of
+// min_effective_guides, or det(Sigma_fit) < min_determinant, the fit is not used. The
+// ray-cast form then does what the paper does: it samples a direction from a vMF of
+// concentration fallback_concentration about the direction from the cast origin x'_{j-1} to
+// x_j and casts along it; per unit surface area that is vMF(w) |cos_x'| / d^2_x'. With no
+// concentration set (and always in the planar form, which has no origin) the fallback is an
+// isotropic Gaussian of width fallback_sigma on the tangent plane, the alternative the
+// paper names. One guide typically dominates the similarity weights, so the fallback is
+// common (about a third of the fits on the Cornell box). The decision is a function of
 // (x, N, guides) only, so the reverse density at x' re-decides at x' - a kernel whose
 // fallback decision was copied from the forward move would not be the same kernel in both
 // directions (the statistical test shows that bias).
@@ -100,6 +104,8 @@ TangentGaussian fit_tangent_gaussian(const Vec3& centre, const Vec3& normal, con
   const size_t count = guides.points.size();
   if (count == 0) {
     set_covariance(gaussian, fallback_variance, 0.0, fallback_variance);
+    gaussian.fallback = true;
+    gaussian.fallback_concentration = params.fallback_concentration;
     return gaussian;
   }
 
@@ -146,6 +152,7 @@ TangentGaussian fit_tangent_gaussian(const Vec3& centre, const Vec3& normal, con
   if (degenerate) {
     set_covariance(gaussian, fallback_variance, 0.0, fallback_variance);
     gaussian.fallback = true;
+    gaussian.fallback_concentration = params.fallback_concentration;
     return gaussian;
   }
   const double floor_variance = params.floor_sigma * params.floor_sigma;
@@ -193,9 +200,39 @@ std::optional<Vec3> project_through_onto_plane(const Vec3& origin, const Vec3& t
   return Vec3(start + distance * direction);
 }
 
+Vec3 sample_cast_target(const TangentGaussian& kernel, const Vec3& origin, Rng& rng) {
+  if (!kernel.directional_fallback()) return sample_tangent_gaussian(kernel, rng);
+  const DVec3 axis = kernel.centre - DVec3(origin);
+  if (!(glm::dot(axis, axis) > 0.0)) return origin;  // no direction: the cast fails
+  return origin + sample_vmf(Vec3(axis), kernel.fallback_concentration, rng);
+}
+
+namespace {
+
+// The directional fallback's density per unit area at surface_point.
+double vmf_cast_log_area_density(const TangentGaussian& kernel, const Vec3& origin,
+                                 const Vec3& surface_point, const Vec3& surface_normal) {
+  const DVec3 start(origin), axis = kernel.centre - start,
+                             to_surface = DVec3(surface_point) - start;
+  const double axis_length = glm::length(axis), distance = glm::length(to_surface);
+  if (!(axis_length > 0.0) || !(distance > 0.0)) return kNegativeInfinity;
+  const DVec3 direction = to_surface / distance;
+  const double cos_at_surface = glm::dot(direction, glm::normalize(DVec3(surface_normal)));
+  if (cos_at_surface == 0.0) return kNegativeInfinity;
+  // 1 - cos from the chord, which keeps the small angles of a concentrated lobe.
+  const DVec3 chord = direction - axis / axis_length;
+  const double cos_to_mean = 1.0 - 0.5 * glm::dot(chord, chord);
+  return vmf_log_pdf(kernel.fallback_concentration, cos_to_mean) +
+         std::log(std::abs(cos_at_surface)) - 2.0 * std::log(distance);
+}
+
+}  // namespace
+
 double ray_cast_log_area_density(const TangentGaussian& gaussian, const Vec3& origin,
                                  const Vec3& surface_point, const Vec3& surface_normal,
                                  double min_plane_cosine) {
+  if (gaussian.directional_fallback())
+    return vmf_cast_log_area_density(gaussian, origin, surface_point, surface_normal);
   const auto plane_point = project_through_onto_plane(origin, surface_point, Vec3(gaussian.centre),
                                                       Vec3(gaussian.normal));
   if (!plane_point) return kNegativeInfinity;

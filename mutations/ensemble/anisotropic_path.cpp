@@ -21,7 +21,9 @@ AnisotropicParams world_params(const AnisotropicPathParams& p, const MutationCon
   const double radius = double(ctx.scene.bounds_radius());
   params.covariance_scale = p.covariance_scale;
   params.floor_sigma = p.floor_fraction * radius;
+  params.fallback_concentration = p.fallback_concentration;
   params.fallback_sigma = p.fallback_fraction * radius;
+  params.min_effective_guides = p.min_effective_guides;
   return params;
 }
 
@@ -32,6 +34,7 @@ AnisotropicParams image_params(const AnisotropicPathParams& p) {
   params.covariance_scale = p.image_covariance_scale;
   params.floor_sigma = p.image_floor_sigma;
   params.fallback_sigma = p.image_fallback_sigma;
+  params.min_effective_guides = p.min_effective_guides;
   return params;
 }
 
@@ -96,11 +99,12 @@ std::optional<PathVertex> cast_through(const Scene& scene, const PathVertex& ori
   return perturbation::trace_surface(scene, spawn_ray(origin.position, origin.normal, d / length));
 }
 
-// Samples `gaussian`, casts from `origin` through the sample and puts the hit in `slot`;
-// false when the ray reaches no surface.
+// Samples `gaussian` (or its vMF fallback), casts from `origin` through the sample and puts
+// the hit in `slot`; false when the ray reaches no surface.
 bool sample_and_cast(const Scene& scene, const TangentGaussian& gaussian, const PathVertex& origin,
                      Rng& rng, PathVertex& slot) {
-  auto hit = cast_through(scene, origin, ensemble::sample_tangent_gaussian(gaussian, rng));
+  auto hit =
+      cast_through(scene, origin, ensemble::sample_cast_target(gaussian, origin.position, rng));
   if (!hit) return false;
   slot = *hit;
   return true;

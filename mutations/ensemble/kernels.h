@@ -122,16 +122,24 @@ NormalisedWeights guide_weights(const Vec3& point, const GuideSet& guides,
 // at x, weighted 2x2 covariance (reliability weights, the analogue of the paper's
 // 1/(M-1)), scaled, plus an isotropic floor; recentred at x. When the fit is degenerate
 // (Kish effective number of guides below a threshold, or the raw covariance's determinant
-// below a threshold) an isotropic Gaussian of fixed width is used instead. The decision
-// is a deterministic function of (x, N, guides), so the reverse evaluation at x' makes it
-// again for x'.
+// below a threshold) the kernel falls back. The ray-cast form (a vertex reached by a ray
+// from the previous vertex through the sample) falls back as the paper does, to a
+// concentrated vMF about the direction from that previous vertex to x; the planar form,
+// which has no such vertex, to an isotropic Gaussian of fixed width. The decision is a
+// deterministic function of (x, N, guides), so the reverse evaluation at x' makes it again
+// for x'.
 
 struct AnisotropicParams {
   SimilarityParams similarity;
-  bool weight_by_similarity = true;   // false: w(n) ~ context(n) alone
-  double covariance_scale = 1.0;      // multiplies the fitted covariance
-  double floor_sigma = 1e-3;          // + floor_sigma^2 * I (keeps Sigma positive definite)
-  double fallback_sigma = 0.05;       // width of the isotropic fallback Gaussian
+  bool weight_by_similarity = true;  // false: w(n) ~ context(n) alone
+  double covariance_scale = 1.0;     // multiplies the fitted covariance
+  double floor_sigma = 1e-3;         // + floor_sigma^2 * I (keeps Sigma positive definite)
+  double fallback_sigma = 0.05;      // width of the isotropic fallback Gaussian
+  // > 0: the ray-cast form's fallback is a vMF of this concentration about the direction
+  // from the cast origin to x (the paper's "von Mises-Fisher distribution aligned in the
+  // direction x'_{j-1} -> x_j with a high concentration"). 0: the isotropic Gaussian, the
+  // only fallback the planar form can use.
+  double fallback_concentration = 0.0;
   double min_effective_guides = 2.0;  // Kish effective count below this -> fallback
   double min_determinant = 1e-12;     // det of the unfloored covariance below this -> fallback
 };
@@ -144,6 +152,9 @@ struct TangentGaussian {
   double log_normaliser = 0.0;                         // -log(2 pi) - log(det) / 2
   double effective_guides = 0.0;
   bool fallback = true;
+  double fallback_concentration = 0.0;  // copied from the parameters when falling back
+  // The ray-cast form samples and evaluates a vMF about origin -> centre instead.
+  bool directional_fallback() const { return fallback && fallback_concentration > 0.0; }
 };
 
 TangentGaussian fit_tangent_gaussian(const Vec3& centre, const Vec3& normal, const GuideSet& guides,
@@ -163,9 +174,14 @@ double log_plane_to_surface_jacobian(double cos_at_surface, double distance_to_s
 // front of the origin.
 std::optional<Vec3> project_through_onto_plane(const Vec3& origin, const Vec3& through,
                                                const Vec3& plane_point, const Vec3& plane_normal);
+// The point the ray from `origin` is cast through: a sample z' of the plane Gaussian, or,
+// for a directional fallback, origin plus a vMF direction about origin -> centre.
+Vec3 sample_cast_target(const TangentGaussian& kernel, const Vec3& origin, Rng& rng);
 // log area density of reaching `surface_point` (normal `surface_normal`) by sampling
 // `gaussian` and casting from `origin`: finds z by central projection of surface_point
-// onto the Gaussian's plane, then log N(z) + log Jacobian. Use it for both directions:
+// onto the Gaussian's plane, then log N(z) + log Jacobian; for a directional fallback,
+// log vMF(direction origin -> surface_point) + log G(surface_point <-> origin) with the
+// cosine at the origin left out, as above. Use it for both directions:
 //   forward: fit at x_j,  origin x'_{j-1}, surface point x'_j
 //   reverse: fit at x'_j, origin x_{j-1},  surface point x_j
 // (the reverse z is the central, not the orthogonal, projection of x_j: see the .cpp).

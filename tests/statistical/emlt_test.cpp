@@ -217,7 +217,8 @@ TEST(EmltInjectedBugs, GuidedLensBugsAreCaught) {
 // chains nothing else, so x_c is always the emitter vertex; each order of the move runs on
 // its own. 4 x 4 tiles of 4 x 4 pixels against BDPT at the same depth.
 double two_bounce_anisotropic_deviation(double toward_camera_probability, double mpp,
-                                        ensemble::InjectedBugs bugs = {}) {
+                                        ensemble::InjectedBugs bugs = {},
+                                        AnisotropicPathParams params = {}) {
   const auto scene = shipped_scene("cornell-box", 16);
   static const Image reference = [&] {
     RenderSettings s = test::base_settings();
@@ -225,7 +226,6 @@ double two_bounce_anisotropic_deviation(double toward_camera_probability, double
     s.spp = 8192;
     return test::render(BidirectionalPathTracer(), *scene, s);
   }();
-  AnisotropicPathParams params;
   params.toward_camera_probability = toward_camera_probability;
   EmltRun run;
   run.mix = with_bidir(std::make_unique<AnisotropicPathPerturbation>(params, bugs), 4.0);
@@ -244,14 +244,18 @@ TEST(EmltUnbiased, AnisotropicPathConvergesOnTwoBouncePaths) {
 }
 
 TEST(EmltInjectedBugs, AnisotropicPathBugsAreCaught) {
-  // Measured: degenerate casts kept (the state before they were refused) 0.042 from the
-  // camera (0.034 toward it, 0.028 with both orders mixed); reverse density dropped 0.056 and 0.213
-  // (at 5000 mpp). Σ not refitted changes the image by only 0.025 here (the fitted part of Σ is
-  // small next to its floor at this size); the kernel tests catch it (ensemble_kernel_test.cpp).
+  // Measured: degenerate casts kept (the state before they were refused) 0.045 from the
+  // camera with the isotropic-Gaussian fallback option, where every cast goes through a plane
+  // (0.034 with the default vMF fallback, 0.034 toward the camera, 0.028 with both orders
+  // mixed; correct kernels 0.004-0.014); reverse density dropped 0.052 and 0.237 (at 5000 mpp). Σ
+  // not refitted changes the image by only 0.025 here (the fitted part of Σ is small next to its
+  // floor at this size); the kernel tests catch it (ensemble_kernel_test.cpp).
   ensemble::InjectedBugs degenerate, reverse;
   degenerate.keep_degenerate_casts = true;
   reverse.drop_reverse_density = true;
-  EXPECT_GT(two_bounce_anisotropic_deviation(0.0, 20000, degenerate), 0.03)
+  AnisotropicPathParams plane_fallback;  // degenerate casts come from the plane Gaussians
+  plane_fallback.fallback_concentration = 0.0;
+  EXPECT_GT(two_bounce_anisotropic_deviation(0.0, 20000, degenerate, plane_fallback), 0.03)
       << "degenerate casts kept";
   EXPECT_GT(two_bounce_anisotropic_deviation(0.0, 5000, reverse), 0.04)
       << "reverse dropped, from the camera";

@@ -387,17 +387,16 @@ TEST(EnsembleKernels, TestParametersExerciseFitAndFallback) {
   EXPECT_GT(largest_kappa, 3.0 * smallest_kappa);
 }
 
-// The general-surface hook: sample z' from a fitted tangent Gaussian, cast from an origin
-// through z' onto a tilted plane; the landing histogram must match the area density
-// ray_cast_log_area_density reports (and must not match it without the Jacobian).
-TEST(EnsembleKernels, RayCastAreaDensityMatchesLandingHistogram) {
-  const std::vector<Vec3> guides{{0.6f, 0.1f, 0.0f},   {-0.5f, -0.2f, 0.1f}, {0.3f, 0.3f, -0.1f},
-                                 {-0.2f, -0.1f, 0.0f}, {0.9f, 0.4f, 0.0f},   {-0.8f, -0.3f, 0.0f}};
-  AnisotropicParams params;
-  params.floor_sigma = 0.05;
-  const TangentGaussian gaussian =
-      fit_tangent_gaussian(Vec3(0.0f), kPlaneNormal, {guides, {}}, params);
-  ASSERT_FALSE(gaussian.fallback);
+// The general-surface hook: sample the point to cast through (z' from a fitted tangent
+// Gaussian, or a direction of the vMF fallback), cast from an origin onto a tilted plane;
+// the landing histogram must match the area density ray_cast_log_area_density reports. The
+// p-value without the geometry Jacobian (the plane Gaussian's density at z, or the bare vMF
+// density of the direction) is returned too: it must fail.
+struct LandingTest {
+  double p_with_jacobian = 0.0, p_without_jacobian = 1.0;
+};
+
+LandingTest landing_histogram(const TangentGaussian& kernel) {
   const Vec3 origin(0.3f, -0.2f, 2.0f);
   const glm::dvec3 surface_point(0.1, 0.0, -0.6),
       surface_normal = glm::normalize(glm::dvec3(0.5, 0.3, 1.0));
@@ -405,33 +404,69 @@ TEST(EnsembleKernels, RayCastAreaDensityMatchesLandingHistogram) {
   const glm::dvec3 e2 = glm::cross(surface_normal, e1);
   auto on_surface = [&](double a, double b) { return Vec3(surface_point + a * e1 + b * e2); };
   const PlaneGrid grid{2.0, 30};
+  LandingTest result;
   for (bool with_jacobian : {true, false}) {
     auto density = [&](double a, double b) {
       const Vec3 x = on_surface(a, b);
       if (with_jacobian)
-        return std::exp(ray_cast_log_area_density(gaussian, origin, x, Vec3(surface_normal)));
-      const auto z = project_through_onto_plane(origin, x, Vec3(0.0f), kPlaneNormal);
-      return std::exp(tangent_gaussian_log_pdf(gaussian, *z));
+        return std::exp(ray_cast_log_area_density(kernel, origin, x, Vec3(surface_normal)));
+      if (kernel.directional_fallback()) {
+        const glm::dvec3 w = glm::normalize(glm::dvec3(x) - glm::dvec3(origin)),
+                         mean = glm::normalize(kernel.centre - glm::dvec3(origin));
+        return std::exp(vmf_log_pdf(kernel.fallback_concentration, glm::dot(w, mean)));
+      }
+      const auto z =
+          project_through_onto_plane(origin, x, Vec3(kernel.centre), Vec3(kernel.normal));
+      return std::exp(tangent_gaussian_log_pdf(kernel, *z));
     };
     std::vector<double> expected = grid.probabilities(density), observed(expected.size(), 0.0);
     Rng rng(kSeed, 12);
     const int draws = 200000;
     for (int i = 0; i < draws; ++i) {
-      const glm::dvec3 z(sample_tangent_gaussian(gaussian, rng)), start(origin);
+      const glm::dvec3 z(sample_cast_target(kernel, origin, rng)), start(origin);
       const glm::dvec3 direction = z - start;
       const double t =
           glm::dot(surface_point - start, surface_normal) / glm::dot(direction, surface_normal);
       const glm::dvec3 hit = start + t * direction - surface_point;
-      observed[grid.cell_of(glm::dot(hit, e1), glm::dot(hit, e2))] += 1.0;
+      observed[t > 0.0 ? grid.cell_of(glm::dot(hit, e1), glm::dot(hit, e2))
+                       : grid.cell_count() - 1] += 1.0;
     }
     for (double& e : expected) e *= draws;
     const double p = test::chi_square_test(observed, expected, 1e-3 * draws).p_value;
-    std::printf("[ray-cast density, jacobian %s] p = %.3g\n", with_jacobian ? "on" : "off", p);
-    if (with_jacobian)
-      EXPECT_GT(p, 1e-3);
-    else
-      EXPECT_LT(p, 1e-6);
+    std::printf("[ray-cast density, %s, jacobian %s] p = %.3g\n",
+                kernel.directional_fallback() ? "vMF fallback" : "plane Gaussian",
+                with_jacobian ? "on" : "off", p);
+    (with_jacobian ? result.p_with_jacobian : result.p_without_jacobian) = p;
   }
+  return result;
+}
+
+TEST(EnsembleKernels, RayCastAreaDensityMatchesLandingHistogram) {
+  const std::vector<Vec3> guides{{0.6f, 0.1f, 0.0f},   {-0.5f, -0.2f, 0.1f}, {0.3f, 0.3f, -0.1f},
+                                 {-0.2f, -0.1f, 0.0f}, {0.9f, 0.4f, 0.0f},   {-0.8f, -0.3f, 0.0f}};
+  AnisotropicParams params;
+  params.floor_sigma = 0.05;
+  params.fallback_concentration = 20.0;  // set, but this fit does not fall back
+  const TangentGaussian gaussian =
+      fit_tangent_gaussian(Vec3(0.0f), kPlaneNormal, {guides, {}}, params);
+  ASSERT_FALSE(gaussian.fallback);
+  const LandingTest test = landing_histogram(gaussian);
+  EXPECT_GT(test.p_with_jacobian, 1e-3);
+  EXPECT_LT(test.p_without_jacobian, 1e-6);
+}
+
+// The paper's fallback: a vMF about the direction from the cast origin to the centre.
+TEST(EnsembleKernels, RayCastVonMisesFisherFallbackMatchesLandingHistogram) {
+  AnisotropicParams params;
+  params.fallback_concentration = 20.0;  // about 0.2 rad wide: the lobe lands on the grid
+  const TangentGaussian fallback = fit_tangent_gaussian(Vec3(0.0f), kPlaneNormal, {}, params);
+  ASSERT_TRUE(fallback.directional_fallback());
+  const LandingTest test = landing_histogram(fallback);
+  EXPECT_GT(test.p_with_jacobian, 1e-3);
+  EXPECT_LT(test.p_without_jacobian, 1e-6);
+  // Without a concentration the fallback stays the isotropic Gaussian on the plane.
+  params.fallback_concentration = 0.0;
+  EXPECT_FALSE(fit_tangent_gaussian(Vec3(0.0f), kPlaneNormal, {}, params).directional_fallback());
 }
 
 // A cast from an origin on (or within rounding of) the Gaussian's plane runs along the plane:
@@ -448,8 +483,8 @@ TEST(EnsembleKernels, RayCastAlongThePlaneHasZeroDensity) {
         << height;
   }
   const Vec3 raised(0.3f, -2.0f, 1.0f);
-  EXPECT_TRUE(std::isfinite(ray_cast_log_area_density(gaussian, raised, Vec3(0.01f, 0.02f, 0.0f),
-                                                      kPlaneNormal)));
+  EXPECT_TRUE(std::isfinite(
+      ray_cast_log_area_density(gaussian, raised, Vec3(0.01f, 0.02f, 0.0f), kPlaneNormal)));
   // Without the guard (the injected bug's setting) the grazing ray gets a finite density.
   EXPECT_TRUE(std::isfinite(ray_cast_log_area_density(gaussian, Vec3(0.3f, -2.0f, -1e-6f),
                                                       surface_point, surface_normal, 0.0)));
