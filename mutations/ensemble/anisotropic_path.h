@@ -37,13 +37,15 @@ struct AnisotropicPathParams {
   // 64 mutations per pixel, 64 x 64; acceptance 0.66 / 0.49 / 0.29 / 0.15).
   double covariance_scale = 0.05;
   double floor_fraction = 1e-4;
-  // The fallback when the fit is unusable: the paper's vMF about the direction from the cast
-  // origin to the current vertex, "with a high concentration" (value not given). Measured
-  // with emlt-ani at 64 mutations per pixel, 64 x 64, seeds 1-3, MSE relative to the
-  // isotropic Gaussian of 0.01 radius used before, Cornell box / door: kappa 1e2 1.00 / 1.06,
-  // 3e2 0.99 / 1.01, 1e3 1.01 / 1.07, 3e3 1.02 / 0.97, 1e4 1.06 / 1.00, 3e4 1.06 / 0.89,
-  // 1e5 1.08 / 0.93: within the seeds' spread; 3e3 is about 1 degree wide.
-  double fallback_concentration = 3e3;
+  // The fallback when a fit is unusable (a third of them on the Cornell box): the paper's vMF
+  // about the direction from the cast origin to the current vertex, "with a high
+  // concentration" (value not given); 1e4 is about 0.6 degrees wide. MSE at 64 mutations per
+  // pixel, 64 x 64, seeds 1-8: emlt-ani 2.09e-4 (Cornell box) and 1.27e-4 (door); the full
+  // mix at alpha = 1 2.01e-4 and 7.8e-5. On the door scene kappa from 3e3 to 1e5 gave 7.8e-5
+  // to 8.4e-5 (full mix) and 1.25e-4 to 1.27e-4 (emlt-ani), the seeds' spread. The isotropic
+  // plane Gaussian below (fallback_concentration = 0) measured 5-10 % lower on emlt-ani
+  // (1.99e-4, 1.15e-4) and 0-6 % lower on the full mix (2.01e-4, 7.4e-5).
+  double fallback_concentration = 1e4;
   // With fallback_concentration = 0, the paper's other option: an isotropic Gaussian on the
   // tangent plane, this fraction of the scene's radius wide.
   double fallback_fraction = 0.01;
