@@ -89,7 +89,10 @@ NormalisedWeights guide_weights(const Vec3& point, const GuideSet& guides,
     SimilarityProduct& product = products[n];
     product = guides.context.empty() ? SimilarityProduct{} : guides.context[n];
     if (!guides.log_context_weights.empty()) product.multiply_log(guides.log_context_weights[n]);
-    if (similarity) product.multiply(vertex_similarity(point, guides.points[n], *similarity));
+    if (similarity)
+      product.multiply(guides.similarity_to_centre.empty()
+                           ? vertex_similarity(point, guides.points[n], *similarity)
+                           : guides.similarity_to_centre[n]);
   }
   return normalise_weights(std::span<const SimilarityProduct>(products.span()), weights);
 }

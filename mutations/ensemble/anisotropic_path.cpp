@@ -38,14 +38,35 @@ AnisotropicParams image_params(const AnisotropicPathParams& p) {
   return params;
 }
 
-// Guide points and context weights for a fit. The context is the similarity of one vertex
-// of a path to the guides'.
+// S(v, guide's vertex `index`) for every guide: one row, computed once per step and vertex
+// and shared by the fits that use it (as a fit's own weight, and as the context of the fit
+// at the neighbouring vertex).
+struct SimilarityRow {
+  ensemble::GuideBuffer<double> values;
+  SimilarityRow(const PathVertex& v, const GuideView& guides, int index, const MutationContext& ctx)
+      : values(guides.size()) {
+    ensemble::vertex_similarities(v, guides, index, ensemble::similarity_params(ctx),
+                                  values.span());
+  }
+};
+
+// Guide points and weights for a fit: the context is the similarity of one vertex of the
+// path to the guides'; `centre` (when the fit weighs by similarity) that of the vertex the
+// fit is centred on.
 struct GuideData {
   std::span<const Vec3> points;
   ensemble::GuideBuffer<ensemble::SimilarityProduct> context;
-  explicit GuideData(std::span<const Vec3> guide_points)
-      : points(guide_points), context(guide_points.size()) {}
-  ensemble::GuideSet set() const { return {points, {}, context.span()}; }
+  std::span<const double> centre;
+  GuideData(std::span<const Vec3> guide_points, const SimilarityRow& context_row,
+            const SimilarityRow* centre_row = nullptr)
+      : points(guide_points), context(guide_points.size()) {
+    for (size_t n = 0; n < points.size(); ++n) {
+      context[n] = ensemble::SimilarityProduct{};
+      context[n].multiply(context_row.values.span()[n]);
+    }
+    if (centre_row) centre = centre_row->values.span();
+  }
+  ensemble::GuideSet set() const { return {points, {}, context.span(), centre}; }
 };
 
 // The guides' points for a fit: their image points (on the plane z = 0), or their vertex j.
@@ -58,12 +79,6 @@ struct GuidePoints {
     for (size_t n = 0; n < guides.size(); ++n) points[n] = guides.position(n, j);
   }
 };
-
-void set_context(GuideData& data, const Path& path, const GuideView& guides, int index,
-                 const MutationContext& ctx) {
-  ensemble::path_similarities(path, guides, index, index, ensemble::similarity_params(ctx),
-                              data.context.span());
-}
 
 TangentGaussian fit_at(const PathVertex& v, const GuideData& data,
                        const AnisotropicParams& params) {
@@ -161,9 +176,9 @@ std::optional<Proposal> AnisotropicPathPerturbation::toward_camera(
 
   // x_b: Gaussian on its tangent plane, weighted by x_b and the fixed x_c; cast from x_c.
   const GuidePoints points_b(guides, b);
-  GuideData data_b(points_b.points.span());
-  set_context(data_b, x, guides, c, ctx);
-  const TangentGaussian b_x = fit_at(xv[size_t(b)], data_b, world);
+  const SimilarityRow s_xc(xv[size_t(c)], guides, c, ctx), s_xb(xv[size_t(b)], guides, b, ctx);
+  const TangentGaussian b_x =
+      fit_at(xv[size_t(b)], GuideData(points_b.points.span(), s_xc, &s_xb), world);
   Proposal proposal;
   Path& y = proposal.path;
   y = x;
@@ -173,9 +188,9 @@ std::optional<Proposal> AnisotropicPathPerturbation::toward_camera(
   // x_a: Gaussian on its tangent plane, weighted by x_a and the centre path's own x_b (x's
   // here, y's for the reverse fit); cast from the new y_b.
   const GuidePoints points_a(guides, a);
-  GuideData data_a_x(points_a.points.span());
-  set_context(data_a_x, x, guides, b, ctx);
-  const TangentGaussian a_x = fit_at(xv[size_t(a)], data_a_x, world);
+  const SimilarityRow s_xa(xv[size_t(a)], guides, a, ctx);
+  const TangentGaussian a_x =
+      fit_at(xv[size_t(a)], GuideData(points_a.points.span(), s_xb, &s_xa), world);
   if (!sample_and_cast(scene, a_x, yv[size_t(b)], rng, yv[size_t(a)])) return std::nullopt;
 
   // The fixed lens point sees y_a: the image point moves.
@@ -192,10 +207,11 @@ std::optional<Proposal> AnisotropicPathPerturbation::toward_camera(
   const double log_forward = cast_density(b_x, xv[size_t(c)], yv[size_t(b)], bugs_) +
                              cast_density(a_x, yv[size_t(b)], yv[size_t(a)], bugs_);
   if (refused(log_forward, bugs_)) return std::nullopt;
-  GuideData data_a_y(points_a.points.span());
-  set_context(data_a_y, y, guides, b, ctx);
-  const TangentGaussian b_y = reverse_fit(b_x, yv[size_t(b)], data_b, world, bugs_);
-  const TangentGaussian a_y = reverse_fit(a_x, yv[size_t(a)], data_a_y, world, bugs_);
+  const SimilarityRow s_yb(yv[size_t(b)], guides, b, ctx), s_ya(yv[size_t(a)], guides, a, ctx);
+  const TangentGaussian b_y =
+      reverse_fit(b_x, yv[size_t(b)], GuideData(points_b.points.span(), s_xc, &s_yb), world, bugs_);
+  const TangentGaussian a_y =
+      reverse_fit(a_x, yv[size_t(a)], GuideData(points_a.points.span(), s_yb, &s_ya), world, bugs_);
   const double log_reverse = bugs_.drop_reverse_density
                                  ? log_forward
                                  : cast_density(b_y, xv[size_t(c)], xv[size_t(b)], bugs_) +
@@ -215,9 +231,9 @@ std::optional<Proposal> AnisotropicPathPerturbation::from_camera(const Path& x,
 
   // Image point: Gaussian fitted to the guides' image points, weighted by their x_a.
   const GuidePoints image_points(guides);
-  GuideData image_data(image_points.points.span());
-  set_context(image_data, x, guides, a, ctx);
-  const TangentGaussian image_x = fit_at_raster(x.raster(), image_data, image);
+  const SimilarityRow s_xa(xv[size_t(a)], guides, a, ctx);
+  const TangentGaussian image_x =
+      fit_at_raster(x.raster(), GuideData(image_points.points.span(), s_xa), image);
   const Vec3 sample = ensemble::sample_tangent_gaussian(image_x, rng);
   const Vec2 raster(sample.x, sample.y);
   if (!perturbation::on_film(scene.camera(), raster)) return std::nullopt;
@@ -234,9 +250,9 @@ std::optional<Proposal> AnisotropicPathPerturbation::from_camera(const Path& x,
 
   // x_b: Gaussian on its tangent plane, weighted by x_b and the fixed x_c; cast from y_a.
   const GuidePoints world_points(guides, b);
-  GuideData world_data(world_points.points.span());
-  set_context(world_data, x, guides, c, ctx);
-  const TangentGaussian world_x = fit_at(xv[size_t(b)], world_data, world);
+  const SimilarityRow s_xc(xv[size_t(c)], guides, c, ctx), s_xb(xv[size_t(b)], guides, b, ctx);
+  const TangentGaussian world_x =
+      fit_at(xv[size_t(b)], GuideData(world_points.points.span(), s_xc, &s_xb), world);
   if (!sample_and_cast(scene, world_x, yv[size_t(a)], rng, yv[size_t(b)])) return std::nullopt;
   const Rgb connection = connect_vertices(scene, c >= 1 ? &yv[size_t(c - 1)] : nullptr,
                                           yv[size_t(c)], yv[size_t(b)], &yv[size_t(a)]);
@@ -246,12 +262,13 @@ std::optional<Proposal> AnisotropicPathPerturbation::from_camera(const Path& x,
   const double log_forward = ensemble::tangent_gaussian_log_pdf(image_x, on_image_plane(raster)) +
                              cast_density(world_x, yv[size_t(a)], yv[size_t(b)], bugs_);
   if (refused(log_forward, bugs_)) return std::nullopt;
-  GuideData image_data_y(image_points.points.span());
-  set_context(image_data_y, y, guides, a, ctx);
-  const TangentGaussian image_y = bugs_.sigma_not_refitted
-                                      ? recentred(image_x, on_image_plane(raster))
-                                      : fit_at_raster(raster, image_data_y, image);
-  const TangentGaussian world_y = reverse_fit(world_x, yv[size_t(b)], world_data, world, bugs_);
+  const SimilarityRow s_ya(yv[size_t(a)], guides, a, ctx), s_yb(yv[size_t(b)], guides, b, ctx);
+  const TangentGaussian image_y =
+      bugs_.sigma_not_refitted
+          ? recentred(image_x, on_image_plane(raster))
+          : fit_at_raster(raster, GuideData(image_points.points.span(), s_ya), image);
+  const TangentGaussian world_y = reverse_fit(
+      world_x, yv[size_t(b)], GuideData(world_points.points.span(), s_xc, &s_yb), world, bugs_);
   const double log_reverse =
       bugs_.drop_reverse_density
           ? log_forward

@@ -48,6 +48,29 @@ StretchParams stretch_params(const MutationContext& ctx) {
   return params;
 }
 
+void vertex_similarities(const PathVertex& a, const GuideView& guides, int i,
+                         const SimilarityParams& params, std::span<double> out) {
+  assert(out.size() == guides.size());
+  const size_t count = guides.size();
+  // A sky vertex is a direction: compare directions (unit vectors) instead of points.
+  if (guides.has_environment()) {
+    const std::span<const Vec3> sky = guides.sky_directions(i);
+    const std::span<const uint8_t> environment = guides.environment(i);
+    for (size_t n = 0; n < count; ++n)
+      out[n] = a.is_environment() || environment[n]
+                   ? vertex_similarity(a.sky_direction, sky[n], params)
+                   : vertex_similarity(a.position, guides.position(n, i), params);
+  } else if (a.is_environment()) {
+    // No guide keeps a sky direction in Υ's arrays: read the paths (rare).
+    for (size_t n = 0; n < count; ++n)
+      out[n] =
+          vertex_similarity(a.sky_direction, guides[n]->vertices[size_t(i)].sky_direction, params);
+  } else {
+    similarities_to_guides(a.position, guides.coordinates(i, 0), guides.coordinates(i, 1),
+                           guides.coordinates(i, 2), params, out);
+  }
+}
+
 void path_similarities(const Path& x, const GuideView& guides, int first, int last,
                        const SimilarityParams& params, std::span<SimilarityProduct> out) {
   assert(out.size() == guides.size());
@@ -55,25 +78,8 @@ void path_similarities(const Path& x, const GuideView& guides, int first, int la
   const size_t count = guides.size();
   GuideBuffer<double> row(count);
   for (int i = first; i <= last; ++i) {
-    const PathVertex& a = x.vertices[size_t(i)];
-    // A sky vertex is a direction: compare directions (unit vectors) instead of points.
-    if (guides.has_environment()) {
-      const std::span<const Vec3> sky = guides.sky_directions(i);
-      const std::span<const uint8_t> environment = guides.environment(i);
-      for (size_t n = 0; n < count; ++n)
-        out[n].multiply(a.is_environment() || environment[n]
-                            ? vertex_similarity(a.sky_direction, sky[n], params)
-                            : vertex_similarity(a.position, guides.position(n, i), params));
-    } else if (a.is_environment()) {
-      // No guide keeps a sky direction in Υ's arrays: read the paths (rare).
-      for (size_t n = 0; n < count; ++n)
-        out[n].multiply(vertex_similarity(a.sky_direction,
-                                          guides[n]->vertices[size_t(i)].sky_direction, params));
-    } else {
-      similarities_to_guides(a.position, guides.coordinates(i, 0), guides.coordinates(i, 1),
-                             guides.coordinates(i, 2), params, row.span());
-      for (size_t n = 0; n < count; ++n) out[n].multiply(row[n]);
-    }
+    vertex_similarities(x.vertices[size_t(i)], guides, i, params, row.span());
+    for (size_t n = 0; n < count; ++n) out[n].multiply(row[n]);
   }
 }
 

@@ -40,6 +40,11 @@ SimilarityParams similarity_params(const MutationContext& ctx);
 // The stretch move's distribution with this swap's α.
 StretchParams stretch_params(const MutationContext& ctx);
 
+// out[n] = S(a, v^n_i) (eq. 8) for a path's vertex a at index i: points compared as points,
+// a sky vertex (of the path or of a guide) as a direction; out.size() == guides.size().
+void vertex_similarities(const PathVertex& a, const GuideView& guides, int i,
+                         const SimilarityParams& params, std::span<double> out);
+
 // out[n] = S(x, v^n, first, last) (eq. 9) over vertices [first, last] (same-type paths, so
 // the indices correspond); out.size() == guides.size().
 void path_similarities(const Path& x, const GuideView& guides, int first, int last,

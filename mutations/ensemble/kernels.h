@@ -109,6 +109,9 @@ struct GuideSet {
   std::span<const Vec3> points;
   std::span<const double> log_context_weights;
   std::span<const SimilarityProduct> context = {};
+  // S(centre, points[n]) when the caller has it already (it must be that value: the fit uses
+  // it in place of computing it); empty: computed.
+  std::span<const double> similarity_to_centre = {};
 };
 
 // The normalised weights of eq. 11, w(n) proportional to S(point, points[n]) * context(n)
