@@ -21,7 +21,8 @@ AnisotropicParams world_params(const AnisotropicPathParams& p, const MutationCon
   const double radius = double(ctx.scene.bounds_radius());
   params.covariance_scale = p.covariance_scale;
   params.floor_sigma = p.floor_fraction * radius;
-  params.fallback_concentration = p.fallback_concentration;
+  params.fallback_concentration =
+      ctx.ensemble && ctx.ensemble->params().plane_fallback ? 0.0 : p.fallback_concentration;
   params.fallback_sigma = p.fallback_fraction * radius;
   params.min_effective_guides = p.min_effective_guides;
   return params;

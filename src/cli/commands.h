@@ -1,6 +1,5 @@
 #pragma once
 #include <CLI/CLI.hpp>
-
 #include <map>
 #include <string>
 #include <vector>
@@ -12,7 +11,8 @@ namespace emlt::cli {
 struct RenderOptions {
   std::string scene, output;
   RenderSettings settings;
-  std::string mis = "power", direct_point_set = "independent", direct_mode = "separate";
+  std::string mis = "power", direct_point_set = "independent", direct_mode = "separate",
+              aniso_fallback = "vmf";
   std::vector<std::string> defines;
   std::string reference, log;
   bool quiet = false;

@@ -92,6 +92,11 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
                      "emlt: length (scene units) dividing distances in the path similarity "
                      "(0 = the paper's literal 1)")
       ->check(CLI::Range(0.0, 1e30));
+  command.add_option("--ensemble-aniso-fallback", o.aniso_fallback,
+                     "emlt: the anisotropic kernel's fallback when a fit is unusable: the paper's "
+                     "vMF about the previous vertex's direction, or an isotropic Gaussian on the "
+                     "tangent plane")
+      ->check(CLI::IsMember({"vmf", "plane"}));
   command.add_option("--aniso-map", s.aniso_map_path,
                      "mlt/gamlt/emlt: write the predominant image-plane direction of the proposals "
                      "per pixel to this PNG (red horizontal, green vertical, yellow isotropic)");
@@ -142,6 +147,8 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   if (given("--ensemble-alpha")) settings.ensemble_alpha = cli.ensemble_alpha;
   if (given("--ensemble-similarity-length"))
     settings.ensemble_similarity_length = cli.ensemble_similarity_length;
+  if (given("--ensemble-aniso-fallback"))
+    settings.ensemble_plane_fallback = o.aniso_fallback == "plane";
   if (given("--bdpt-strategies")) settings.bdpt_strategies_dir = cli.bdpt_strategies_dir;
   settings.mis = o.mis == "balance" ? MisHeuristic::Balance : MisHeuristic::Power;
   settings.direct_point_set =

@@ -347,6 +347,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   if (settings.ensemble_neighbours > 0) ensemble_params.neighbours = settings.ensemble_neighbours;
   if (settings.ensemble_similarity_length > 0.0)
     ensemble_params.similarity_length = settings.ensemble_similarity_length;
+  ensemble_params.plane_fallback = settings.ensemble_plane_fallback;
   if (settings.ensemble_alpha > 0.0) {
     ensemble_params.adaptive_alpha = false;
     ensemble_params.alpha_fixed = settings.ensemble_alpha;

@@ -293,6 +293,20 @@ TEST(Cli, EmltWritesEnsembleStatisticsAndTheAnisotropyMap) {
   EXPECT_NE(bytes(dir / "literal.pfm"), bytes(dir / "scaled.pfm"));
   expect_clean_failure(lin + (dir / "o.exr").string() + " --ensemble-similarity-length -1",
                        "ensemble-similarity-length", dir / "o.exr");
+  // The anisotropic kernel's fallback: the paper's vMF or the plane Gaussian; about a third
+  // of the fits fall back, so the choice changes the image.
+  const std::string ani = "render " + cornell() +
+                          " --integrator emlt --mutations emlt-ani --mpp 8 --bootstrap 5000"
+                          " --width 16 --height 16 --ensemble-size 32 --quiet -o ";
+  ASSERT_EQ(0, test::run_command(emlt_cmd(ani + (dir / "vmf.pfm").string())));
+  ASSERT_EQ(0, test::run_command(
+                   emlt_cmd(ani + (dir / "vmf2.pfm").string() + " --ensemble-aniso-fallback vmf")));
+  ASSERT_EQ(0, test::run_command(emlt_cmd(ani + (dir / "plane.pfm").string() +
+                                          " --ensemble-aniso-fallback plane")));
+  EXPECT_EQ(bytes(dir / "vmf.pfm"), bytes(dir / "vmf2.pfm"));
+  EXPECT_NE(bytes(dir / "vmf.pfm"), bytes(dir / "plane.pfm"));
+  expect_clean_failure(ani + (dir / "o.exr").string() + " --ensemble-aniso-fallback gaussian",
+                       "ensemble-aniso-fallback", dir / "o.exr");
   // Absurd ensembles are refused before anything is allocated or written.
   expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() +
                            " --integrator emlt --ensemble-size 100000000",

@@ -25,6 +25,9 @@ struct EnsembleParams {
   // The adaptive α of the linear kernels (§3.4); false keeps alpha_fixed.
   bool adaptive_alpha = true;
   double alpha_fixed = 0.5;
+  // The anisotropic path perturbation falls back to an isotropic Gaussian on the tangent
+  // plane instead of its vMF (RenderSettings::ensemble_plane_fallback).
+  bool plane_fallback = false;
 };
 
 // Υ as the guided strategies read it: the guide paths, and the vertex data that the

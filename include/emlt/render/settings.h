@@ -47,6 +47,10 @@ struct RenderSettings {
   // > 0: distances in the similarity (eq. 8) are divided by this length (scene units);
   // 0: the paper's literal form (length 1).
   double ensemble_similarity_length = 0.0;
+  // The anisotropic kernel's fallback when a fit is unusable: false, the paper's vMF about
+  // the direction from the previous vertex; true, an isotropic Gaussian on the tangent plane
+  // (the alternative the paper names).
+  bool ensemble_plane_fallback = false;
 
   // Receives images at power-of-two samples (mutations) per pixel; not owned. Null: none.
   SnapshotSink* snapshots = nullptr;
