@@ -7,7 +7,9 @@
 #include <chrono>
 #include <cstdio>
 
+#include "emlt/core/error.h"
 #include "emlt/mcmc/bootstrap.h"
+#include "emlt/mcmc/fixed_point_film.h"
 #include "emlt/render/bdpt.h"
 #include "emlt/render/direct_integrator.h"
 #include "emlt/render/image.h"
@@ -35,13 +37,12 @@ struct Chain {
   uint64_t steps_taken = 0;  // keys EMLT's choice of guides (ensemble_guides.h)
 };
 
-// What one block of chains writes: its film, its strategies' counters and, when requested,
-// the image-plane moves of its proposals per pixel of the current path (sum dx^2, sum dy^2,
-// count) for --aniso-map. Blocks are a fixed partition of the chains, so the counters, like
-// the film, sum to the same bits on any thread count; kept per block rather than per chain
-// because a chain visited for a single step (EMLT) would miss the cache on its own counters.
+// What one block of chains writes besides the film: its strategies' counters and, when
+// requested, the image-plane moves of its proposals per pixel of the current path (sum dx^2,
+// sum dy^2, count) for --aniso-map. Blocks are a fixed partition of the chains, so these sum
+// to the same bits on any thread count; kept per block rather than per chain because a chain
+// visited for a single step (EMLT) would miss the cache on its own counters.
 struct BlockOutput {
-  std::vector<DVec3> film;
   std::vector<DVec3> moves;
   // Each on its own cache lines: blocks run on different cores.
   struct alignas(64) Counters : StrategyStats {};
@@ -71,10 +72,21 @@ void splat(std::vector<DVec3>& film, int width, int height, const Path& path,
   film[film_index(path, width, height)] += contribution * (weight / target);
 }
 
+// The film a chain splats into: its thread's (shared by several threads when there are more
+// threads than films).
+struct FilmSlot {
+  FixedPointFilm& film;
+  bool shared;
+  void splat(int width, int height, const Path& path, const DVec3& contribution, double target,
+             double weight) const {
+    if (!(weight > 0.0) || !(target > 0.0)) return;
+    film.add(film_index(path, width, height), contribution * (weight / target), shared);
+  }
+};
+
 void run_chain(Chain& chain, uint64_t chain_index, uint64_t steps, const StrategyMix& mix,
-               MutationContext ctx, bool ignore_selection, BlockOutput& out, int width,
-               int height) {
-  std::vector<DVec3>& film = out.film;
+               MutationContext ctx, bool ignore_selection, BlockOutput& out, const FilmSlot& film,
+               int width, int height) {
   ctx.chain = chain_index;
   // Steps taken with the current applicability, credited to the strategies that did not
   // apply whenever it changes (one loop per accepted move instead of one per step).
@@ -109,9 +121,9 @@ void run_chain(Chain& chain, uint64_t chain_index, uint64_t steps, const Strateg
     StrategyMask proposal_applicable = 0;
     if (proposal) {
       // Proposals land anywhere on the image, so the splat below would usually wait on
-      // memory (a block's film is larger than the caches): start loading the pixel now,
-      // while the contribution is evaluated.
-      __builtin_prefetch(&film[film_index(proposal->path, width, height)], 1);
+      // memory (a film is larger than the caches): start loading the pixel now, while the
+      // contribution is evaluated.
+      film.film.prefetch(film_index(proposal->path, width, height));
       contribution = path_contribution(ctx.scene, proposal->path);
       target = luminance(contribution);
       if (target > 0.0 && std::isfinite(target)) {
@@ -130,9 +142,9 @@ void run_chain(Chain& chain, uint64_t chain_index, uint64_t steps, const Strateg
     // Expected values: the proposal's share now, the current path's when it is left.
     chain.carried += 1.0 - acceptance;
     if (acceptance > 0.0)
-      splat(film, width, height, proposal->path, contribution, target, acceptance);
+      film.splat(width, height, proposal->path, contribution, target, acceptance);
     if (chain.rng.uniform() < acceptance) {
-      splat(film, width, height, chain.current, chain.contribution, chain.target, chain.carried);
+      film.splat(width, height, chain.current, chain.contribution, chain.target, chain.carried);
       chain.current = std::move(proposal->path);
       chain.contribution = contribution;
       chain.target = target;
@@ -298,22 +310,30 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   const bool record_moves = !settings.aniso_map_path.empty();
   std::vector<BlockOutput> blocks(
       size_t(std::min(ensemble ? int(ensemble_size) : chain_count, kMaxBlocks)));
+  // One film per thread, up to kMaxBlocks of them; beyond that threads share films.
+  std::vector<FixedPointFilm> films(size_t(std::min(threads, kMaxBlocks)), FixedPointFilm(pixels));
+  const bool shared_films = size_t(threads) > films.size();
   for (BlockOutput& block : blocks) {
-    block.film.assign(pixels, DVec3(0.0));
     block.stats.assign(mix.size(), BlockOutput::Counters{});
     if (record_moves) block.moves.assign(pixels, DVec3(0.0));
   }
 
-  // The image after `mutations` steps: the direct part, plus the blocks' films summed in
-  // order and each chain's weight not yet splatted (added to a copy: the chains go on
-  // untouched), scaled so the image's mean luminance is b.
+  // The image after `mutations` steps: the direct part, plus the films' sum and each chain's
+  // weight not yet splatted (added to a copy: the chains go on untouched), scaled so the
+  // image's mean luminance is b.
   uint64_t live = 0;  // chains with a seed (all, in practice)
   for (const Chain& chain : chains) live += chain.target > 0.0;
   const Image direct_image = result.image;
   const auto compose = [&](uint64_t mutations_done) {
     std::vector<DVec3> total(pixels, DVec3(0.0));
-    for (const auto& block : blocks)
-      for (uint64_t p = 0; p < pixels; ++p) total[p] += block.film[p];
+    bool in_range = true;
+    for (const FixedPointFilm& film : films) in_range &= !film.overflowed();
+    for (uint64_t p = 0; p < pixels && in_range; ++p)
+      in_range = FixedPointFilm::total(films, p, total[p]);
+    if (!in_range)
+      throw Error(
+          "the MCMC film overflowed: more than 4e10 mutations' worth of weight in one "
+          "pixel (use fewer mutations per pixel or a larger image)");
     for (const Chain& chain : chains)
       splat(total, width, height, chain.current, chain.contribution, chain.target, chain.carried);
     const double splatted = double(mutations_done) * double(live) / double(chain_count);
@@ -396,6 +416,9 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
         // Progress once per block: a shared counter per chain would bounce between cores
         // (EMLT chains take one step at a time).
         uint64_t block_steps = 0;
+        const FilmSlot film{
+            films[size_t(std::max(tbb::this_task_arena::current_thread_index(), 0)) % films.size()],
+            shared_films};
         for (uint64_t j = begin; j < end; ++j) {
           Chain& chain = chains[size_t(first + j)];
           if (j + 1 < end) {
@@ -407,7 +430,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
           if (!(chain.target > 0.0)) continue;
           const uint64_t steps = sweep / count + (j < sweep % count ? 1 : 0);
           run_chain(chain, first + j, steps, mix, ctx, options_.ignore_selection_probability,
-                    blocks[size_t(block)], width, height);
+                    blocks[size_t(block)], film, width, height);
           block_steps += steps;
         }
         progress.advance(block_steps);

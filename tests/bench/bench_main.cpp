@@ -134,7 +134,7 @@ const Scene& shipped_scene_256(const std::string& name) {
 
 // MLT at 256x256 with 16 mutations per pixel (1048576 mutations, 64 chains). "mutations/s"
 // divides the mutations by the whole render's time, which includes a small bootstrap
-// (10000 BDPT samples), a 1-spp direct image and allocating and summing the blocks' films.
+// (10000 BDPT samples), a 1-spp direct image and allocating and summing the threads' films.
 // "chain mutations/s" takes out the bootstrap and the direct pass (the render's own timing
 // split, MltStatistics): the rate of the chains themselves, the figure the README and
 // issue 4 quote. At 4 mutations per pixel the films' fixed cost was 8 % of the chains' time.

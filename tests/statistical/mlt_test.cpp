@@ -239,9 +239,15 @@ TEST(MltDeterminism, SameBitsOnOneAndTwoThreads) {
   const Image one = render(MltIntegrator(), *scene, s).image;
   s.threads = 2;
   const Image two = render(MltIntegrator(), *scene, s).image;
+  // More threads than films (16): threads then share films, adding atomically.
+  s.threads = 20;
+  const Image twenty = render(MltIntegrator(), *scene, s).image;
+  s.threads = 2;
   s.seed = 5;
   const Image other = render(MltIntegrator(), *scene, s).image;
   EXPECT_EQ(0, std::memcmp(one.pixels.data(), two.pixels.data(), one.pixels.size() * sizeof(Rgb)));
+  EXPECT_EQ(0,
+            std::memcmp(one.pixels.data(), twenty.pixels.data(), one.pixels.size() * sizeof(Rgb)));
   EXPECT_NE(0,
             std::memcmp(one.pixels.data(), other.pixels.data(), one.pixels.size() * sizeof(Rgb)));
 }
