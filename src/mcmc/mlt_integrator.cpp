@@ -21,7 +21,8 @@ namespace {
 
 constexpr uint64_t kChainStream = 0xc4a1ull << 40;
 constexpr uint64_t kSeedStream = 0x5eedull << 40;
-constexpr int kMaxBlocks = 16;
+constexpr int kMaxBlocks = 64;
+constexpr int kMaxFilms = 16;
 
 double luminance(const DVec3& c) {
   return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
@@ -37,13 +38,13 @@ struct Chain {
   uint64_t steps_taken = 0;  // keys EMLT's choice of guides (ensemble_guides.h)
 };
 
-// What one block of chains writes besides the film: its strategies' counters and, when
-// requested, the image-plane moves of its proposals per pixel of the current path (sum dx^2,
-// sum dy^2, count) for --aniso-map. Blocks are a fixed partition of the chains, so these sum
-// to the same bits on any thread count; kept per block rather than per chain because a chain
-// visited for a single step (EMLT) would miss the cache on its own counters.
+// What one block of chains counts: its strategies' statistics. Blocks are a fixed partition
+// of the chains, so the counters sum to the same bits on any thread count; kept per block
+// rather than per chain because a chain visited for a single step (EMLT) would miss the
+// cache on its own counters. Up to 64 blocks, so that with 16 threads each still takes
+// several per sweep and the last ones do not leave cores idle (on 2 cores 16 and 64 blocks
+// measure the same).
 struct BlockOutput {
-  std::vector<DVec3> moves;
   // Each on its own cache lines: blocks run on different cores.
   struct alignas(64) Counters : StrategyStats {};
   std::vector<Counters> stats;
@@ -73,9 +74,11 @@ void splat(std::vector<DVec3>& film, int width, int height, const Path& path,
 }
 
 // The film a chain splats into: its thread's (shared by several threads when there are more
-// threads than films).
+// threads than films); likewise, when requested, the film of the image-plane moves of its
+// proposals per pixel of the current path (sum dx^2, sum dy^2, count) for --aniso-map.
 struct FilmSlot {
   FixedPointFilm& film;
+  FixedPointFilm* moves;
   bool shared;
   void splat(int width, int height, const Path& path, const DVec3& contribution, double target,
              double weight) const {
@@ -111,10 +114,10 @@ void run_chain(Chain& chain, uint64_t chain_index, uint64_t steps, const Strateg
     double acceptance = 0.0;
     auto proposal = mix.strategy(size_t(chosen)).propose(chain.current, chain.rng, ctx);
     if (proposal && proposal->fallback) ++stats.fallbacks;
-    if (proposal && !out.moves.empty()) {
+    if (proposal && film.moves) {
       const Vec2 move = proposal->path.raster() - chain.current.raster();
-      out.moves[film_index(chain.current, width, height)] +=
-          DVec3(double(move.x) * move.x, double(move.y) * move.y, 1.0);
+      film.moves->add(film_index(chain.current, width, height),
+                      DVec3(double(move.x) * move.x, double(move.y) * move.y, 1.0), film.shared);
     }
     DVec3 contribution(0.0);
     double target = 0.0;
@@ -160,12 +163,13 @@ void run_chain(Chain& chain, uint64_t chain_index, uint64_t steps, const Strateg
 // The EMLT paper's Figure 12: the predominant image-plane direction of the proposals made
 // from each pixel. Red: mostly horizontal, green: mostly vertical, yellow: isotropic; black
 // where no proposal moved.
-void write_move_map(const std::string& path, const std::vector<BlockOutput>& blocks, int width,
+void write_move_map(const std::string& path, std::span<const FixedPointFilm> moves, int width,
                     int height) {
   Image map(width, height);
   for (size_t p = 0; p < map.pixels.size(); ++p) {
     DVec3 sum(0.0);
-    for (const BlockOutput& block : blocks) sum += block.moves[p];
+    if (!FixedPointFilm::total(moves, p, sum))
+      throw Error("the --aniso-map tallies overflowed: too many proposals per pixel");
     const double total = sum.x + sum.y;
     if (!(total > 0.0)) continue;
     const double horizontal = sum.x / total;
@@ -310,13 +314,11 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   const bool record_moves = !settings.aniso_map_path.empty();
   std::vector<BlockOutput> blocks(
       size_t(std::min(ensemble ? int(ensemble_size) : chain_count, kMaxBlocks)));
-  // One film per thread, up to kMaxBlocks of them; beyond that threads share films.
-  std::vector<FixedPointFilm> films(size_t(std::min(threads, kMaxBlocks)), FixedPointFilm(pixels));
+  // One film per thread, up to kMaxFilms of them; beyond that threads share films.
+  std::vector<FixedPointFilm> films(size_t(std::min(threads, kMaxFilms)), FixedPointFilm(pixels));
   const bool shared_films = size_t(threads) > films.size();
-  for (BlockOutput& block : blocks) {
-    block.stats.assign(mix.size(), BlockOutput::Counters{});
-    if (record_moves) block.moves.assign(pixels, DVec3(0.0));
-  }
+  std::vector<FixedPointFilm> move_films(record_moves ? films.size() : 0, FixedPointFilm(pixels));
+  for (BlockOutput& block : blocks) block.stats.assign(mix.size(), BlockOutput::Counters{});
 
   // The image after `mutations` steps: the direct part, plus the films' sum and each chain's
   // weight not yet splatted (added to a copy: the chains go on untouched), scaled so the
@@ -416,9 +418,9 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
         // Progress once per block: a shared counter per chain would bounce between cores
         // (EMLT chains take one step at a time).
         uint64_t block_steps = 0;
-        const FilmSlot film{
-            films[size_t(std::max(tbb::this_task_arena::current_thread_index(), 0)) % films.size()],
-            shared_films};
+        const size_t slot =
+            size_t(std::max(tbb::this_task_arena::current_thread_index(), 0)) % films.size();
+        const FilmSlot film{films[slot], record_moves ? &move_films[slot] : nullptr, shared_films};
         for (uint64_t j = begin; j < end; ++j) {
           Chain& chain = chains[size_t(first + j)];
           if (j + 1 < end) {
@@ -453,7 +455,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   progress.finish();
 
   result.image = compose(done);
-  if (record_moves) write_move_map(settings.aniso_map_path, blocks, width, height);
+  if (record_moves) write_move_map(settings.aniso_map_path, move_films, width, height);
   for (const BlockOutput& block : blocks)
     for (size_t i = 0; i < mix.size(); ++i) stats_.strategies[i].merge(block.stats[i]);
   stats_.chains = uint64_t(chain_count);
