@@ -206,8 +206,12 @@ std::optional<Vec3> project_through_onto_plane(const Vec3& origin, const Vec3& t
 Vec3 sample_cast_target(const TangentGaussian& kernel, const Vec3& origin, Rng& rng) {
   if (!kernel.directional_fallback()) return sample_tangent_gaussian(kernel, rng);
   const DVec3 axis = kernel.centre - DVec3(origin);
-  if (!(glm::dot(axis, axis) > 0.0)) return origin;  // no direction: the cast fails
-  return origin + sample_vmf(Vec3(axis), kernel.fallback_concentration, rng);
+  const double length = glm::length(axis);
+  if (!(length > 0.0)) return origin;  // no direction: the cast fails
+  // A point as far out as the centre: the caller's float subtraction of the origin then
+  // keeps the direction to float precision relative to that distance, not to |origin|.
+  const DVec3 direction(sample_vmf(Vec3(axis), kernel.fallback_concentration, rng));
+  return Vec3(DVec3(origin) + length * direction);
 }
 
 namespace {

@@ -166,9 +166,11 @@ void run_chain(Chain& chain, uint64_t chain_index, uint64_t steps, const Strateg
 void write_move_map(const std::string& path, std::span<const FixedPointFilm> moves, int width,
                     int height) {
   Image map(width, height);
+  bool in_range = true;
+  for (const FixedPointFilm& film : moves) in_range &= !film.overflowed();
   for (size_t p = 0; p < map.pixels.size(); ++p) {
     DVec3 sum(0.0);
-    if (!FixedPointFilm::total(moves, p, sum))
+    if (!in_range || !FixedPointFilm::total(moves, p, sum))
       throw Error("the --aniso-map tallies overflowed: too many proposals per pixel");
     const double total = sum.x + sum.y;
     if (!(total > 0.0)) continue;
@@ -317,7 +319,10 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   // One film per thread, up to kMaxFilms of them; beyond that threads share films.
   std::vector<FixedPointFilm> films(size_t(std::min(threads, kMaxFilms)), FixedPointFilm(pixels));
   const bool shared_films = size_t(threads) > films.size();
-  std::vector<FixedPointFilm> move_films(record_moves ? films.size() : 0, FixedPointFilm(pixels));
+  // Moves are tallied in pixels^2 at 2^-8: a pixel holds 3.6e16, some 1e10 proposals that
+  // cross a 4K image from it.
+  std::vector<FixedPointFilm> move_films(record_moves ? films.size() : 0,
+                                         FixedPointFilm(pixels, 256.0));
   for (BlockOutput& block : blocks) block.stats.assign(mix.size(), BlockOutput::Counters{});
 
   // The image after `mutations` steps: the direct part, plus the films' sum and each chain's

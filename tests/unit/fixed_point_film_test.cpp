@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <limits>
 #include <thread>
 #include <vector>
 
@@ -97,11 +98,24 @@ TEST(FixedPointFilm, OverflowIsReportedNotWrapped) {
   films[1].add(0, DVec3(0.0, over_half, 0.0), false);
   DVec3 sum;
   EXPECT_FALSE(FixedPointFilm::total(films, 0, sum));
-  // A value no film can hold saturates and overflows too.
-  std::vector<FixedPointFilm> huge(1, FixedPointFilm(1));
-  huge[0].add(0, DVec3(0.0, 0.0, 1e300), false);
-  huge[0].add(0, DVec3(0.0, 0.0, 1e300), false);
-  EXPECT_TRUE(huge[0].overflowed());
+  // A single value no film can hold overflows by itself, shared or not, as does a NaN.
+  for (const double bad : {6e11, 1e300, std::numeric_limits<double>::quiet_NaN()})
+    for (const bool shared : {false, true}) {
+      std::vector<FixedPointFilm> one(1, FixedPointFilm(1));
+      one[0].add(0, DVec3(0.0, 0.0, bad), shared);
+      EXPECT_TRUE(one[0].overflowed()) << bad;
+    }
+}
+
+TEST(FixedPointFilm, CoarserResolutionHoldsLargerTallies) {
+  // The --aniso-map tallies: squared moves of up to a 4K image's width, at 2^-8 px^2.
+  std::vector<FixedPointFilm> films(1, FixedPointFilm(1, 256.0));
+  const double move = 3840.0 * 3840.0;
+  for (int i = 0; i < 100000; ++i) films[0].add(0, DVec3(move, 0.25, 1.0), false);
+  EXPECT_FALSE(films[0].overflowed());
+  DVec3 sum;
+  ASSERT_TRUE(FixedPointFilm::total(films, 0, sum));
+  EXPECT_EQ(sum, DVec3(1e5 * move, 25000.0, 1e5));  // exact: all are multiples of 2^-8
 }
 
 }  // namespace

@@ -25,16 +25,20 @@ namespace emlt {
 
 class FixedPointFilm {
  public:
-  static constexpr double kUnitsPerValue = 16777216.0;  // 2^24
+  static constexpr double kUnitsPerValue = 16777216.0;  // 2^24, for splats of colour
 
-  explicit FixedPointFilm(size_t pixels) : sums_(3 * pixels, 0) {}
+  // `units_per_value`: the resolution, for tallies of another range (a power of two keeps
+  // the conversion exact).
+  explicit FixedPointFilm(size_t pixels, double units_per_value = kUnitsPerValue)
+      : sums_(3 * pixels, 0), units_per_value_(units_per_value) {}
 
   // Adds a finite, non-negative value. `shared`: other threads add to this film at the same
   // time (atomic additions); otherwise plain ones.
   void add(size_t pixel, const DVec3& value, bool shared) {
     int64_t* sum = &sums_[3 * pixel];
-    const int64_t units[3] = {to_units(value.x), to_units(value.y), to_units(value.z)};
     bool overflow = false;
+    const int64_t units[3] = {to_units(value.x, overflow), to_units(value.y, overflow),
+                              to_units(value.z, overflow)};
     if (shared) {
       for (int c = 0; c < 3; ++c) {
         const int64_t before =
@@ -53,28 +57,32 @@ class FixedPointFilm {
   // Whether some pixel's sum left the range.
   bool overflowed() const { return overflows_ > 0; }
 
-  // The sum of every film's pixel, exactly (integers), then converted once; false if it
-  // leaves the range.
+  // The sum of every film's pixel (films of one resolution), exactly (integers), then
+  // converted once; false if it leaves the range.
   static bool total(std::span<const FixedPointFilm> films, size_t pixel, DVec3& out) {
     int64_t sum[3] = {0, 0, 0};
     for (const FixedPointFilm& film : films)
       for (int c = 0; c < 3; ++c)
         if (__builtin_add_overflow(sum[c], film.sums_[3 * pixel + size_t(c)], &sum[c]))
           return false;
-    out = DVec3(double(sum[0]), double(sum[1]), double(sum[2])) / kUnitsPerValue;
+    const double units = films.empty() ? kUnitsPerValue : films[0].units_per_value_;
+    out = DVec3(double(sum[0]), double(sum[1]), double(sum[2])) / units;
     return true;
   }
 
  private:
   static constexpr int64_t kMaxUnits = INT64_MAX;
 
-  static int64_t to_units(double value) {
-    // A single splat beyond the range saturates, and its pixel then overflows.
-    const double scaled = value * kUnitsPerValue + 0.5;
-    return scaled < 9.0e18 ? int64_t(scaled) : int64_t(9.0e18);
+  int64_t to_units(double value, bool& overflow) const {
+    // A single value beyond the range (or not a number) counts as an overflow by itself.
+    const double scaled = value * units_per_value_ + 0.5;
+    if (scaled < 9.0e18) return int64_t(scaled);
+    overflow = true;
+    return 0;
   }
 
   std::vector<int64_t> sums_;
+  double units_per_value_;
   int64_t overflows_ = 0;  // additions that left the range
 };
 
