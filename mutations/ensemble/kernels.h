@@ -178,7 +178,8 @@ double log_plane_to_surface_jacobian(double cos_at_surface, double distance_to_s
 std::optional<Vec3> project_through_onto_plane(const Vec3& origin, const Vec3& through,
                                                const Vec3& plane_point, const Vec3& plane_normal);
 // The point the ray from `origin` is cast through: a sample z' of the plane Gaussian, or,
-// for a directional fallback, origin plus a vMF direction about origin -> centre.
+// for a directional fallback, the point as far from the origin as the centre along a vMF
+// direction about origin -> centre.
 Vec3 sample_cast_target(const TangentGaussian& kernel, const Vec3& origin, Rng& rng);
 // log area density of reaching `surface_point` (normal `surface_normal`) by sampling
 // `gaussian` and casting from `origin`: finds z by central projection of surface_point
