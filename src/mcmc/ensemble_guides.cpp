@@ -111,17 +111,4 @@ GuideView EnsembleGuides::upsilon(const PathType& type, uint64_t chain, uint64_t
   return view;
 }
 
-void EnsembleGuides::prefetch_upsilon(const PathType& type, uint64_t chain, uint64_t step) const {
-  const GuideView view = upsilon(type, chain, step);
-  if (view.empty()) return;
-  const auto lines = [](const void* data, size_t bytes) {
-    const char* p = static_cast<const char*>(data);
-    for (size_t offset = 0; offset < bytes; offset += 64) __builtin_prefetch(p + offset);
-    __builtin_prefetch(p + bytes - 1);  // a row that straddles a line boundary
-  };
-  lines(view.rasters_, view.size() * sizeof(Vec2));
-  for (size_t row = 0; row < 3 * size_t(type.vertices); ++row)
-    lines(view.coordinates_ + row * view.stride_, view.size() * sizeof(double));
-}
-
 }  // namespace emlt

@@ -428,12 +428,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
         const FilmSlot film{films[slot], record_moves ? &move_films[slot] : nullptr, shared_films};
         for (uint64_t j = begin; j < end; ++j) {
           Chain& chain = chains[size_t(first + j)];
-          if (j + 1 < end) {
-            const Chain& next = chains[size_t(first + j + 1)];
-            prefetch_path(next.current);
-            if (ctx.ensemble)
-              ctx.ensemble->prefetch_upsilon(next.current.type, first + j + 1, next.steps_taken);
-          }
+          if (j + 1 < end) prefetch_path(chains[size_t(first + j + 1)].current);
           if (!(chain.target > 0.0)) continue;
           const uint64_t steps = sweep / count + (j < sweep % count ? 1 : 0);
           run_chain(chain, first + j, steps, mix, ctx, options_.ignore_selection_probability,

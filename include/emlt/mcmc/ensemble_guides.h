@@ -87,10 +87,6 @@ class EnsembleGuides {
   // Υ for a path of this type at this chain's step: up to M paths of Y of the same type.
   // The view stays valid until the next build().
   GuideView upsilon(const PathType& type, uint64_t chain, uint64_t step) const;
-  // Asks for that Υ's guide data ahead of use. Every chain takes a single step per swap and
-  // each step reads a different Υ, so without it a guided step waits on several cache
-  // misses for the guides' coordinates; the driver calls it one chain ahead.
-  void prefetch_upsilon(const PathType& type, uint64_t chain, uint64_t step) const;
 
   const EnsembleParams& params() const { return params_; }
   double alpha() const { return alpha_; }
