@@ -1,0 +1,119 @@
+#!/usr/bin/python3
+"""CTest 'chain_variance_script': scripts/chain_variance.py on a 16x16 Cornell box.
+
+    /usr/bin/python3 tests/scripts/test_chain_variance.py --emlt build/emlt
+
+Checks that the direct image the script subtracts is the renderer's own (a method whose
+chains have nothing to render leaves exactly zero), that the reported variance is the
+variance of the kept images, that the ideal-sampler yardstick matches a simulated
+independent sampler, that a second call reuses the kept images, and that bad arguments fail.
+"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+SCRIPT = os.path.join(ROOT, "scripts", "chain_variance.py")
+SCENE = os.path.join(ROOT, "scenes", "cornell-box", "scene.json")
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+from chain_variance import LUMINANCE, ideal_variance_per_mutation, read_image  # noqa: E402
+
+EMLT = os.environ.get("EMLT_BINARY", os.path.join(ROOT, "build", "emlt"))
+PYTHON = "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable
+SEEDS = 3
+
+
+def chain_variance(out, emlt=None, seeds=SEEDS, extra=()):
+    return subprocess.run(
+        [PYTHON, SCRIPT, SCENE, "--emlt", emlt or EMLT, "--width", "16", "--height", "16", "--threads", "2",
+         "--seeds", str(seeds), "--direct-spp", "4", "--budget", "--mpp 8", "--out", out,
+         "--json", os.path.join(out, "figures.json"),
+         "--method", "mlt=--integrator mlt", "--method", "direct-only=--integrator mlt --max-depth 2", *extra],
+        capture_output=True, text=True, timeout=300)
+
+
+class ChainVariance(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.out = cls.tmp.name
+        cls.first = chain_variance(cls.out)
+        with open(os.path.join(cls.out, "figures.json")) as f:
+            cls.figures = {row["method"]: row for row in json.load(f)["methods"]}
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_runs(self):
+        self.assertEqual(self.first.returncode, 0, self.first.stdout + self.first.stderr)
+        self.assertIn("mlt", self.first.stdout)
+
+    def test_direct_image_is_the_renderers_own(self):
+        # With at most two segments the chains render nothing: what is left after
+        # subtracting the direct image must be exactly zero in every seed.
+        row = self.figures["direct-only"]
+        self.assertEqual(row["chains_variance"], 0.0)
+        self.assertEqual(row["mutations_per_pixel"], 0.0)
+        for seed in range(1, SEEDS + 1):
+            left = read_image(os.path.join(self.out, f"direct-only.{seed}.pfm")) - read_image(
+                os.path.join(self.out, f"direct.{seed}.pfm"))
+            self.assertEqual(np.abs(left).max(), 0.0)
+
+    def test_variance_is_that_of_the_kept_images(self):
+        chains = np.stack([read_image(os.path.join(self.out, f"mlt.{s}.pfm")) -
+                           read_image(os.path.join(self.out, f"direct.{s}.pfm")) for s in range(1, SEEDS + 1)])
+        mean = chains.mean(axis=0)
+        expected = (((chains - mean) ** 2).sum(axis=0) / (SEEDS - 1)).sum(axis=1).mean()
+        row = self.figures["mlt"]
+        self.assertGreater(expected, 0.0)
+        self.assertAlmostEqual(row["chains_variance"] / expected, 1.0, places=9)
+        self.assertAlmostEqual(row["mutations_per_pixel"], 8.0, places=6)
+
+    def test_second_call_reuses_the_images(self):
+        again = chain_variance(self.out, emlt=os.path.join(self.out, "no-such-emlt"))
+        self.assertEqual(again.returncode, 0, again.stdout + again.stderr)
+
+    def test_bad_arguments_fail(self):
+        with tempfile.TemporaryDirectory() as out:
+            one_seed = chain_variance(out, seeds=1)
+            self.assertEqual(one_seed.returncode, 2)
+            self.assertIn("--seeds", one_seed.stderr)
+            no_name = chain_variance(out, extra=("--method", "--integrator mlt"))
+            self.assertNotEqual(no_name.returncode, 0)
+            self.assertIn("NAME=ARGS", no_name.stderr)
+
+
+class IdealYardstick(unittest.TestCase):
+    def test_matches_a_simulated_independent_sampler(self):
+        # An image with colour: the yardstick must equal the variance of a histogram
+        # estimator fed by independent samples drawn in proportion to luminance.
+        rng = np.random.default_rng(7)
+        image = rng.gamma(2.0, 0.05, size=(400, 3)) * rng.uniform(0.0, 2.0, size=(400, 1))
+        image[:20] = 0.0  # pixels the chains never reach
+        lum = image @ LUMINANCE
+        pixels, mpp, trials = len(lum), 16, 400
+        samples = int(mpp * pixels)
+        colour = np.zeros_like(image)
+        colour[lum > 0] = image[lum > 0] / lum[lum > 0, None]
+        errors = []
+        for _ in range(trials):
+            counts = rng.multinomial(samples, lum / lum.sum())
+            estimate = lum.sum() / samples * counts[:, None] * colour
+            errors.append(((estimate - image) ** 2).sum(axis=1).mean())
+        simulated = np.mean(errors)
+        # The yardstick leaves out the -I^2/N term of the multinomial variance, under 1 % here.
+        self.assertAlmostEqual(ideal_variance_per_mutation(image) / mpp / simulated, 1.0, delta=0.03)
+
+
+if __name__ == "__main__":
+    args = sys.argv[1:]
+    if len(args) >= 2 and args[0] == "--emlt":
+        EMLT = os.path.abspath(args[1])
+        args = args[2:]
+    unittest.main(argv=[sys.argv[0], *args])
