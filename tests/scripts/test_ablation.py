@@ -18,14 +18,13 @@ import sys
 import tempfile
 import unittest
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-SCRIPT = os.path.join(ROOT, "scripts", "ablation.py")
-CONFIG = os.path.join(ROOT, "scripts", "experiments", "ci-tiny.json")
-sys.path.insert(0, os.path.join(ROOT, "scripts"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from script_env import PYTHON, ROOT, SCRIPTS, take_emlt_argument  # noqa: E402
 from emlt_images import mse as numpy_mse, read_pfm  # noqa: E402
 
-EMLT = os.environ.get("EMLT_BINARY", os.path.join(ROOT, "build", "emlt"))
-PYTHON = "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable
+SCRIPT = os.path.join(SCRIPTS, "ablation.py")
+CONFIG = os.path.join(SCRIPTS, "experiments", "ci-tiny.json")
+EMLT = take_emlt_argument()
 
 
 def run_ablation(config, out, cache):
@@ -191,7 +190,4 @@ class AblationTest(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) > 2 and sys.argv[1] == "--emlt":
-        EMLT = sys.argv[2]
-        del sys.argv[1:3]
     unittest.main(verbosity=2)

@@ -17,20 +17,19 @@ import unittest
 
 import numpy as np
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-SCRIPT = os.path.join(ROOT, "scripts", "chain_variance.py")
-SCENE = os.path.join(ROOT, "scenes", "cornell-box", "scene.json")
-sys.path.insert(0, os.path.join(ROOT, "scripts"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from script_env import PYTHON, ROOT, SCRIPTS, take_emlt_argument  # noqa: E402
 from chain_variance import LUMINANCE, ideal_variance_per_mutation, read_image  # noqa: E402
 
-EMLT = os.environ.get("EMLT_BINARY", os.path.join(ROOT, "build", "emlt"))
-PYTHON = "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable
+SCRIPT = os.path.join(SCRIPTS, "chain_variance.py")
+SCENE = os.path.join(ROOT, "scenes", "cornell-box", "scene.json")
+EMLT = take_emlt_argument()
 SEEDS = 3
 
 
-def chain_variance(out, emlt=None, seeds=SEEDS, extra=()):
+def chain_variance(out, emlt=EMLT, seeds=SEEDS, extra=()):
     return subprocess.run(
-        [PYTHON, SCRIPT, SCENE, "--emlt", emlt or EMLT, "--width", "16", "--height", "16", "--threads", "2",
+        [PYTHON, SCRIPT, SCENE, "--emlt", emlt, "--width", "16", "--height", "16", "--threads", "2",
          "--seeds", str(seeds), "--direct-spp", "4", "--budget", "--mpp 8", "--out", out,
          "--json", os.path.join(out, "figures.json"),
          "--method", "mlt=--integrator mlt", "--method", "direct-only=--integrator mlt --max-depth 2", *extra],
@@ -112,8 +111,4 @@ class IdealYardstick(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    args = sys.argv[1:]
-    if len(args) >= 2 and args[0] == "--emlt":
-        EMLT = os.path.abspath(args[1])
-        args = args[2:]
-    unittest.main(argv=[sys.argv[0], *args])
+    unittest.main()
