@@ -26,6 +26,7 @@ ideal figure.  Runs go one at a time, so equal-time budgets are fair.  Needs num
 import argparse
 import json
 import os
+import re
 import shlex
 import subprocess
 import sys
@@ -45,11 +46,23 @@ def read_image(path):
 
 
 def run(cmd, output):
-    if os.path.exists(output):  # a kept image from an earlier call with --out
-        return
-    done = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    """Runs the engine unless `output` was made by the same arguments before (--out keeps
+    them in OUTPUT.args); on failure exits with the engine's own one-line error."""
+    record = output + ".args"
+    arguments = shlex.join(cmd[1:])  # the binary may move; what it renders may not
+    if os.path.exists(output) and os.path.exists(record):
+        with open(record) as f:
+            if f.read() == arguments:
+                return
+    try:
+        done = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    except OSError as error:
+        sys.exit(f"chain_variance: {cmd[0]}: {error.strerror}")
     if done.returncode != 0:
-        sys.exit(f"chain_variance: failed ({done.returncode}): {shlex.join(cmd)}\n{done.stdout.strip()}")
+        lines = done.stdout.strip().splitlines() or [f"exit status {done.returncode}"]
+        sys.exit(f"chain_variance: {os.path.basename(output)}: {lines[-1]}")
+    with open(record, "w") as f:
+        f.write(arguments)
 
 
 def ideal_variance_per_mutation(chains_mean):
@@ -76,8 +89,8 @@ def main():
     parser.add_argument("--height", type=int)
     parser.add_argument("--emlt", default=os.path.join(os.path.dirname(__file__), "..", "build", "emlt"))
     parser.add_argument("--json", help="also write the figures to this JSON file")
-    parser.add_argument("--out", help="keep the images here and reuse those already there "
-                        "(default: a temporary directory)")
+    parser.add_argument("--out", help="keep the images here, and reuse those that the same "
+                        "engine arguments made (default: a temporary directory)")
     args = parser.parse_args()
     if args.seeds < 2:
         parser.error("--seeds must be at least 2")
@@ -86,6 +99,11 @@ def main():
         name, sep, engine_args = spec.partition("=")
         if not sep or not name:
             parser.error(f"--method {spec!r}: expected NAME=ARGS")
+        if not re.fullmatch(r"[A-Za-z0-9._-]+", name) or name == "direct":
+            parser.error(f"--method {spec!r}: the name must be letters, digits, '.', '_' or '-', "
+                         "and not 'direct'")
+        if name in (m[0] for m in methods):
+            parser.error(f"--method {name}: given twice")
         methods.append((name, shlex.split(engine_args)))
 
     work = args.out or tempfile.mkdtemp(prefix="chain_variance.")

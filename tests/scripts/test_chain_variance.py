@@ -6,7 +6,8 @@
 Checks that the direct image the script subtracts is the renderer's own (a method whose
 chains have nothing to render leaves exactly zero), that the reported variance is the
 variance of the kept images, that the ideal-sampler yardstick matches a simulated
-independent sampler, that a second call reuses the kept images, and that bad arguments fail.
+independent sampler, that a second call reuses the images its arguments made (and only
+those), and that bad arguments and engine errors fail with one line.
 """
 import json
 import os
@@ -27,10 +28,10 @@ EMLT = take_emlt_argument()
 SEEDS = 3
 
 
-def chain_variance(out, emlt=EMLT, seeds=SEEDS, extra=()):
+def chain_variance(out, emlt=EMLT, seeds=SEEDS, extra=(), budget="--mpp 8"):
     return subprocess.run(
         [PYTHON, SCRIPT, SCENE, "--emlt", emlt, "--width", "16", "--height", "16", "--threads", "2",
-         "--seeds", str(seeds), "--direct-spp", "4", "--budget", "--mpp 8", "--out", out,
+         "--seeds", str(seeds), "--direct-spp", "4", "--budget", budget, "--out", out,
          "--json", os.path.join(out, "figures.json"),
          "--method", "mlt=--integrator mlt", "--method", "direct-only=--integrator mlt --max-depth 2", *extra],
         capture_output=True, text=True, timeout=300)
@@ -74,9 +75,14 @@ class ChainVariance(unittest.TestCase):
         self.assertAlmostEqual(row["chains_variance"] / expected, 1.0, places=9)
         self.assertAlmostEqual(row["mutations_per_pixel"], 8.0, places=6)
 
-    def test_second_call_reuses_the_images(self):
-        again = chain_variance(self.out, emlt=os.path.join(self.out, "no-such-emlt"))
+    def test_second_call_reuses_the_images_of_the_same_arguments(self):
+        missing = os.path.join(self.out, "no-such-emlt")
+        again = chain_variance(self.out, emlt=missing)
         self.assertEqual(again.returncode, 0, again.stdout + again.stderr)
+        # Another budget must render again, not report the kept images: with no binary it fails.
+        other = chain_variance(self.out, emlt=missing, budget="--mpp 16")
+        self.assertEqual(other.returncode, 1)
+        self.assertEqual(other.stderr.strip(), f"chain_variance: {missing}: No such file or directory")
 
     def test_bad_arguments_fail(self):
         with tempfile.TemporaryDirectory() as out:
@@ -86,6 +92,18 @@ class ChainVariance(unittest.TestCase):
             no_name = chain_variance(out, extra=("--method", "--integrator mlt"))
             self.assertNotEqual(no_name.returncode, 0)
             self.assertIn("NAME=ARGS", no_name.stderr)
+            twice = chain_variance(out, extra=("--method", "mlt=--integrator mlt --mpp 2"))
+            self.assertEqual(twice.returncode, 2)
+            self.assertIn("given twice", twice.stderr)
+
+    def test_engine_error_is_one_line_naming_the_file(self):
+        with tempfile.TemporaryDirectory() as out:
+            bad = subprocess.run([PYTHON, SCRIPT, os.path.join(out, "missing.json"), "--emlt", EMLT,
+                                  "--budget", "--mpp 1", "--out", out, "--method", "m=--integrator mlt"],
+                                 capture_output=True, text=True, timeout=60)
+            self.assertEqual(bad.returncode, 1)
+            self.assertEqual(len(bad.stderr.strip().splitlines()), 1, bad.stderr)
+            self.assertIn("missing.json", bad.stderr)
 
 
 class IdealYardstick(unittest.TestCase):
