@@ -250,12 +250,22 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
     }
     const bool emissive = !is_black(mesh.emission);
     for (size_t i = 0; i < mesh.indices.size(); i += 3) {
-      const uint32_t a = mesh.indices[i], b = mesh.indices[i + 1], c = mesh.indices[i + 2];
+      uint32_t a = mesh.indices[i], b = mesh.indices[i + 1], c = mesh.indices[i + 2];
       if (a >= mesh.positions.size() || b >= mesh.positions.size() || c >= mesh.positions.size())
         throw file_error(d.source, "mesh '" + mesh.name + "': triangle " + std::to_string(i / 3) +
                                        " has a vertex index out of range");
+      Vec3 cross = glm::cross(mesh.positions[b] - mesh.positions[a],
+                              mesh.positions[c] - mesh.positions[a]);
+      // Mitsuba and pbrt orient a surface with vertex normals by those normals, not by
+      // its winding: they decide which side emits and which side a one-sided BSDF
+      // reflects on. Re-winding such a triangle to agree with its normals (taken at the
+      // centroid) lets the rest of the renderer trust the winding alone.
+      if (!mesh.normals.empty() &&
+          glm::dot(cross, mesh.normals[a] + mesh.normals[b] + mesh.normals[c]) < 0.0f) {
+        std::swap(b, c);
+        cross = -cross;
+      }
       const Vec3 &pa = mesh.positions[a], &pb = mesh.positions[b], &pc = mesh.positions[c];
-      const Vec3 cross = glm::cross(pb - pa, pc - pa);
       const float length = glm::length(cross);
       if (!is_finite(pa) || !is_finite(pb) || !is_finite(pc) || !(length > 0.0f) ||
           !std::isfinite(length) || !is_finite(cross / length)) {

@@ -291,7 +291,7 @@ TEST(Scene, EmissiveSphereBecomesTriangleLights) {
   EXPECT_LT(glm::dot(hit.shading_normal, Vec3(0, 0, 1)), 0.0f);  // smooth, outward
 }
 
-TEST(Scene, ShadingNormalsAreInterpolatedAndKeptOnTheGeometricSide) {
+TEST(Scene, VertexNormalsOrientTheSurfaceAsInMitsuba) {
   SceneDescription desc = base_description();
   MeshDesc mesh;
   mesh.name = "tilted";
@@ -304,12 +304,39 @@ TEST(Scene, ShadingNormalsAreInterpolatedAndKeptOnTheGeometricSide) {
   const auto scene = Scene::build(desc);
   SurfaceHit hit;
   ASSERT_TRUE(scene->intersect(Ray{Vec3(0, 0, 2), Vec3(0, 0, -1)}, hit));
-  expect_near(hit.geometric_normal, Vec3(0, 0, 1));
-  expect_near(hit.shading_normal, -tilted);
-  expect_near(hit.shading.n, -tilted);
+  // Mitsuba (and pbrt) turn the geometric normal to the vertex normals' side, not the
+  // other way round: this surface's outside faces -z.
+  expect_near(hit.geometric_normal, Vec3(0, 0, -1));
+  expect_near(hit.shading_normal, tilted);
+  expect_near(hit.shading.n, tilted);
   // No uvs given: barycentrics.
   EXPECT_GE(hit.uv.x, 0.0f);
   EXPECT_LE(hit.uv.x + hit.uv.y, 1.0f);
+}
+
+TEST(Scene, EmitterWithVertexNormalsEmitsOnTheirSide) {
+  // The lamp of Veach's door scene as published for Mitsuba: one quad wound to face up
+  // whose vertex normals face down. Mitsuba lights the room below with it.
+  SceneDescription desc = base_description();
+  desc.meshes.clear();
+  MeshDesc lamp;
+  lamp.name = "lamp";
+  lamp.material = 0;
+  lamp.positions = {{-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}};
+  lamp.indices = {0, 1, 2, 0, 2, 3};  // (p1 - p0) x (p2 - p0) = +y
+  lamp.normals.assign(4, Vec3(0, -1, 0));
+  lamp.emission = Rgb(5.0f);
+  desc.meshes.push_back(lamp);
+  const auto scene = Scene::build(desc);
+  SurfaceHit hit;
+  ASSERT_TRUE(scene->intersect(Ray{Vec3(0.2f, -3, 0.1f), Vec3(0, 1, 0)}, hit));
+  expect_near(hit.emitted(Vec3(0, -1, 0)), Rgb(5.0f));
+  // Light sampling agrees: a point below sees the lamp, a point above does not.
+  ASSERT_EQ(scene->lights().size(), 2u);
+  const auto below = scene->lights().light(0).sample_direct(Vec3(0, -2, 0), Vec2(0.3f, 0.4f));
+  ASSERT_TRUE(below.has_value());
+  EXPECT_GT(below->radiance.x, 0.0f);
+  EXPECT_FALSE(scene->lights().light(0).sample_direct(Vec3(0, 2, 0), Vec2(0.3f, 0.4f)).has_value());
 }
 
 TEST(Scene, MissingMaterialGetsDefaultWithWarning) {
