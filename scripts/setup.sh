@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 packages=(
   build-essential cmake ninja-build pkg-config ccache
   libembree-dev libopenexr-dev libtbb-dev libglm-dev libtinyobjloader-dev
-  nlohmann-json3-dev libcli11-dev libfmt-dev libstb-dev libpugixml-dev
+  nlohmann-json3-dev libcli11-dev libfmt-dev libstb-dev libpugixml-dev zlib1g-dev
   libgtest-dev libbenchmark-dev
   python3 python3-numpy python3-matplotlib
 )

@@ -2,10 +2,12 @@
 // Everything else is reported as a warning naming the element and its line.
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "emlt/core/error.h"
 #include "emlt/scene/loader.h"
 #include "emlt/scene/obj_loader.h"
+#include "emlt/scene/serialized_loader.h"
 #include "emlt/scene/shape_builders.h"
 #include "src/scene/loader_common.h"
 #include "src/scene/mitsuba_parser.h"
@@ -16,6 +18,12 @@ namespace {
 
 using mitsuba::Document;
 using mitsuba::Properties;
+
+// The shapes a <shape type="shapegroup"> declares, in the group's own space.
+struct ShapeGroup {
+  std::vector<MeshDesc> meshes;
+  std::vector<SphereDesc> spheres;
+};
 
 class MitsubaSceneReader {
  public:
@@ -32,6 +40,9 @@ class MitsubaSceneReader {
     for (pugi::xml_node child : scene.children("texture")) mitsuba::read_texture(doc_, child, named_);
     for (pugi::xml_node child : scene.children("bsdf"))
       mitsuba::read_bsdf(doc_, child, named_, desc_.warnings);
+    // Shape groups too, for the instances that refer to them.
+    for (pugi::xml_node child : scene.children("shape"))
+      if (doc_.attribute(child, "type") == "shapegroup") read_shape_group(child);
     bool has_sensor = false;
     for (pugi::xml_node child : scene.children()) {
       if (child.type() != pugi::node_element) continue;
@@ -169,9 +180,76 @@ class MitsubaSceneReader {
     return loader::material_index(desc_, material);
   }
 
-  void read_shape(pugi::xml_node node) {
+  // <shape type="shapegroup" id=...>: its shapes, kept for the instances that refer to it
+  // (a group renders nothing by itself).
+  void read_shape_group(pugi::xml_node node) {
+    if (!doc_.has_attribute(node, "id")) {
+      doc_.warn(node, "shapegroup without an id cannot be instanced; skipped");
+      return;
+    }
+    const std::string id = doc_.attribute(node, "id");
+    ShapeGroup& group = groups_[id];
+    group = {};
+    Properties props(doc_, node);
+    for (pugi::xml_node child : props.objects()) {
+      if (std::string(child.name()) == "shape")
+        read_shape(child, &group);
+      else
+        doc_.warn(child, "unsupported element " + doc_.describe(child) +
+                             " inside <shape type=\"shapegroup\"> ignored");
+    }
+    props.warn_unused();
+  }
+
+  // <shape type="instance">: the referenced group's shapes, copied into world space.
+  void read_instance(pugi::xml_node node, Properties& props) {
+    const Mat4 to_world = props.get_transform("toWorld");
+    const ShapeGroup* group = nullptr;
+    for (pugi::xml_node child : props.objects()) {
+      const std::string kind = child.name();
+      if (kind == "ref" && !group) {
+        const std::string id = doc_.attribute(child, "id");
+        const auto it = groups_.find(id);
+        if (it == groups_.end())
+          doc_.fail(child, "instance refers to '" + id + "', which is not a shapegroup");
+        group = &it->second;
+      } else {
+        doc_.warn(child, "unsupported element " + doc_.describe(child) +
+                             " inside <shape type=\"instance\"> ignored (the group's shapes "
+                             "keep their own)");
+      }
+    }
+    if (!group) doc_.fail(node, "instance needs a <ref id=...> naming a shapegroup");
+    if (!is_finite_matrix(to_world)) doc_.fail(node, "instance toWorld contains NaN or infinity");
+    props.warn_unused();
+    const std::string suffix = " (instance at line " + std::to_string(doc_.line(node)) + ")";
+    for (MeshDesc mesh : group->meshes) {
+      // Mitsuba transforms an instance's normals by the inverse transpose, so the
+      // facing survives a mirroring transform.
+      transform_mesh(mesh, to_world, true);
+      mesh.name += suffix;
+      desc_.meshes.push_back(std::move(mesh));
+    }
+    for (SphereDesc sphere : group->spheres) {
+      loader::transform_sphere(sphere, to_world, doc_.path() + ": " + sphere.name + suffix,
+                               desc_.warnings);
+      sphere.name += suffix;
+      desc_.spheres.push_back(sphere);
+    }
+  }
+
+  // A shape for the scene, or for `group` when it is declared inside a shapegroup.
+  void read_shape(pugi::xml_node node, ShapeGroup* group = nullptr) {
     const std::string type = doc_.attribute(node, "type");
-    static const char* kSupported[] = {"obj", "rectangle", "cube", "disk", "sphere"};
+    if (type == "shapegroup" || type == "instance") {
+      if (group) doc_.fail(node, "nested instancing is not supported (nor by Mitsuba)");
+      if (type == "shapegroup") return;  // read before the other shapes
+      Properties props(doc_, node);
+      read_instance(node, props);
+      return;
+    }
+    static const char* kSupported[] = {"obj",    "rectangle",  "cube",    "disk",
+                                       "sphere", "serialized", "cylinder"};
     if (std::find_if(std::begin(kSupported), std::end(kSupported),
                      [&](const char* t) { return type == t; }) == std::end(kSupported)) {
       doc_.warn(node, "unsupported shape type '" + type + "' " + doc_.describe(node) + " skipped");
@@ -194,6 +272,8 @@ class MitsubaSceneReader {
         if (material >= 0) doc_.warn(child, "shape has several BSDFs; the last one is used");
         material = material_of(child);
       } else if (kind == "emitter" && doc_.attribute(child, "type") == "area") {
+        if (group)
+          doc_.fail(child, "an emitter inside a shapegroup is not supported (nor by Mitsuba)");
         Properties emitter(doc_, child);
         emission = emitter.get_color("radiance", Rgb(1.0f));
         emitter.ignore({"samplingWeight"});
@@ -215,7 +295,7 @@ class MitsubaSceneReader {
       sphere.emission = emission;
       sphere.flip_normals = flip;
       props.warn_unused();
-      desc_.spheres.push_back(sphere);
+      (group ? group->spheres : desc_.spheres).push_back(sphere);
       return;
     }
     MeshDesc mesh;
@@ -229,18 +309,50 @@ class MitsubaSceneReader {
       mesh = load_obj_mesh(file, to_world, !face_normals, &desc_.warnings, flip_uv);
     } else if (type == "rectangle") {
       mesh = make_rectangle_mesh(to_world);
+    } else if (type == "serialized") {
+      if (!props.has("filename")) doc_.fail(node, "<shape type=\"serialized\"> needs a 'filename'");
+      const std::string file = loader::resolve_path(doc_.path(), props.get_string("filename", ""));
+      mesh = load_serialized_mesh(file, props.get_integer("shapeIndex", 0), to_world);
+      read_mesh_normal_options(node, props, mesh, flip);
+    } else if (type == "cylinder") {
+      const Vec3 p0 = props.get_point("p0", Vec3(0.0f));
+      const Vec3 p1 = props.get_point("p1", Vec3(0.0f, 0.0f, 1.0f));
+      const float radius = props.get_float("radius", 1.0f);
+      if (!(radius > 0.0f) || !std::isfinite(radius))
+        doc_.fail(node, "cylinder radius must be positive");
+      if (!(glm::length(p1 - p0) > 0.0f) || !std::isfinite(glm::length(p1 - p0)))
+        doc_.fail(node, "cylinder p0 and p1 must be distinct finite points");
+      mesh = make_cylinder_mesh(p0, p1, radius, to_world);
     } else if (type == "cube") {
       mesh = make_cube_mesh(to_world);
     } else {
       mesh = make_disk_mesh(to_world);
     }
-    if (flip) flip_mesh_normals(mesh);
-    mesh.name =
-        type == "obj" ? mesh.name + " (line " + std::to_string(doc_.line(node)) + ")" : name;
+    // The file meshes applied flipNormals with their normal options above.
+    if (flip && type != "serialized") flip_mesh_normals(mesh);
+    const bool from_file = type == "obj" || type == "serialized";
+    mesh.name = from_file ? mesh.name + " (line " + std::to_string(doc_.line(node)) + ")" : name;
     mesh.material = material;
     mesh.emission = emission;
     props.warn_unused();
-    desc_.meshes.push_back(std::move(mesh));
+    if (mesh.indices.empty()) {
+      doc_.warn(node, "shape " + mesh.name + " has no triangles; skipped");
+      return;
+    }
+    (group ? group->meshes : desc_.meshes).push_back(std::move(mesh));
+  }
+
+  // faceNormals, maxSmoothAngle and flipNormals of a mesh read from a file, as Mitsuba's
+  // TriMesh applies them (after the transform).
+  void read_mesh_normal_options(pugi::xml_node node, Properties& props, MeshDesc& mesh,
+                                bool flip) {
+    const bool face_normals = props.get_boolean("faceNormals", false);
+    if (props.has("maxSmoothAngle")) {
+      if (face_normals)
+        doc_.fail(node, "'maxSmoothAngle' and 'faceNormals' cannot be given together");
+      split_vertices_by_angle(mesh, props.get_float("maxSmoothAngle", 0.0f));
+    }
+    apply_mesh_normal_options(mesh, face_normals, flip);
   }
 
   void read_environment(pugi::xml_node node) {
@@ -275,6 +387,7 @@ class MitsubaSceneReader {
   SceneDescription desc_;  // before doc_, which appends to its warnings
   Document doc_;
   mitsuba::NamedObjects named_;
+  std::map<std::string, ShapeGroup> groups_;  // shapegroups by id
 };
 
 }  // namespace

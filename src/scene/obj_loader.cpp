@@ -23,29 +23,6 @@ std::string first_line(const std::string& text) {
   return text;
 }
 
-// Angle-weighted vertex normals (Thuermer and Wuethrich 1998): unlike area weighting,
-// the result does not depend on how polygons were split into triangles.
-void compute_smooth_normals(MeshDesc& mesh) {
-  mesh.normals.assign(mesh.positions.size(), Vec3(0.0f));
-  for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
-    const uint32_t corner[3] = {mesh.indices[i], mesh.indices[i + 1], mesh.indices[i + 2]};
-    const Vec3 n = glm::cross(mesh.positions[corner[1]] - mesh.positions[corner[0]],
-                              mesh.positions[corner[2]] - mesh.positions[corner[0]]);
-    const float length = glm::length(n);
-    if (!(length > 0.0f) || !std::isfinite(length)) continue;
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 p = mesh.positions[corner[k]];
-      const Vec3 e1 = glm::normalize(mesh.positions[corner[(k + 1) % 3]] - p);
-      const Vec3 e2 = glm::normalize(mesh.positions[corner[(k + 2) % 3]] - p);
-      mesh.normals[corner[k]] += safe_acos(glm::dot(e1, e2)) * (n / length);
-    }
-  }
-  for (Vec3& n : mesh.normals) {
-    const float length = glm::length(n);
-    if (length > 0.0f) n /= length;
-  }
-}
-
 }  // namespace
 
 MeshDesc load_obj_mesh(const std::string& path, const Mat4& to_world, bool smooth_normals,

@@ -1,5 +1,11 @@
 #include "emlt/scene/shape_builders.h"
 
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
 #include <utility>
 
 namespace emlt {
@@ -91,6 +97,143 @@ MeshDesc make_sphere_mesh(const Vec3& center, float radius, bool flip_normals, i
   }
   if (flip_normals) flip_mesh_normals(mesh);
   return mesh;
+}
+
+MeshDesc make_cylinder_mesh(const Vec3& p0, const Vec3& p1, float radius, const Mat4& to_world,
+                            int segments) {
+  // Mitsuba's object frame: translate(p0) * frame(axis) * scale(r, r, length), where the
+  // frame's first two axes come from Mitsuba's coordinateSystem(); they fix where u = 0
+  // lies on the rim, so they are reproduced rather than chosen freely.
+  const Vec3 axis = p1 - p0;
+  const Vec3 n = axis / glm::length(axis);
+  const Vec3 t = std::abs(n.x) > std::abs(n.y)
+                     ? Vec3(n.z, 0.0f, -n.x) / std::sqrt(n.x * n.x + n.z * n.z)
+                     : Vec3(0.0f, n.z, -n.y) / std::sqrt(n.y * n.y + n.z * n.z);
+  const Vec3 s = glm::cross(t, n);
+  Mat4 object_to_world(1.0f);
+  object_to_world[0] = Vec4(s * radius, 0.0f);
+  object_to_world[1] = Vec4(t * radius, 0.0f);
+  object_to_world[2] = Vec4(axis, 0.0f);
+  object_to_world[3] = Vec4(p0, 1.0f);
+  object_to_world = to_world * object_to_world;
+
+  // Unit cylinder (radius 1, z in [0, 1]); the seam column is duplicated for u = 1.
+  const double half_step = M_PI / segments;
+  const auto rim = float(half_step / std::sin(half_step));  // perimeter = 2 pi exactly
+  MeshDesc mesh;
+  for (int i = 0; i <= segments; ++i) {
+    const float phi = kTwoPi * float(i) / float(segments);
+    const Vec3 outward(std::cos(phi), std::sin(phi), 0.0f);
+    for (const float z : {0.0f, 1.0f}) {
+      mesh.positions.push_back(Vec3(rim * outward.x, rim * outward.y, z));
+      mesh.normals.push_back(outward);
+      mesh.uvs.push_back(Vec2(float(i) / float(segments), z));
+    }
+  }
+  for (uint32_t i = 0; i < uint32_t(segments); ++i) {
+    const uint32_t a = 2 * i, b = a + 2, c = a + 3, d = a + 1;  // counter-clockwise outside
+    mesh.indices.insert(mesh.indices.end(), {a, b, c, a, c, d});
+  }
+  transform_mesh(mesh, object_to_world, false);
+  // Mitsuba's normal is cross(dp/du, dp/dv) in world space, which a mirroring transform
+  // turns inward, together with the winding (kept as transformed above).
+  if (glm::determinant(Mat3(object_to_world)) < 0.0f)
+    for (Vec3& normal : mesh.normals) normal = -normal;
+  return mesh;
+}
+
+void compute_smooth_normals(MeshDesc& mesh) {
+  mesh.normals.assign(mesh.positions.size(), Vec3(0.0f));
+  for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
+    const uint32_t corner[3] = {mesh.indices[i], mesh.indices[i + 1], mesh.indices[i + 2]};
+    const Vec3 n = glm::cross(mesh.positions[corner[1]] - mesh.positions[corner[0]],
+                              mesh.positions[corner[2]] - mesh.positions[corner[0]]);
+    const float length = glm::length(n);
+    if (!(length > 0.0f) || !std::isfinite(length)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 p = mesh.positions[corner[k]];
+      const Vec3 e1 = glm::normalize(mesh.positions[corner[(k + 1) % 3]] - p);
+      const Vec3 e2 = glm::normalize(mesh.positions[corner[(k + 2) % 3]] - p);
+      mesh.normals[corner[k]] += safe_acos(glm::dot(e1, e2)) * (n / length);
+    }
+  }
+  for (Vec3& n : mesh.normals) {
+    const float length = glm::length(n);
+    if (length > 0.0f) n /= length;
+  }
+}
+
+void apply_mesh_normal_options(MeshDesc& mesh, bool face_normals, bool flip_normals) {
+  if (face_normals) {
+    mesh.normals.clear();
+    if (flip_normals)
+      for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3)
+        std::swap(mesh.indices[i + 1], mesh.indices[i + 2]);
+    return;
+  }
+  if (mesh.normals.empty()) compute_smooth_normals(mesh);
+  // The vertex normals orient the surface, so the winding stays as it is.
+  if (flip_normals)
+    for (Vec3& n : mesh.normals) n = -n;
+}
+
+void split_vertices_by_angle(MeshDesc& mesh, float max_angle_degrees) {
+  const float cos_limit = std::cos(glm::radians(max_angle_degrees));
+  const size_t corners = mesh.indices.size() - mesh.indices.size() % 3;
+  const bool has_uvs = mesh.uvs.size() == mesh.positions.size();
+  std::vector<Vec3> face_normals(corners / 3, Vec3(0.0f));
+  for (size_t f = 0; f < corners / 3; ++f) {
+    const Vec3& a = mesh.positions[mesh.indices[3 * f]];
+    const Vec3 n = glm::cross(mesh.positions[mesh.indices[3 * f + 1]] - a,
+                              mesh.positions[mesh.indices[3 * f + 2]] - a);
+    const float length = glm::length(n);
+    if (length > 1e-30f) face_normals[f] = n / length;  // degenerate faces keep 0
+  }
+  // Corners are grouped by their vertex's position and uv compared bit for bit (a strict
+  // order even for NaN; -0 counts as +0, as a float comparison would have it).
+  using Key = std::array<uint32_t, 5>;
+  auto bits = [](float x) { return std::bit_cast<uint32_t>(x == 0.0f ? 0.0f : x); };
+  std::vector<Key> keys(corners);
+  for (size_t c = 0; c < corners; ++c) {
+    const uint32_t v = mesh.indices[c];
+    const Vec3& p = mesh.positions[v];
+    const Vec2 uv = has_uvs ? mesh.uvs[v] : Vec2(0.0f);
+    keys[c] = {bits(p.x), bits(p.y), bits(p.z), bits(uv.x), bits(uv.y)};
+  }
+  std::vector<uint32_t> order(corners);
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
+
+  // Greedy clustering within each group, in corner order: a new vertex takes every
+  // remaining corner whose face normal is close to the first remaining one's.
+  std::vector<Vec3> positions;
+  std::vector<Vec2> uvs;
+  std::vector<uint32_t> indices(corners);
+  std::vector<char> clustered(corners, 0);
+  for (size_t begin = 0; begin < corners;) {
+    size_t end = begin + 1;
+    while (end < corners && keys[order[end]] == keys[order[begin]]) ++end;
+    for (size_t a = begin; a < end; ++a) {
+      if (clustered[a]) continue;
+      const Vec3 n1 = face_normals[order[a] / 3];
+      const auto vertex = uint32_t(positions.size());
+      positions.push_back(mesh.positions[mesh.indices[order[a]]]);
+      if (has_uvs) uvs.push_back(mesh.uvs[mesh.indices[order[a]]]);
+      for (size_t b = a; b < end; ++b) {
+        const Vec3 n2 = face_normals[order[b] / 3];
+        if (!clustered[b] && (n1 == n2 || glm::dot(n1, n2) > cos_limit)) {
+          indices[order[b]] = vertex;
+          clustered[b] = 1;
+        }
+      }
+    }
+    begin = end;
+  }
+  mesh.positions = std::move(positions);
+  mesh.uvs = std::move(uvs);
+  mesh.indices = std::move(indices);
+  mesh.normals.clear();
 }
 
 void transform_mesh(MeshDesc& mesh, const Mat4& to_world, bool keep_facing) {
