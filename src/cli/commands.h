@@ -16,11 +16,13 @@ struct RenderOptions {
   std::vector<std::string> defines;
   std::string reference, log;
   bool quiet = false;
+  bool strict = false;  // refuse a scene emlt would approximate or partly ignore
 };
 
 struct InfoOptions {
   std::string scene;
   std::vector<std::string> defines;
+  bool strict = false;
 };
 
 void add_render_options(CLI::App& command, RenderOptions& options);

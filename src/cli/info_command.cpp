@@ -1,13 +1,16 @@
 #include <fmt/core.h>
 
 #include "cli/commands.h"
+#include "cli/fidelity.h"
 #include "emlt/scene/loader.h"
 #include "emlt/scene/scene.h"
 
 namespace emlt::cli {
 
 int run_info(const InfoOptions& options) {
-  const auto scene = Scene::build(load_scene_description(options.scene, parse_defines(options.defines)));
+  SceneDescription loaded = load_scene_description(options.scene, parse_defines(options.defines));
+  refuse_divergences_if_strict(loaded, options.strict);
+  const auto scene = Scene::build(std::move(loaded));
   const SceneStats& st = scene->stats();
   const SceneDescription& d = scene->description();
   fmt::print("scene        {}\n", d.source);
@@ -24,6 +27,8 @@ int run_info(const InfoOptions& options) {
              d.defaults.max_depth, d.defaults.spp);
   fmt::print("warnings     {}\n", scene->warnings().size());
   for (const auto& w : scene->warnings()) fmt::print("  {}\n", w);
+  // Last, so that it is the line a user sees first: is this the scene the file means?
+  fmt::print("verdict      {}\n", d.verdict());
   return 0;
 }
 

@@ -23,6 +23,8 @@ int main(int argc, char** argv) {
   CLI::App* info = app.add_subcommand("info", "Print what a scene file contains");
   info->add_option("scene", info_options.scene, "Scene file (.json or Mitsuba .xml)")->required();
   info->add_option("-D", info_options.defines, "Scene parameter, name=value (repeatable)");
+  info->add_flag("--strict", info_options.strict,
+                 "Fail if the scene uses anything emlt approximates or cannot honour");
 
   emlt::cli::CompareOptions compare_options;
   CLI::App* compare = app.add_subcommand("compare", "Error metrics of images against a reference");

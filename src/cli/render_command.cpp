@@ -2,6 +2,7 @@
 #include <fmt/core.h>
 
 #include "cli/commands.h"
+#include "cli/fidelity.h"
 #include "cli/mlt_report.h"
 #include "emlt/mcmc/mlt_integrator.h"
 #include "emlt/render/convergence_log.h"
@@ -112,10 +113,13 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
                      "Convergence log (CSV) at power-of-two samples/mutations per pixel; needs --reference");
   command.add_option("-D", o.defines, "Scene parameter, name=value (repeatable)");
   command.add_flag("-q,--quiet", o.quiet, "No progress bar");
+  command.add_flag("--strict", o.strict,
+                   "Fail if the scene uses anything emlt approximates or cannot honour");
 }
 
 int run_render(const CLI::App& command, RenderOptions& o) {
   SceneDescription desc = load_scene_description(o.scene, parse_defines(o.defines));
+  refuse_divergences_if_strict(desc, o.strict);
 
   // Scene file defaults first, then whatever the command line set explicitly.
   RenderSettings settings = desc.defaults;
@@ -183,6 +187,8 @@ int run_render(const CLI::App& command, RenderOptions& o) {
 
   const auto scene = Scene::build(std::move(desc));
   for (const auto& w : scene->warnings()) std::fprintf(stderr, "emlt: warning: %s\n", w.c_str());
+  if (const std::string summary = divergence_summary(scene->description()); !summary.empty())
+    std::fprintf(stderr, "emlt: warning: %s\n", summary.c_str());
   std::vector<uint8_t> sees_emitter;
   if (!o.reference.empty()) {
     if (reference.width != scene->camera().width() || reference.height != scene->camera().height())

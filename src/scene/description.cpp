@@ -25,3 +25,19 @@ Mat4 look_at_matrix(const Vec3& origin, const Vec3& target, const Vec3& up) {
 }
 
 }  // namespace emlt
+
+namespace emlt {
+
+std::string SceneDescription::verdict() const {
+  size_t approximated = 0, unsupported = 0;
+  for (const Divergence& d : divergences)
+    ++(d.kind == Divergence::Kind::Approximated ? approximated : unsupported);
+  if (approximated + unsupported == 0) return "exact";
+  auto items = [](size_t n) { return std::to_string(n) + (n == 1 ? " item" : " items"); };
+  std::string text;
+  if (approximated) text = "approximated: " + items(approximated);
+  if (unsupported) text += (text.empty() ? "" : ", ") + std::string("unsupported: ") + items(unsupported);
+  return text;
+}
+
+}  // namespace emlt

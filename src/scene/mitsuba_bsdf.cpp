@@ -59,7 +59,7 @@ class BsdfReader {
     if (props.has("eta") || props.has("k")) {
       *eta = props.get_color("eta", Rgb(0.0f));
       *k = props.get_color("k", Rgb(1.0f));
-      if (props.has("material")) doc_.warn(node, "'material' ignored because eta/k are given");
+      if (props.has("material")) doc_.warn(node, "'material' ignored because eta/k are given", Document::Warning::Note);
       props.ignore({"material"});
     } else {
       const std::string material = props.get_string("material", "Cu");
@@ -76,7 +76,8 @@ class BsdfReader {
     if (name == "ggx") return MicrofacetType::Ggx;
     if (name != "beckmann")
       doc_.warn(node, "microfacet distribution '" + name +
-                          "' is not supported; using Beckmann with the same alpha");
+                          "' is not supported; using Beckmann with the same alpha",
+                Document::Warning::Approximated);
     return MicrofacetType::Beckmann;
   }
 
@@ -85,7 +86,8 @@ class BsdfReader {
       const float a = props.get_float("alpha", 0.1f);
       const float u = props.get_float("alphaU", a), v = props.get_float("alphaV", a);
       if (u != v)
-        doc_.warn(node, "anisotropic roughness approximated by the mean of alphaU and alphaV");
+        doc_.warn(node, "anisotropic roughness approximated by the mean of alphaU and alphaV",
+                  Document::Warning::Approximated);
       if (!(u + v > 0.0f)) doc_.fail(node, "alpha must be positive");
       return make_constant_texture(Rgb(0.5f * (u + v)));
     }
@@ -129,7 +131,8 @@ class BsdfReader {
     if (type == "twosided") {
       MaterialDesc inner = nested(node, props);
       if (inner.bsdf->lobes() & kLobeTransmission) {
-        doc_.warn(node, "<twosided> around a transmissive BSDF has no effect; left out");
+        doc_.warn(node, "<twosided> around a transmissive BSDF has no effect; left out",
+                  Document::Warning::Note);
         return inner;
       }
       inner.bsdf = make_two_sided(inner.bsdf);
@@ -138,7 +141,8 @@ class BsdfReader {
     if (type == "mask") {
       TexturePtr opacity = texture(props, "opacity", Rgb(0.5f));
       MaterialDesc inner = nested(node, props);
-      if (inner.opacity) doc_.warn(node, "nested masks: only the outer opacity is used");
+      if (inner.opacity) doc_.warn(node, "nested masks: only the outer opacity is used",
+                                  Document::Warning::Approximated);
       inner.opacity = opacity;
       inner.textured |= !opacity->constant();
       return inner;
@@ -154,13 +158,15 @@ class BsdfReader {
       for (pugi::xml_node t : textures)
         if (!height) height = read_texture(doc_, t, named_);
       if (!height) doc_.fail(node, "<bsdf type=\"bumpmap\"> needs a nested <texture>");
-      if (inner.bump) doc_.warn(node, "nested bump maps: only the outer one is used");
+      if (inner.bump) doc_.warn(node, "nested bump maps: only the outer one is used",
+                               Document::Warning::Approximated);
       inner.bump = height;
       inner.textured = true;
       return inner;
     }
     // coating / normalmap
-    doc_.warn(node, "<bsdf type=\"" + type + "\"> is not supported; using its nested BSDF alone");
+    doc_.warn(node, "<bsdf type=\"" + type + "\"> is not supported; using its nested BSDF alone",
+              Document::Warning::Approximated);
     props.ignore({"thickness", "intIOR", "extIOR", "sigmaA", "specularReflectance", "alpha",
                   "distribution"});
     std::vector<pugi::xml_node> ignored_textures;
@@ -178,7 +184,8 @@ class BsdfReader {
   BsdfPtr scattering(const std::string& type, pugi::xml_node node, Properties& props) {
     if (type == "diffuse" || type == "roughdiffuse") {
       if (type == "roughdiffuse") {
-        doc_.warn(node, "roughdiffuse approximated by a Lambertian diffuse");
+        doc_.warn(node, "roughdiffuse approximated by a Lambertian diffuse",
+                  Document::Warning::Approximated);
         props.ignore({"alpha", "useFastApprox"});
       }
       return make_lambertian(texture(props, "reflectance", Rgb(0.5f)));

@@ -28,7 +28,7 @@ struct ShapeGroup {
 class MitsubaSceneReader {
  public:
   MitsubaSceneReader(const std::string& path, const SceneDefines& defines)
-      : doc_(path, defines, desc_.warnings) {
+      : doc_(path, defines, desc_.warnings, desc_.divergences) {
     desc_.source = path;
   }
 
@@ -79,9 +79,12 @@ class MitsubaSceneReader {
       s.integrator = "direct";
     else if (type == "bdpt")
       s.integrator = "bdpt";
-    else
+    else if (type == "mlt")
+      s.integrator = "mlt";
+    else  // any unbiased or consistent integrator converges to the same image
       doc_.warn(node,
-                "integrator type '" + type + "' is not supported; using '" + s.integrator + "'");
+                "integrator type '" + type + "' is not supported; using '" + s.integrator + "'",
+                Document::Warning::Approximated);
     s.max_depth = props.get_integer("maxDepth", s.max_depth);
     if (s.max_depth < -1) doc_.fail(node, "maxDepth must be -1 (unlimited) or >= 0");
     s.rr_depth = props.get_integer("rrDepth", s.rr_depth);
@@ -119,7 +122,8 @@ class MitsubaSceneReader {
 
     if (props.has("fov")) {
       camera.fov_degrees = props.get_float("fov", 45.0f);
-      if (props.has("focalLength")) doc_.warn(node, "focalLength ignored because fov is given");
+      if (props.has("focalLength"))
+        doc_.warn(node, "focalLength ignored because fov is given", Document::Warning::Note);
       props.ignore({"focalLength"});
     } else {
       // Mitsuba's focal length is in 35 mm film units (36 mm wide); 50 mm by default.
@@ -154,12 +158,23 @@ class MitsubaSceneReader {
     // Output encoding only; the renderer chooses its own from the output file name.
     props.ignore({"banner", "pixelFormat", "componentFormat", "fileFormat", "attachLog",
                   "highQualityEdges"});
+    bool has_filter = false;
     for (pugi::xml_node child : props.objects()) {
       const std::string kind = child.name();
+      has_filter |= kind == "rfilter";
       if (kind == "rfilter" && doc_.attribute(child, "type") == "box") continue;
-      doc_.warn(child, "unsupported element " + doc_.describe(child) + " inside <film> ignored" +
-                           (kind == "rfilter" ? " (pixels use a box filter)" : ""));
+      if (kind == "rfilter")
+        doc_.warn(child, "reconstruction filter " + doc_.describe(child) +
+                             " approximated by a box filter (the image's mean is unchanged)",
+                  Document::Warning::Approximated);
+      else
+        doc_.warn(child, "unsupported element " + doc_.describe(child) + " inside <film> ignored");
     }
+    if (!has_filter)
+      doc_.warn(node,
+                "the film's default reconstruction filter (gaussian) approximated by a box "
+                "filter (the image's mean is unchanged)",
+                Document::Warning::Approximated);
     props.warn_unused();
   }
 

@@ -24,8 +24,8 @@ bool is_identifier_char(char c) {
 }  // namespace
 
 Document::Document(std::string path, const SceneDefines& defines,
-                   std::vector<std::string>& warnings)
-    : path_(std::move(path)), defines_(defines), warnings_(warnings) {
+                   std::vector<std::string>& warnings, std::vector<Divergence>& divergences)
+    : path_(std::move(path)), defines_(defines), warnings_(warnings), divergences_(divergences) {
   text_ = loader::read_text_file(path_);
   line_starts_.push_back(0);
   for (size_t i = 0; i < text_.size(); ++i)
@@ -92,8 +92,12 @@ void Document::fail(pugi::xml_node node, const std::string& problem) const {
   throw file_error(path_, "line " + std::to_string(line(node)) + ": " + problem);
 }
 
-void Document::warn(pugi::xml_node node, const std::string& message) const {
+void Document::warn(pugi::xml_node node, const std::string& message, Warning kind) const {
   warnings_.push_back(path_ + ": line " + std::to_string(line(node)) + ": " + message);
+  if (kind != Warning::Note)
+    divergences_.push_back({kind == Warning::Approximated ? Divergence::Kind::Approximated
+                                                          : Divergence::Kind::Unsupported,
+                            warnings_.back()});
 }
 
 float Document::to_float(pugi::xml_node node, const std::string& text) const {
@@ -134,7 +138,7 @@ Properties::Properties(const Document& doc, pugi::xml_node owner) : doc_(doc), o
     if ((kValueKinds.count(kind) || kind == "ref") && child.attribute("name")) {
       const std::string name = child.attribute("name").as_string();
       if (values_.count(name))
-        doc_.warn(child, "parameter '" + name + "' given twice; the last wins");
+        doc_.warn(child, "parameter '" + name + "' given twice; the last wins", Document::Warning::Note);
       values_[name] = child;
     } else {
       objects_.push_back(child);

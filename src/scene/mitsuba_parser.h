@@ -17,7 +17,10 @@ namespace emlt::mitsuba {
 class Document {
  public:
   // Parses the file; throws "<path>: malformed XML at line N: ..." on a syntax error.
-  Document(std::string path, const SceneDefines& defines, std::vector<std::string>& warnings);
+  // Warnings go to `warnings`; those that say the scene will not render as Mitsuba
+  // renders it also go to `divergences`.
+  Document(std::string path, const SceneDefines& defines, std::vector<std::string>& warnings,
+           std::vector<Divergence>& divergences);
 
   const std::string& path() const { return path_; }
   pugi::xml_node scene() const { return doc_.child("scene"); }
@@ -33,7 +36,12 @@ class Document {
   // "<bsdf type=\"diffuse\">" (messages carry the line separately)
   std::string describe(pugi::xml_node node) const;
   [[noreturn]] void fail(pugi::xml_node node, const std::string& problem) const;
-  void warn(pugi::xml_node node, const std::string& message) const;
+  // A warning is a divergence from Mitsuba unless it is a Note (something emlt does as
+  // Mitsuba does, said for the user's benefit): Unsupported when emlt ignores or skips
+  // what the file asks for, Approximated when it renders something close instead.
+  enum class Warning { Note, Approximated, Unsupported };
+  void warn(pugi::xml_node node, const std::string& message,
+            Warning kind = Warning::Unsupported) const;
 
   float to_float(pugi::xml_node node, const std::string& text) const;
   std::vector<float> to_floats(pugi::xml_node node, const std::string& text) const;
@@ -49,6 +57,7 @@ class Document {
   const SceneDefines& defines_;
   std::map<std::string, std::string> defaults_;
   std::vector<std::string>& warnings_;
+  std::vector<Divergence>& divergences_;
 };
 
 // Objects declared with an id, for <ref id=...>.

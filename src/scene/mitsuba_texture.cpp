@@ -21,11 +21,13 @@ UvTransform uv_transform(Properties& props) {
 WrapMode wrap_mode(const Document& doc, pugi::xml_node node, Properties& props) {
   const std::string both = props.get_string("wrapMode", "repeat");
   const std::string u = props.get_string("wrapModeU", both), v = props.get_string("wrapModeV", both);
-  if (u != v) doc.warn(node, "different wrap modes in u and v; using '" + u + "' for both");
+  if (u != v) doc.warn(node, "different wrap modes in u and v; using '" + u + "' for both",
+             Document::Warning::Approximated);
   if (u == "repeat") return WrapMode::Repeat;
   if (u == "mirror") return WrapMode::Mirror;
   if (u == "clamp") return WrapMode::Clamp;
-  doc.warn(node, "wrap mode '" + u + "' is not supported; using 'clamp'");
+  doc.warn(node, "wrap mode '" + u + "' is not supported; using 'clamp'",
+           Document::Warning::Approximated);
   return WrapMode::Clamp;
 }
 
@@ -40,7 +42,8 @@ TexturePtr read_bitmap(const Document& doc, pugi::xml_node node, Properties& pro
   const float gamma = props.get_float("gamma", -1.0f);
   const bool raw = gamma > 0.0f;
   if (raw && gamma != 1.0f)
-    doc.warn(node, "bitmap gamma " + std::to_string(gamma) + " is not supported; read as linear");
+    doc.warn(node, "bitmap gamma " + std::to_string(gamma) + " is not supported; read as linear",
+             Document::Warning::Approximated);
   // Filtering quality only: bilinear lookups averaged over many samples per pixel.
   props.ignore({"filterType", "maxAnisotropy", "cache"});
   const WrapMode wrap = wrap_mode(doc, node, props);

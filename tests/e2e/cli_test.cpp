@@ -108,6 +108,47 @@ TEST(Cli, InfoDescribesTheScene) {
   EXPECT_NE(text.find("area lights"), std::string::npos);
 }
 
+TEST(Cli, InfoGivesAFidelityVerdictAndStrictRefusesDivergences) {
+  const fs::path dir = test::scratch_dir("verdict");
+  const auto scene_with = [](const std::string& film_extra, const std::string& body) {
+    return R"(<scene version="0.6.0">
+  <sensor type="perspective"><float name="fov" value="40"/>
+    <transform name="toWorld"><lookat origin="0,0,-5" target="0,0,0" up="0,1,0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/>)" +
+           film_extra + R"(</film>
+  </sensor>
+  <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+)" + body + "</scene>\n";
+  };
+  // Mitsuba's default gaussian filter and an anisotropic roughness are approximated; a
+  // point light is not supported at all.
+  write_file(dir / "approx.xml",
+             scene_with("", R"(<shape type="sphere"><bsdf type="roughconductor">
+    <float name="alphaU" value="0.1"/><float name="alphaV" value="0.3"/></bsdf></shape>
+  <emitter type="point"/>
+)"));
+  write_file(dir / "exact.xml", scene_with(R"(<rfilter type="box"/>)", ""));
+  std::string text;
+  ASSERT_EQ(0, test::run_command(emlt_cmd("info " + (dir / "approx.xml").string()), &text)) << text;
+  EXPECT_NE(text.find("verdict      approximated: 2 items, unsupported: 1 item\n"), std::string::npos)
+      << text;
+  ASSERT_EQ(0, test::run_command(emlt_cmd("info " + (dir / "exact.xml").string()), &text)) << text;
+  EXPECT_NE(text.find("verdict      exact\n"), std::string::npos) << text;
+  ASSERT_EQ(0, test::run_command(emlt_cmd("info --strict " + cornell("scene.xml")), &text)) << text;
+
+  // A render says so before it starts, and --strict refuses, naming the file and line.
+  const fs::path out = dir / "o.pfm";
+  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + (dir / "approx.xml").string() + " -o " +
+                                          out.string() + " --spp 1 --quiet"), &text)) << text;
+  EXPECT_NE(text.find("not rendered exactly as its format means: approximated: 2 items, "
+                      "unsupported: 1 item"), std::string::npos) << text;
+  fs::remove(out);
+  expect_clean_failure("render --strict " + (dir / "approx.xml").string() + " -o " + out.string(),
+                       "approx.xml: line 4: the film's default reconstruction filter", out);
+  expect_clean_failure("info --strict " + (dir / "approx.xml").string(), "refused by --strict; 2 more",
+                       out);
+}
+
 TEST(CliBadInput, MissingSceneFile) {
   const fs::path dir = test::scratch_dir("missing");
   expect_clean_failure("render " + (dir / "nope.json").string() + " -o " + (dir / "o.exr").string(), "nope.json",

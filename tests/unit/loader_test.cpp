@@ -65,7 +65,7 @@ std::string small_xml(const std::string& body) {
   <sensor type="perspective">
     <float name="fov" value="40"/>
     <transform name="toWorld"><lookat origin="0,0,-5" target="0,0,0" up="0,1,0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film>
   </sensor>
   <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/></emitter>
     <bsdf type="diffuse"/></shape>

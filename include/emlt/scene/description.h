@@ -78,6 +78,14 @@ struct CameraDesc {
   int width = 256, height = 256;
 };
 
+// One way in which a scene will not render as its file means: emlt approximates it, or
+// cannot honour it at all. The Mitsuba loader records one for every such item (each is
+// also a warning); `emlt info` sums them into its verdict and `--strict` refuses them.
+struct Divergence {
+  enum class Kind { Approximated, Unsupported } kind = Kind::Unsupported;
+  std::string message;  // the warning's text, "<file>: line N: ..."
+};
+
 struct SceneDescription {
   std::string source;  // file it came from
   std::vector<MaterialDesc> materials;
@@ -87,6 +95,11 @@ struct SceneDescription {
   CameraDesc camera;
   RenderSettings defaults;  // integrator, spp, max depth ... from the file
   std::vector<std::string> warnings;
+  std::vector<Divergence> divergences;  // each also in warnings
+
+  // "exact", or "approximated: N items, unsupported: M items" (either part alone when
+  // the other count is zero).
+  std::string verdict() const;
 };
 
 // "x", "y", "smaller", "larger" (the names both scene formats use); nullopt otherwise.
