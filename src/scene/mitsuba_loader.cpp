@@ -7,6 +7,7 @@
 #include "emlt/core/error.h"
 #include "emlt/scene/loader.h"
 #include "emlt/scene/obj_loader.h"
+#include "emlt/scene/ply_loader.h"
 #include "emlt/scene/serialized_loader.h"
 #include "emlt/scene/shape_builders.h"
 #include "src/scene/loader_common.h"
@@ -263,8 +264,8 @@ class MitsubaSceneReader {
       read_instance(node, props);
       return;
     }
-    static const char* kSupported[] = {"obj",    "rectangle",  "cube",    "disk",
-                                       "sphere", "serialized", "cylinder"};
+    static const char* kSupported[] = {"obj",    "rectangle",  "cube",     "disk",
+                                       "sphere", "serialized", "cylinder", "ply"};
     if (std::find_if(std::begin(kSupported), std::end(kSupported),
                      [&](const char* t) { return type == t; }) == std::end(kSupported)) {
       doc_.warn(node, "unsupported shape type '" + type + "' " + doc_.describe(node) + " skipped");
@@ -329,6 +330,12 @@ class MitsubaSceneReader {
       const std::string file = loader::resolve_path(doc_.path(), props.get_string("filename", ""));
       mesh = load_serialized_mesh(file, props.get_integer("shapeIndex", 0), to_world);
       read_mesh_normal_options(node, props, mesh, flip);
+    } else if (type == "ply") {
+      if (!props.has("filename")) doc_.fail(node, "<shape type=\"ply\"> needs a 'filename'");
+      const std::string file = loader::resolve_path(doc_.path(), props.get_string("filename", ""));
+      mesh = load_ply_mesh(file, to_world, &desc_.warnings);
+      read_mesh_normal_options(node, props, mesh, flip);
+      props.ignore({"srgb"});  // how vertex colours are read; they are not used
     } else if (type == "cylinder") {
       const Vec3 p0 = props.get_point("p0", Vec3(0.0f));
       const Vec3 p1 = props.get_point("p1", Vec3(0.0f, 0.0f, 1.0f));
@@ -344,8 +351,8 @@ class MitsubaSceneReader {
       mesh = make_disk_mesh(to_world);
     }
     // The file meshes applied flipNormals with their normal options above.
-    if (flip && type != "serialized") flip_mesh_normals(mesh);
-    const bool from_file = type == "obj" || type == "serialized";
+    if (flip && type != "serialized" && type != "ply") flip_mesh_normals(mesh);
+    const bool from_file = type == "obj" || type == "serialized" || type == "ply";
     mesh.name = from_file ? mesh.name + " (line " + std::to_string(doc_.line(node)) + ")" : name;
     mesh.material = material;
     mesh.emission = emission;

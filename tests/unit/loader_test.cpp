@@ -261,7 +261,7 @@ TEST(Loader, BadInputGivesOneLineErrorNamingFileAndProblem) {
 TEST(Loader, UnsupportedMitsubaElementsAreReportedWithNameAndLine) {
   const auto dir = test::scratch_dir("mitsuba-warnings");
   const std::string xml = write_file(dir, "scene.xml", small_xml(R"(
-  <shape type="ply"><string name="filename" value="x.ply"/></shape>
+  <shape type="heightfield"><string name="filename" value="x.exr"/></shape>
   <medium type="homogeneous" id="fog"/>
   <emitter type="point"><point name="position" x="0" y="1" z="0"/></emitter>
   <shape type="cube"><bsdf type="phong"/><float name="wobble" value="2"/></shape>
@@ -269,11 +269,12 @@ TEST(Loader, UnsupportedMitsubaElementsAreReportedWithNameAndLine) {
   <shape type="disk"><bsdf type="coating"><bsdf type="conductor"><string name="material" value="Au"/></bsdf></bsdf></shape>)"));
   const SceneDescription desc = load_scene_description(xml);
   for (const char* needle :
-       {"'ply'", "<medium", "'point'", "'phong'", "'wobble'", "distribution 'as'", "\"coating\""})
+       {"'heightfield'", "<medium", "'point'", "'phong'", "'wobble'", "distribution 'as'",
+        "\"coating\""})
     EXPECT_TRUE(any_contains(desc.warnings, needle)) << needle;
   EXPECT_TRUE(any_contains(desc.warnings, "scene.xml: line 11:"))
-      << desc.warnings.front();       // the ply shape
-  EXPECT_EQ(desc.meshes.size(), 3u);  // emissive rectangle, cube, disk (the ply is skipped)
+      << desc.warnings.front();       // the heightfield shape
+  EXPECT_EQ(desc.meshes.size(), 3u);  // emissive rectangle, cube, disk (the heightfield is skipped)
   EXPECT_EQ(desc.spheres.size(), 1u);
 
   const std::string json = write_file(dir, "scene.json", small_json(R"(, "colour": 3)", ""));

@@ -1,0 +1,392 @@
+#include "emlt/scene/ply_loader.h"
+
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <string_view>
+
+#include "emlt/core/error.h"
+#include "emlt/scene/shape_builders.h"
+
+namespace emlt {
+
+namespace {
+
+[[noreturn]] void fail_at(const std::string& path, const std::string& problem) {
+  throw file_error(path, problem);
+}
+
+enum class Type { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64 };
+
+std::optional<Type> parse_type(const std::string& name) {
+  static const std::pair<const char*, Type> kNames[] = {
+      {"char", Type::Int8},      {"int8", Type::Int8},       {"uchar", Type::UInt8},
+      {"uint8", Type::UInt8},    {"short", Type::Int16},     {"int16", Type::Int16},
+      {"ushort", Type::UInt16},  {"uint16", Type::UInt16},   {"int", Type::Int32},
+      {"int32", Type::Int32},    {"uint", Type::UInt32},     {"uint32", Type::UInt32},
+      {"float", Type::Float32},  {"float32", Type::Float32}, {"double", Type::Float64},
+      {"float64", Type::Float64}};
+  for (const auto& [text, type] : kNames)
+    if (name == text) return type;
+  return std::nullopt;
+}
+
+int size_of(Type type) {
+  switch (type) {
+    case Type::Int8:
+    case Type::UInt8:
+      return 1;
+    case Type::Int16:
+    case Type::UInt16:
+      return 2;
+    case Type::Int32:
+    case Type::UInt32:
+    case Type::Float32:
+      return 4;
+    case Type::Float64:
+      return 8;
+  }
+  return 1;
+}
+
+bool is_integer(Type type) {
+  return type != Type::Float32 && type != Type::Float64;
+}
+
+struct Property {
+  std::string name;
+  Type type = Type::Float32;  // of the items, for a list
+  bool is_list = false;
+  Type count_type = Type::UInt8;
+};
+
+struct Element {
+  std::string name;
+  uint64_t count = 0;
+  std::vector<Property> properties;
+};
+
+enum class Format { Ascii, BinaryLittle, BinaryBig };
+
+// The data after the header, read value by value with every read bounds-checked.
+class DataReader {
+ public:
+  DataReader(const std::string& path, std::string_view data, Format format)
+      : path_(path), data_(data), format_(format) {}
+
+  size_t remaining() const { return data_.size() - pos_; }
+
+  // Any scalar, as a double; `what` names the value for the truncation message.
+  double number(Type type, const std::string& what) {
+    if (format_ == Format::Ascii) {
+      const std::string_view text = token(what);
+      double value = 0.0;
+      const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+      if (ec != std::errc() || end != text.data() + text.size())
+        fail("cannot parse '" + std::string(text) + "' as a number (" + what + ")");
+      return value;
+    }
+    const unsigned char* bytes = take(size_of(type), what);
+    uint64_t bits = 0;
+    const int n = size_of(type);
+    for (int i = 0; i < n; ++i) {
+      const int shift = format_ == Format::BinaryLittle ? 8 * i : 8 * (n - 1 - i);
+      bits |= uint64_t(bytes[i]) << shift;
+    }
+    switch (type) {
+      case Type::Int8:
+        return double(int8_t(bits));
+      case Type::UInt8:
+        return double(uint8_t(bits));
+      case Type::Int16:
+        return double(int16_t(bits));
+      case Type::UInt16:
+        return double(uint16_t(bits));
+      case Type::Int32:
+        return double(int32_t(bits));
+      case Type::UInt32:
+        return double(uint32_t(bits));
+      case Type::Float32:
+        return double(std::bit_cast<float>(uint32_t(bits)));
+      case Type::Float64:
+        return std::bit_cast<double>(bits);
+    }
+    return 0.0;
+  }
+
+  // A value of an integer type (list counts, indices): exact, and whole in ASCII.
+  int64_t integer(Type type, const std::string& what) {
+    if (format_ == Format::Ascii) {
+      const std::string_view text = token(what);
+      int64_t value = 0;
+      const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+      if (ec != std::errc() || end != text.data() + text.size())
+        fail("cannot parse '" + std::string(text) + "' as an integer (" + what + ")");
+      return value;
+    }
+    return int64_t(number(type, what));  // every integer type fits a double exactly
+  }
+
+  void skip(const Property& property, const std::string& what) {
+    if (!property.is_list) {
+      skip_value(property.type, what);
+      return;
+    }
+    const int64_t count = integer(property.count_type, what);
+    if (count < 0) fail("negative list length " + std::to_string(count) + " (" + what + ")");
+    for (int64_t i = 0; i < count; ++i) skip_value(property.type, what);
+  }
+
+  [[noreturn]] void fail(const std::string& problem) const { throw file_error(path_, problem); }
+
+ private:
+  void skip_value(Type type, const std::string& what) {
+    if (format_ == Format::Ascii)
+      token(what);
+    else
+      take(size_of(type), what);
+  }
+
+  const unsigned char* take(int n, const std::string& what) {
+    if (remaining() < size_t(n)) fail("truncated data (" + what + ")");
+    const auto* bytes = reinterpret_cast<const unsigned char*>(data_.data() + pos_);
+    pos_ += size_t(n);
+    return bytes;
+  }
+
+  // The next whitespace-separated word (line breaks are not significant).
+  std::string_view token(const std::string& what) {
+    auto space = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; };
+    while (pos_ < data_.size() && space(data_[pos_])) ++pos_;
+    if (pos_ == data_.size()) fail("truncated data (" + what + ")");
+    const size_t begin = pos_;
+    while (pos_ < data_.size() && !space(data_[pos_])) ++pos_;
+    return data_.substr(begin, pos_ - begin);
+  }
+
+  const std::string& path_;
+  std::string_view data_;
+  Format format_;
+  size_t pos_ = 0;
+};
+
+// Fewest bytes one item of `element` can take, for checking counts against the file.
+uint64_t min_item_bytes(const Element& element, Format format) {
+  uint64_t bytes = 0;
+  for (const Property& p : element.properties)
+    bytes += format == Format::Ascii ? 2 : uint64_t(size_of(p.is_list ? p.count_type : p.type));
+  return std::max<uint64_t>(bytes, 1);
+}
+
+int find_property(const Element& element, std::initializer_list<const char*> names) {
+  for (const char* name : names)
+    for (size_t i = 0; i < element.properties.size(); ++i)
+      if (!element.properties[i].is_list && element.properties[i].name == name) return int(i);
+  return -1;
+}
+
+}  // namespace
+
+MeshDesc load_ply_mesh(const std::string& path, const Mat4& to_world,
+                       std::vector<std::string>* warnings) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw file_error(path, "PLY file not found");
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw file_error(path, "cannot read file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    bytes = std::move(text).str();
+  }
+
+  // --- Header: lines up to "end_header" ---
+  size_t pos = 0;
+  auto next_line = [&](std::string& line) {
+    if (pos >= bytes.size()) return false;
+    const size_t end = bytes.find('\n', pos);
+    line = bytes.substr(pos, end == std::string::npos ? std::string::npos : end - pos);
+    pos = end == std::string::npos ? bytes.size() : end + 1;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    return true;
+  };
+  std::string line;
+  if (!next_line(line) || line != "ply")
+    fail_at(path, "not a PLY file (it does not start with 'ply')");
+  std::optional<Format> format;
+  std::vector<Element> elements;
+  bool header_done = false;
+  int line_number = 1;
+  while (!header_done && next_line(line)) {
+    ++line_number;
+    std::istringstream words(line);
+    std::string keyword;
+    words >> keyword;
+    const std::string where = "header line " + std::to_string(line_number) + ": ";
+    if (keyword.empty() || keyword == "comment" || keyword == "obj_info") continue;
+    if (keyword == "end_header") {
+      header_done = true;
+    } else if (keyword == "format") {
+      std::string name, version;
+      words >> name >> version;
+      if (name == "ascii")
+        format = Format::Ascii;
+      else if (name == "binary_little_endian")
+        format = Format::BinaryLittle;
+      else if (name == "binary_big_endian")
+        format = Format::BinaryBig;
+      else
+        fail_at(path, where + "unknown format '" + name + "'");
+      if (version != "1.0") fail_at(path, where + "unsupported PLY version '" + version + "'");
+    } else if (keyword == "element") {
+      Element element;
+      std::string count;
+      words >> element.name >> count;
+      const auto [end, err] =
+          std::from_chars(count.data(), count.data() + count.size(), element.count);
+      if (element.name.empty() || err != std::errc() || end != count.data() + count.size())
+        fail_at(path, where + "malformed element declaration '" + line + "'");
+      elements.push_back(std::move(element));
+    } else if (keyword == "property") {
+      if (elements.empty()) fail_at(path, where + "property declared before any element");
+      Property property;
+      std::string type;
+      words >> type;
+      if (type == "list") {
+        std::string count_type;
+        words >> count_type >> type;
+        const auto parsed = parse_type(count_type);
+        if (!parsed || !is_integer(*parsed))
+          fail_at(path, where + "list length type '" + count_type + "' is not an integer type");
+        property.is_list = true;
+        property.count_type = *parsed;
+      }
+      const auto parsed = parse_type(type);
+      if (!parsed) fail_at(path, where + "unknown property type '" + type + "'");
+      property.type = *parsed;
+      words >> property.name;
+      if (property.name.empty()) fail_at(path, where + "property without a name");
+      elements.back().properties.push_back(property);
+    } else {
+      fail_at(path, where + "unknown header keyword '" + keyword + "'");
+    }
+  }
+  if (!header_done) fail_at(path, "truncated header (no 'end_header')");
+  if (!format) fail_at(path, "header has no 'format' line");
+
+  // Counts the remaining bytes cannot hold are refused before anything is allocated.
+  const uint64_t data_bytes = bytes.size() - pos;
+  uint64_t needed = 0;
+  for (const Element& element : elements) {
+    const uint64_t item = min_item_bytes(element, *format);
+    if (element.count > data_bytes / item || needed + element.count * item > data_bytes + 1)
+      fail_at(path, "header claims " + std::to_string(element.count) + " " + element.name +
+                        " elements, more than the file's " + std::to_string(data_bytes) +
+                        " data bytes can hold");
+    needed += element.count * item;
+  }
+
+  const Element* vertex = nullptr;
+  for (const Element& element : elements)
+    if (element.name == "vertex" && !vertex) vertex = &element;
+  if (!vertex) fail_at(path, "no vertex element");
+  const int x = find_property(*vertex, {"x"}), y = find_property(*vertex, {"y"}),
+            z = find_property(*vertex, {"z"});
+  if (x < 0 || y < 0 || z < 0) fail_at(path, "vertex element lacks x, y or z");
+  const int nx = find_property(*vertex, {"nx"}), ny = find_property(*vertex, {"ny"}),
+            nz = find_property(*vertex, {"nz"});
+  const int u = find_property(*vertex, {"u", "s", "texture_u"}),
+            v = find_property(*vertex, {"v", "t", "texture_v"});
+  const bool has_normals = nx >= 0 && ny >= 0 && nz >= 0, has_uvs = u >= 0 && v >= 0;
+  if (vertex->count > UINT32_MAX) fail_at(path, "more vertices than 32-bit indices can address");
+
+  MeshDesc mesh;
+  mesh.name = std::filesystem::path(path).filename().string();
+  DataReader data(path, std::string_view(bytes).substr(pos), *format);
+  size_t short_faces = 0;
+  bool has_face_list = false;
+  for (const Element& element : elements) {
+    const bool is_vertex = &element == vertex;
+    int face_list = -1;
+    if (element.name == "face")
+      for (size_t i = 0; i < element.properties.size(); ++i)
+        if (element.properties[i].is_list && (element.properties[i].name == "vertex_indices" ||
+                                              element.properties[i].name == "vertex_index")) {
+          face_list = int(i);
+          break;
+        }
+    if (face_list >= 0) {
+      if (!is_integer(element.properties[size_t(face_list)].type))
+        fail_at(path, "face indices are not of an integer type");
+      has_face_list = true;
+      mesh.indices.reserve(size_t(std::min<uint64_t>(element.count * 3, 3 << 20)));
+    }
+    if (is_vertex) {
+      mesh.positions.reserve(size_t(vertex->count));
+      if (has_normals) mesh.normals.reserve(size_t(vertex->count));
+      if (has_uvs) mesh.uvs.reserve(size_t(vertex->count));
+    }
+    std::vector<double> values(element.properties.size(), 0.0);
+    for (uint64_t item = 0; item < element.count; ++item) {
+      const std::string what = element.name + " " + std::to_string(item);
+      if (is_vertex) {
+        for (size_t i = 0; i < element.properties.size(); ++i) {
+          const Property& p = element.properties[i];
+          if (p.is_list)
+            data.skip(p, what);
+          else
+            values[i] = data.number(p.type, what);
+        }
+        mesh.positions.push_back(
+            Vec3(float(values[size_t(x)]), float(values[size_t(y)]), float(values[size_t(z)])));
+        if (has_normals)
+          mesh.normals.push_back(Vec3(float(values[size_t(nx)]), float(values[size_t(ny)]),
+                                      float(values[size_t(nz)])));
+        if (has_uvs) mesh.uvs.push_back(Vec2(float(values[size_t(u)]), float(values[size_t(v)])));
+        continue;
+      }
+      for (size_t i = 0; i < element.properties.size(); ++i) {
+        const Property& p = element.properties[i];
+        if (int(i) != face_list) {
+          data.skip(p, what);
+          continue;
+        }
+        const int64_t n = data.integer(p.count_type, what);
+        if (n < 0) fail_at(path, "negative list length " + std::to_string(n) + " (" + what + ")");
+        // Fan triangulation needs only the first and the previous corner.
+        uint32_t first = 0, previous = 0;
+        for (int64_t k = 0; k < n; ++k) {
+          const int64_t index = data.integer(p.type, what);
+          if (index < 0 || uint64_t(index) >= vertex->count)
+            fail_at(path, what + " uses vertex " + std::to_string(index) + ", out of range (" +
+                              std::to_string(vertex->count) + " vertices)");
+          const auto corner = uint32_t(index);
+          if (k == 0)
+            first = corner;
+          else if (k >= 2)
+            mesh.indices.insert(mesh.indices.end(), {first, previous, corner});
+          previous = corner;
+        }
+        if (n < 3) ++short_faces;
+      }
+    }
+  }
+  if (!has_face_list) fail_at(path, "no face element with a vertex_indices list");
+  if (mesh.indices.empty()) fail_at(path, "no faces with three or more vertices");
+  if (short_faces > 0 && warnings)
+    warnings->push_back(path + ": " + std::to_string(short_faces) +
+                        " faces with fewer than three vertices skipped");
+
+  // Mitsuba's PLY loader transforms normals by the inverse transpose but, unlike its
+  // serialized loader, leaves the winding alone under a mirroring transform.
+  transform_mesh(mesh, to_world, false);
+  return mesh;
+}
+
+}  // namespace emlt
