@@ -7,6 +7,7 @@
 
 #include "emlt/core/error.h"
 #include "emlt/scene/shape_builders.h"
+#include "emlt/scene/spectrum.h"
 #include "src/scene/loader_common.h"
 
 namespace emlt::mitsuba {
@@ -188,58 +189,110 @@ Rgb Properties::get_color(const std::string& name, const Rgb& fallback) {
       take(name, {"rgb", "srgb", "spectrum", "float", "blackbody", "texture"});
   if (!node) return fallback;
   const std::string kind = node.name();
-  if (kind == "texture" || kind == "blackbody") {
-    doc_.warn(node, "<" + kind + "> for '" + name + "' is not supported; using the default value");
+  if (kind == "texture") {
+    doc_.warn(node, "<texture> for '" + name + "' is not supported; using the default value");
     return fallback;
   }
-  if (kind == "spectrum" && doc_.has_attribute(node, "filename")) {
-    doc_.warn(node, "<spectrum filename=...> is not supported; using the default value");
-    return fallback;
+  // Every form means the linear RGB triple Mitsuba 0.6's RGB-mode build would load
+  // (src/librender/scenehandler.cpp; the conversions are described in spectrum.h).
+  // Errors of the spectrum module are reported against this element's line.
+  auto convert = [&](auto&& conversion) -> Rgb {
+    try {
+      return conversion();
+    } catch (const std::exception& e) {
+      doc_.fail(node, e.what());
+    }
+  };
+  if (kind == "blackbody") {
+    // Temperature in kelvin, with an optional trailing 'K'.
+    std::string temperature = doc_.attribute(node, "temperature");
+    while (!temperature.empty() && std::isspace(static_cast<unsigned char>(temperature.back())))
+      temperature.pop_back();
+    if (!temperature.empty() && std::toupper(static_cast<unsigned char>(temperature.back())) == 'K')
+      temperature.pop_back();
+    const float kelvin = doc_.to_float(node, temperature);
+    const float scale =
+        doc_.has_attribute(node, "scale") ? doc_.to_float(node, doc_.attribute(node, "scale")) : 1.0f;
+    return convert([&] { return spectrum::blackbody_to_rgb(kelvin, scale); });
+  }
+  // `intent` (reflectance or illuminant) only picks how Mitsuba's spectral builds invent a
+  // spectrum for an RGB value; in RGB mode it changes nothing, but it is checked as there.
+  if (doc_.has_attribute(node, "intent")) {
+    std::string intent = doc_.attribute(node, "intent");
+    for (char& c : intent) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (intent != "reflectance" && intent != "illuminant")
+      doc_.fail(node, "invalid intent '" + intent + "' (reflectance or illuminant)");
+  }
+  if (kind == "spectrum") {
+    const bool has_value = doc_.has_attribute(node, "value");
+    if (has_value == doc_.has_attribute(node, "filename"))
+      doc_.fail(node, "<spectrum> needs one of 'value' and 'filename'");
+    if (!has_value) {
+      if (doc_.has_attribute(node, "intent"))
+        doc_.fail(node, "<spectrum filename=...> takes no 'intent'");
+      const std::string file = loader::resolve_path(doc_.path(), doc_.attribute(node, "filename"));
+      return convert([&] { return spectrum::sampled_to_rgb(spectrum::read_spd(file)); });
+    }
   }
   const std::string text = doc_.attribute(node, "value");
-  if (!text.empty() && text[0] == '#') {  // sRGB hex triplet
-    if (text.size() != 7) doc_.fail(node, "'" + text + "' is not a #rrggbb colour");
-    Rgb c;
-    for (int i = 0; i < 3; ++i)
-      c[i] = srgb_to_linear(float(std::strtol(text.substr(1 + 2 * i, 2).c_str(), nullptr, 16)) /
-                            255.0f);
-    return c;
+  std::vector<std::string> tokens;  // split at commas and white space, as Mitsuba does
+  {
+    std::string token;
+    for (size_t i = 0; i <= text.size(); ++i) {
+      const char c = i < text.size() ? text[i] : ' ';
+      if (c == ',' || std::isspace(static_cast<unsigned char>(c))) {
+        if (!token.empty()) tokens.push_back(token);
+        token.clear();
+      } else {
+        token += c;
+      }
+    }
   }
-  if (kind == "spectrum" && text.find(':') != std::string::npos) {
-    // Wavelength:value pairs, averaged over rough R/G/B bands of a piecewise-linear fit.
-    std::vector<float> numbers;
-    std::string replaced = text;
-    std::replace(replaced.begin(), replaced.end(), ':', ' ');
-    numbers = doc_.to_floats(node, replaced);
-    if (numbers.size() < 2 || numbers.size() % 2)
-      doc_.fail(node, "malformed spectrum '" + text + "'");
-    auto at = [&](float lambda) {
-      if (lambda <= numbers[0]) return numbers[1];
-      for (size_t i = 2; i < numbers.size(); i += 2)
-        if (lambda <= numbers[i]) {
-          const float f = (lambda - numbers[i - 2]) / std::max(numbers[i] - numbers[i - 2], 1e-6f);
-          return numbers[i - 1] + f * (numbers[i + 1] - numbers[i - 1]);
-        }
-      return numbers.back();
-    };
-    auto band = [&](float from, float to) {
-      float sum = 0.0f;
-      for (int i = 0; i < 10; ++i) sum += at(from + (to - from) * (float(i) + 0.5f) / 10.0f);
-      return sum / 10.0f;
-    };
-    doc_.warn(node, "sampled spectrum for '" + name +
-                        "' approximated by band averages (R 600-700 nm, "
-                        "G 500-600 nm, B 400-500 nm)");
-    return Rgb(band(600, 700), band(500, 600), band(400, 500));
+  if (kind == "spectrum" && !tokens.empty() &&
+      (tokens.size() > 1 || tokens[0].find(':') != std::string::npos)) {
+    if (doc_.has_attribute(node, "intent"))
+      doc_.fail(node, "'intent' is only allowed with a single-valued <spectrum>");
+    if (tokens[0].find(':') != std::string::npos) {
+      // Wavelength:value pairs: a measured spectrum, piecewise linear.
+      std::vector<float> wavelengths, values;
+      for (const std::string& pair : tokens) {
+        const size_t colon = pair.find(':');
+        if (colon == std::string::npos || colon == 0 || colon + 1 == pair.size() ||
+            pair.find(':', colon + 1) != std::string::npos)
+          doc_.fail(node, "'" + pair + "' is not a wavelength:value pair");
+        wavelengths.push_back(doc_.to_float(node, pair.substr(0, colon)));
+        values.push_back(doc_.to_float(node, pair.substr(colon + 1)));
+      }
+      return convert([&] {
+        return spectrum::sampled_to_rgb(spectrum::make_piecewise_linear(wavelengths, values));
+      });
+    }
+    // Otherwise one value per spectral sample: in RGB mode exactly 3, taken as linear RGB.
+    if (tokens.size() != 3)
+      doc_.fail(node, "'" + text + "' is not a valid <spectrum> value (1 value, 3 values or "
+                      "wavelength:value pairs)");
   }
-  const std::vector<float> v = doc_.to_floats(node, text);
   Rgb c;
-  if (v.size() == 1)
-    c = Rgb(v[0]);
-  else if (v.size() == 3 && kind != "float")  // a 3-value <spectrum> is read as RGB
-    c = Rgb(v[0], v[1], v[2]);
-  else
-    doc_.fail(node, "'" + text + "' is not a valid <" + kind + "> value");
+  if ((kind == "rgb" || kind == "srgb") && tokens.size() == 1 && tokens[0].size() == 7 &&
+      tokens[0][0] == '#') {
+    // #rrggbb, each byte / 255; like Mitsuba, gamma-decoded only in an <srgb>.
+    for (int i = 0; i < 3; ++i) {
+      const std::string hex = tokens[0].substr(1 + 2 * i, 2);
+      if (!std::isxdigit(static_cast<unsigned char>(hex[0])) ||
+          !std::isxdigit(static_cast<unsigned char>(hex[1])))
+        doc_.fail(node, "'" + text + "' is not a #rrggbb colour");
+      c[i] = float(std::strtol(hex.c_str(), nullptr, 16)) / 255.0f;
+    }
+  } else {
+    std::vector<float> v;
+    for (const std::string& token : tokens) v.push_back(doc_.to_float(node, token));
+    if (v.size() == 1)
+      c = Rgb(v[0]);
+    else if (v.size() == 3 && kind != "float")  // RGB mode takes 3 values as they are
+      c = Rgb(v[0], v[1], v[2]);
+    else
+      doc_.fail(node, "'" + text + "' is not a valid <" + kind + "> value");
+  }
   if (kind == "srgb") c = Rgb(srgb_to_linear(c.x), srgb_to_linear(c.y), srgb_to_linear(c.z));
   return c;
 }
