@@ -22,6 +22,14 @@ namespace {
   throw file_error(path, problem);
 }
 
+// File text quoted in a message: printable ASCII only, and short, so that a binary or
+// corrupt file still gives one readable line.
+std::string printable(std::string_view text) {
+  std::string out = "'";
+  for (const char c : text.substr(0, 40)) out += c >= 32 && c < 127 ? c : '?';
+  return out + (text.size() > 40 ? "...'" : "'");
+}
+
 enum class Type { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64 };
 
 std::optional<Type> parse_type(const std::string& name) {
@@ -89,7 +97,7 @@ class DataReader {
       double value = 0.0;
       const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
       if (ec != std::errc() || end != text.data() + text.size())
-        fail("cannot parse '" + std::string(text) + "' as a number (" + what + ")");
+        fail("cannot parse " + printable(text) + " as a number (" + what + ")");
       return value;
     }
     const unsigned char* bytes = take(size_of(type), what);
@@ -127,7 +135,7 @@ class DataReader {
       int64_t value = 0;
       const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
       if (ec != std::errc() || end != text.data() + text.size())
-        fail("cannot parse '" + std::string(text) + "' as an integer (" + what + ")");
+        fail("cannot parse " + printable(text) + " as an integer (" + what + ")");
       return value;
     }
     return int64_t(number(type, what));  // every integer type fits a double exactly
@@ -242,8 +250,8 @@ MeshDesc load_ply_mesh(const std::string& path, const Mat4& to_world,
       else if (name == "binary_big_endian")
         format = Format::BinaryBig;
       else
-        fail_at(path, where + "unknown format '" + name + "'");
-      if (version != "1.0") fail_at(path, where + "unsupported PLY version '" + version + "'");
+        fail_at(path, where + "unknown format " + printable(name));
+      if (version != "1.0") fail_at(path, where + "unsupported PLY version " + printable(version));
     } else if (keyword == "element") {
       Element element;
       std::string count;
@@ -251,7 +259,7 @@ MeshDesc load_ply_mesh(const std::string& path, const Mat4& to_world,
       const auto [end, err] =
           std::from_chars(count.data(), count.data() + count.size(), element.count);
       if (element.name.empty() || err != std::errc() || end != count.data() + count.size())
-        fail_at(path, where + "malformed element declaration '" + line + "'");
+        fail_at(path, where + "malformed element declaration " + printable(line));
       elements.push_back(std::move(element));
     } else if (keyword == "property") {
       if (elements.empty()) fail_at(path, where + "property declared before any element");
@@ -263,18 +271,19 @@ MeshDesc load_ply_mesh(const std::string& path, const Mat4& to_world,
         words >> count_type >> type;
         const auto parsed = parse_type(count_type);
         if (!parsed || !is_integer(*parsed))
-          fail_at(path, where + "list length type '" + count_type + "' is not an integer type");
+          fail_at(path,
+                  where + "list length type " + printable(count_type) + " is not an integer type");
         property.is_list = true;
         property.count_type = *parsed;
       }
       const auto parsed = parse_type(type);
-      if (!parsed) fail_at(path, where + "unknown property type '" + type + "'");
+      if (!parsed) fail_at(path, where + "unknown property type " + printable(type));
       property.type = *parsed;
       words >> property.name;
       if (property.name.empty()) fail_at(path, where + "property without a name");
       elements.back().properties.push_back(property);
     } else {
-      fail_at(path, where + "unknown header keyword '" + keyword + "'");
+      fail_at(path, where + "unknown header keyword " + printable(keyword));
     }
   }
   if (!header_done) fail_at(path, "truncated header (no 'end_header')");

@@ -235,7 +235,7 @@ MeshDesc load_serialized_mesh(const std::string& path, int shape_index, const Ma
       in.read(&c, 1, "mesh name");
       if (c == 0) break;
       if (name.size() >= 4096) file.fail(where + "mesh name is not terminated");
-      name += char(c);
+      name += c >= 32 && c < 127 ? char(c) : '?';  // it appears in messages
     }
   }
   in.read(bytes, 8, "vertex count");
