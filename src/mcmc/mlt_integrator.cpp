@@ -66,11 +66,16 @@ size_t film_index(const Path& path, int width, int height) {
   return size_t(y) * size_t(width) + size_t(x);
 }
 
-// Adds weight * F / f* at the path's pixel.
-void splat(std::vector<DVec3>& film, int width, int height, const Path& path,
-           const DVec3& contribution, double target, double weight) {
+// Adds weight * F / f* at the path's pixel, or spread over the pixels whose
+// reconstruction filter covers its raster position.
+void splat(std::vector<DVec3>& film, int width, int height, const PixelFilter& filter,
+           const Path& path, const DVec3& contribution, double target, double weight) {
   if (!(weight > 0.0) || !(target > 0.0)) return;
-  film[film_index(path, width, height)] += contribution * (weight / target);
+  const DVec3 value = contribution * (weight / target);
+  if (filter.is_box())
+    film[film_index(path, width, height)] += value;
+  else
+    filter.splat(path.raster(), [&](uint32_t pixel, float w) { film[pixel] += value * double(w); });
 }
 
 // The film a chain splats into: its thread's (shared by several threads when there are more
@@ -80,10 +85,17 @@ struct FilmSlot {
   FixedPointFilm& film;
   FixedPointFilm* moves;
   bool shared;
+  const PixelFilter& filter;
   void splat(int width, int height, const Path& path, const DVec3& contribution, double target,
              double weight) const {
     if (!(weight > 0.0) || !(target > 0.0)) return;
-    film.add(film_index(path, width, height), contribution * (weight / target), shared);
+    const DVec3 value = contribution * (weight / target);
+    if (filter.is_box()) {
+      film.add(film_index(path, width, height), value, shared);
+      return;
+    }
+    filter.splat(path.raster(),
+                 [&](uint32_t pixel, float w) { film.add(pixel, value * double(w), shared); });
   }
 };
 
@@ -342,7 +354,8 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
           "the MCMC film overflowed: more than 4e10 mutations' worth of weight in one "
           "pixel (use fewer mutations per pixel or a larger image)");
     for (const Chain& chain : chains)
-      splat(total, width, height, chain.current, chain.contribution, chain.target, chain.carried);
+      splat(total, width, height, scene.camera().filter(), chain.current, chain.contribution,
+            chain.target, chain.carried);
     const double splatted = double(mutations_done) * double(live) / double(chain_count);
     const double scale = splatted > 0.0 ? double(pixels) * bootstrap.b / splatted : 0.0;
     Image image = direct_image;
@@ -425,7 +438,8 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
         uint64_t block_steps = 0;
         const size_t slot =
             size_t(std::max(tbb::this_task_arena::current_thread_index(), 0)) % films.size();
-        const FilmSlot film{films[slot], record_moves ? &move_films[slot] : nullptr, shared_films};
+        const FilmSlot film{films[slot], record_moves ? &move_films[slot] : nullptr, shared_films,
+                            scene.camera().filter()};
         for (uint64_t j = begin; j < end; ++j) {
           Chain& chain = chains[size_t(first + j)];
           if (j + 1 < end) prefetch_path(chains[size_t(first + j + 1)].current);

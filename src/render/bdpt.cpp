@@ -66,9 +66,8 @@ struct TileOutput {
 class BdptSampler {
  public:
   BdptSampler(const Scene& scene, const RenderSettings& settings, const BdptOptions& options,
-              const SplatFilm& film, bool strategy_images)
-      : scene_(scene), settings_(settings), options_(options), film_(film),
-        strategy_images_(strategy_images) {
+              bool strategy_images)
+      : scene_(scene), settings_(settings), options_(options), strategy_images_(strategy_images) {
     max_depth_ = settings.max_depth < 0 ? BidirectionalPathTracer::kUnlimitedDepth
                                         : std::min(settings.max_depth, kMaxPathVertices - 1);
     // A path of max_depth segments has max_depth + 1 vertices: s = 0 needs them all on the
@@ -141,8 +140,10 @@ class BdptSampler {
 
     const int strategy = strategy_images_ ? strategy_image_index(s, t) : -1;
     if (t == 1) {
-      const auto target = film_.pixel_index(lens.raster);
-      if (target) out.splats.add(*target, value, strategy);
+      // Light tracing: the contribution lands in every pixel whose filter covers it.
+      scene_.camera().filter().splat(lens.raster, [&](uint32_t target, float weight) {
+        out.splats.add(target, value * weight, strategy);
+      });
       return;
     }
     pixel += DVec3(value);
@@ -152,7 +153,6 @@ class BdptSampler {
   const Scene& scene_;
   const RenderSettings& settings_;
   const BdptOptions& options_;
-  const SplatFilm& film_;
   bool strategy_images_;
   int max_depth_ = 0;
   WalkLimits camera_limits_, light_limits_;
@@ -191,7 +191,7 @@ RenderResult BidirectionalPathTracer::render(const Scene& scene, const RenderSet
   std::vector<DVec3> strategy_sums(size_t(strategies) * pixels, DVec3(0.0));
   SplatFilm film(width, height, strategies);
   std::vector<TileOutput> outputs(tiles.size());
-  const BdptSampler sampler(scene, settings, options_, film, strategy_images);
+  const BdptSampler sampler(scene, settings, options_, strategy_images);
 
   // Camera-side estimates average over the pixel's samples. A splat carries W_e of the
   // whole film (camera.h), so the light-tracing image is scaled by pixels / light paths;
@@ -235,7 +235,7 @@ RenderResult BidirectionalPathTracer::render(const Scene& scene, const RenderSet
                 Rng rng(pixel_stream, uint64_t(k));
                 const Vec2 jitter = rng.uniform2();
                 const Vec2 u_lens = rng.uniform2();
-                sampler.sample(rng, Vec2(float(x), float(y)) + jitter, u_lens, scratch, sum,
+                sampler.sample(rng, camera.filter().sample(x, y, jitter), u_lens, scratch, sum,
                                strategy_pixel.data(), out);
               }
               camera_sums[pixel] += sum;

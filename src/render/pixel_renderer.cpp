@@ -35,7 +35,7 @@ uint64_t render_pass(const Scene& scene, const RenderSettings& settings,
               Rng rng(pixel_stream, uint64_t(k));
               const Vec2 jitter = rng.uniform2();
               const Vec2 u_lens = rng.uniform2();
-              const Ray ray = camera.generate_ray(Vec2(float(x), float(y)) + jitter, u_lens);
+              const Ray ray = camera.generate_ray(camera.filter().sample(x, y, jitter), u_lens);
               const Rgb value = radiance(ray, rng);
               if (is_finite(value) && value.x >= 0.0f && value.y >= 0.0f && value.z >= 0.0f)
                 sum += DVec3(value);

@@ -3,15 +3,8 @@
 namespace emlt {
 
 SplatFilm::SplatFilm(int width, int height, int extra_layers)
-    : width_(width), height_(height), sums_(size_t(width) * size_t(height), DVec3(0.0)),
+    : sums_(size_t(width) * size_t(height), DVec3(0.0)),
       layers_(size_t(std::max(extra_layers, 0)), std::vector<DVec3>(sums_.size(), DVec3(0.0))) {}
-
-std::optional<uint32_t> SplatFilm::pixel_index(const Vec2& raster) const {
-  if (!(raster.x >= 0.0f && raster.y >= 0.0f)) return std::nullopt;
-  const int x = int(raster.x), y = int(raster.y);
-  if (x >= width_ || y >= height_) return std::nullopt;
-  return uint32_t(y) * uint32_t(width_) + uint32_t(x);
-}
 
 void SplatFilm::add_in_order(std::span<const SplatList> lists) {
   for (const SplatList& list : lists) {

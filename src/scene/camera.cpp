@@ -10,6 +10,7 @@ namespace emlt {
 Camera::Camera(const CameraDesc& desc)
     : width_(desc.width),
       height_(desc.height),
+      filter_(desc.filter, desc.width, desc.height),
       aperture_radius_(desc.aperture_radius),
       focus_distance_(desc.focus_distance) {
   const Mat4& m = desc.to_world;

@@ -225,7 +225,8 @@ class JsonSceneReader {
         m.contains("distribution") ? string(m["distribution"], where + ".distribution") : "ggx";
     if (name == "ggx") return MicrofacetType::Ggx;
     if (name == "beckmann") return MicrofacetType::Beckmann;
-    fail(where + ".distribution", "expected \"ggx\" or \"beckmann\"");
+    if (name == "phong") return MicrofacetType::Phong;
+    fail(where + ".distribution", "expected \"ggx\", \"beckmann\" or \"phong\"");
   }
 
   float ior(const json& obj, const char* key, const std::string& where, float fallback) const {
@@ -289,7 +290,7 @@ class JsonSceneReader {
   void read_camera(const json& c) {
     check_keys(c, "camera",
                {"lookat", "matrix", "fov", "fov_axis", "aperture_radius", "focus_distance", "width",
-                "height"});
+                "height", "filter"});
     CameraDesc& camera = desc_.camera;
     if (c.contains("lookat") && c.contains("matrix"))
       fail("camera", "give either 'lookat' or 'matrix'");
@@ -305,6 +306,26 @@ class JsonSceneReader {
     camera.focus_distance = number(c, "focus_distance", "camera", camera.focus_distance);
     camera.width = integer(c, "width", "camera", camera.width);
     camera.height = integer(c, "height", "camera", camera.height);
+    if (c.contains("filter")) camera.filter = filter(c["filter"], "camera.filter");
+  }
+
+  // {"type": "box"} (the default), {"type": "gaussian", "stddev": 0.5} (Mitsuba's film
+  // default), {"type": "tent", "radius": 1}.
+  PixelFilterDesc filter(const json& f, const std::string& where) {
+    check_keys(f, where, {"type", "stddev", "radius"});
+    PixelFilterDesc desc;
+    const std::string type = f.contains("type") ? string(f["type"], where + ".type") : "box";
+    if (type == "gaussian")
+      desc.kind = PixelFilterDesc::Kind::Gaussian;
+    else if (type == "tent")
+      desc.kind = PixelFilterDesc::Kind::Tent;
+    else if (type != "box")
+      fail(where + ".type", "unknown filter '" + type + "' (box, gaussian, tent)");
+    desc.stddev = number(f, "stddev", where, desc.stddev);
+    desc.radius = number(f, "radius", where, desc.radius);
+    if (!(desc.stddev > 0.0f && desc.stddev <= 16.0f)) fail(where + ".stddev", "must be in (0, 16] pixels");
+    if (!(desc.radius > 0.0f && desc.radius <= 64.0f)) fail(where + ".radius", "must be in (0, 64] pixels");
+    return desc;
   }
 
   void read_integrator(const json& i) {
@@ -324,12 +345,15 @@ class JsonSceneReader {
     if (explicit_ior) {
       *eta = color(m, "eta", where, Rgb(0.0f));
       *k = color(m, "k", where, Rgb(1.0f));
-      return;
+    } else {
+      const std::string name =
+          m.contains("material") ? string(m["material"], where + ".material") : "Cu";
+      if (!conductor_preset(name, eta, k))
+        fail(where + ".material", "unknown conductor '" + name + "'");
     }
-    const std::string name =
-        m.contains("material") ? string(m["material"], where + ".material") : "Cu";
-    if (!conductor_preset(name, eta, k))
-      fail(where + ".material", "unknown conductor '" + name + "'");
+    // As Mitsuba's conductors (extEta "air"): relative to air, and only eta^2, k^2 matter.
+    *eta = glm::abs(*eta / 1.000277f);
+    *k = glm::abs(*k / 1.000277f);
   }
 
   MaterialDesc read_material(const json& spec, const std::string& where) {

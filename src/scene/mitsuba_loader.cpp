@@ -159,23 +159,40 @@ class MitsubaSceneReader {
     // Output encoding only; the renderer chooses its own from the output file name.
     props.ignore({"banner", "pixelFormat", "componentFormat", "fileFormat", "attachLog",
                   "highQualityEdges"});
-    bool has_filter = false;
+    desc_.camera.filter = {PixelFilterDesc::Kind::Gaussian};  // Mitsuba's default
     for (pugi::xml_node child : props.objects()) {
-      const std::string kind = child.name();
-      has_filter |= kind == "rfilter";
-      if (kind == "rfilter" && doc_.attribute(child, "type") == "box") continue;
-      if (kind == "rfilter")
-        doc_.warn(child, "reconstruction filter " + doc_.describe(child) +
-                             " approximated by a box filter (the image's mean is unchanged)",
-                  Document::Warning::Approximated);
+      if (std::string(child.name()) == "rfilter")
+        read_filter(child);
       else
         doc_.warn(child, "unsupported element " + doc_.describe(child) + " inside <film> ignored");
     }
-    if (!has_filter)
+    props.warn_unused();
+  }
+
+  void read_filter(pugi::xml_node node) {
+    const std::string type = doc_.attribute(node, "type");
+    Properties props(doc_, node);
+    PixelFilterDesc& filter = desc_.camera.filter;
+    if (type == "box") {
+      filter.kind = PixelFilterDesc::Kind::Box;
+    } else if (type == "tent") {
+      filter.kind = PixelFilterDesc::Kind::Tent;
+      filter.radius = props.get_float("radius", 1.0f);
+      if (!(filter.radius > 0.0f && filter.radius <= 64.0f))
+        doc_.fail(node, "tent radius must be in (0, 64] pixels");
+    } else if (type == "gaussian") {
+      filter.stddev = props.get_float("stddev", 0.5f);
+      if (!(filter.stddev > 0.0f && filter.stddev <= 16.0f))
+        doc_.fail(node, "gaussian stddev must be in (0, 16] pixels");
+    } else {
+      // Mitchell-Netravali, Catmull-Rom and Lanczos have negative lobes, which neither
+      // filter importance sampling nor non-negative splats can represent.
       doc_.warn(node,
-                "the film's default reconstruction filter (gaussian) approximated by a box "
-                "filter (the image's mean is unchanged)",
+                "reconstruction filter " + doc_.describe(node) +
+                    " approximated by Mitsuba's default gaussian (stddev 0.5)",
                 Document::Warning::Approximated);
+      props.ignore({"B", "C", "lobes", "radius"});
+    }
     props.warn_unused();
   }
 

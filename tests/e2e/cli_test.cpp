@@ -120,11 +120,10 @@ TEST(Cli, InfoGivesAFidelityVerdictAndStrictRefusesDivergences) {
   <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
 )" + body + "</scene>\n";
   };
-  // Mitsuba's default gaussian filter and an anisotropic roughness are approximated; a
-  // point light is not supported at all.
+  // A Mitchell filter and a rough diffuse BSDF are approximated; a point light is not
+  // supported at all.
   write_file(dir / "approx.xml",
-             scene_with("", R"(<shape type="sphere"><bsdf type="roughconductor">
-    <float name="alphaU" value="0.1"/><float name="alphaV" value="0.3"/></bsdf></shape>
+             scene_with(R"(<rfilter type="mitchell"/>)", R"(<shape type="sphere"><bsdf type="roughdiffuse"/></shape>
   <emitter type="point"/>
 )"));
   write_file(dir / "exact.xml", scene_with(R"(<rfilter type="box"/>)", ""));
@@ -144,7 +143,7 @@ TEST(Cli, InfoGivesAFidelityVerdictAndStrictRefusesDivergences) {
                       "unsupported: 1 item"), std::string::npos) << text;
   fs::remove(out);
   expect_clean_failure("render --strict " + (dir / "approx.xml").string() + " -o " + out.string(),
-                       "approx.xml: line 4: the film's default reconstruction filter", out);
+                       "approx.xml: line 4: reconstruction filter <rfilter type=\"mitchell\"> approximated", out);
   expect_clean_failure("info --strict " + (dir / "approx.xml").string(), "refused by --strict; 2 more",
                        out);
 }

@@ -361,7 +361,9 @@ TEST(Loader, XmlSensorFilmSamplerAndIntegrator) {
   EXPECT_FLOAT_EQ(desc.camera.to_world[3][2], 3.0f);
   EXPECT_EQ(desc.environment.kind, EnvironmentDesc::Kind::Constant);
   EXPECT_FLOAT_EQ(desc.environment.radiance.y, 0.5f);
-  EXPECT_TRUE(any_contains(desc.warnings, "gaussian"));
+  EXPECT_EQ(desc.camera.filter.kind, PixelFilterDesc::Kind::Gaussian);
+  EXPECT_FLOAT_EQ(desc.camera.filter.stddev, 0.5f);
+  EXPECT_FALSE(any_contains(desc.warnings, "gaussian"));
   const auto scene = Scene::build(desc);
   SurfaceHit hit;
   ASSERT_TRUE(scene->intersect(Ray{Vec3(0, 0, -3), Vec3(0, 0, 1)}, hit));
@@ -436,4 +438,29 @@ TEST(ShippedScenes, LoadAndBuildWithoutWarnings) {
   EXPECT_GT(sun_radiance, 500.0f);
   EXPECT_LT(luminance(sky->environment()->radiance(Vec3(0, 1, 0))), 1e-3f * sun_radiance);
   EXPECT_LT(luminance(sky->environment()->radiance(-sun)), 1e-3f * sun_radiance);
+}
+
+TEST(Loader, FilmFilterFollowsMitsubaDefaultsAndJsonOptIn) {
+  const auto dir = test::scratch_dir("film-filter");
+  // Mitsuba's film filters with a Gaussian unless told otherwise; a box when told so.
+  std::string xml = small_xml("");
+  const std::string box = write_file(dir, "box.xml", xml);
+  xml.replace(xml.find("<rfilter type=\"box\"/>"), std::string("<rfilter type=\"box\"/>").size(), "");
+  const std::string by_default = write_file(dir, "default.xml", xml);
+  EXPECT_EQ(load_scene_description(box).camera.filter.kind, PixelFilterDesc::Kind::Box);
+  const SceneDescription gaussian = load_scene_description(by_default);
+  EXPECT_EQ(gaussian.camera.filter.kind, PixelFilterDesc::Kind::Gaussian);
+  EXPECT_EQ(gaussian.verdict(), "exact");
+  // JSON scenes keep the box unless they ask.
+  EXPECT_EQ(load_scene_description(write_file(dir, "plain.json", small_json("", ""))).camera.filter.kind,
+            PixelFilterDesc::Kind::Box);
+  const SceneDescription json = load_scene_description(
+      write_file(dir, "tent.json", small_json(R"(, "filter": {"type": "tent", "radius": 1.5})", "")));
+  EXPECT_EQ(json.camera.filter.kind, PixelFilterDesc::Kind::Tent);
+  EXPECT_FLOAT_EQ(json.camera.filter.radius, 1.5f);
+  const std::string bad =
+      write_file(dir, "bad.json", small_json(R"(, "filter": {"type": "mitchell"})", ""));
+  EXPECT_NE(load_and_build_error(bad).find("bad.json: camera.filter.type: unknown filter 'mitchell'"),
+            std::string::npos)
+      << load_and_build_error(bad);
 }

@@ -6,7 +6,6 @@
 // own SplatList, and after a pass the film adds the lists in block order. The sums are
 // therefore the same bits at any thread count, without atomics.
 #include <cstdint>
-#include <optional>
 #include <span>
 #include <vector>
 
@@ -30,8 +29,6 @@ class SplatFilm {
  public:
   SplatFilm(int width, int height, int extra_layers = 0);
 
-  // The pixel a raster position falls in; empty outside the film.
-  std::optional<uint32_t> pixel_index(const Vec2& raster) const;
   // Adds the lists in index order (call once per pass, from one thread).
   void add_in_order(std::span<const SplatList> lists);
 
@@ -40,7 +37,6 @@ class SplatFilm {
   int layer_count() const { return int(layers_.size()); }
 
  private:
-  int width_, height_;
   std::vector<DVec3> sums_;
   std::vector<std::vector<DVec3>> layers_;
 };

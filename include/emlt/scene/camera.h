@@ -27,6 +27,9 @@ class Camera {
   explicit Camera(const CameraDesc& desc);
 
   int width() const { return width_; }
+  // The film's reconstruction filter: where camera samples of a pixel go, and which
+  // pixels a light-side contribution lands in.
+  const PixelFilter& filter() const { return filter_; }
   int height() const { return height_; }
   float aperture_radius() const { return aperture_radius_; }
   bool is_pinhole() const { return aperture_radius_ <= 0.0f; }
@@ -61,6 +64,7 @@ class Camera {
   Vec3 film_direction_local(const Vec2& raster) const;  // camera space, z = 1 plane
 
   int width_, height_;
+  PixelFilter filter_;
   Vec3 position_, forward_, right_, up_;  // world; right_ = image +x
   float tan_half_x_, tan_half_y_;         // film half extents on the z = 1 plane
   float image_plane_area_;                // at distance 1

@@ -9,6 +9,7 @@
 
 #include "emlt/core/math.h"
 #include "emlt/render/image.h"
+#include "emlt/render/pixel_filter.h"
 #include "emlt/render/settings.h"
 #include "emlt/scene/bsdf.h"
 #include "emlt/scene/texture.h"
@@ -76,6 +77,7 @@ struct CameraDesc {
   float aperture_radius = 0.0f;  // 0: pinhole
   float focus_distance = 1.0f;
   int width = 256, height = 256;
+  PixelFilterDesc filter;  // the film's reconstruction filter; box unless a file says otherwise
 };
 
 // One way in which a scene will not render as its file means: emlt approximates it, or
