@@ -66,9 +66,13 @@ class BsdfReader {
       if (!conductor_preset(material, eta, k))
         doc_.fail(node, "unknown conductor material '" + material + "'");
     }
-    const float ext_eta = ior(props, "extEta", 1.0f, node);
-    *eta /= ext_eta;
-    *k /= ext_eta;
+    // Mitsuba's default exterior is "air" (1.000277), for named and explicit eta/k alike.
+    const float ext_eta = ior(props, "extEta", 1.000277f, node);
+    // Mitsuba's Fresnel term depends on eta^2 and k^2 only, so a negative component (the
+    // red eta of the AlSb presets) acts as its magnitude; the conductor BSDFs would clamp
+    // it to 0 instead.
+    *eta = glm::abs(*eta / ext_eta);
+    *k = glm::abs(*k / ext_eta);
   }
 
   MicrofacetType distribution(Properties& props, pugi::xml_node node) {

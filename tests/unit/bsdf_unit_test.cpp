@@ -128,7 +128,7 @@ TEST(BsdfConductorPresets, KnownNamesGivePlausibleReflectance) {
     ASSERT_TRUE(conductor_preset(name, &eta, &k)) << name;
     const Rgb r0 = fresnel_conductor(1.0f, eta, k);
     for (int c = 0; c < 3; ++c) {
-      EXPECT_GT(r0[c], 0.35f) << name;
+      EXPECT_GT(r0[c], 0.3f) << name;  // gold's blue is the lowest, 0.324
       EXPECT_LE(r0[c], 1.0f) << name;
     }
   }
