@@ -4,6 +4,8 @@
 #include <cmath>
 #include <map>
 
+#include <fmt/format.h>
+
 #include "emlt/core/error.h"
 #include "emlt/scene/loader.h"
 #include "emlt/scene/obj_loader.h"
@@ -89,6 +91,27 @@ class MitsubaSceneReader {
     s.max_depth = props.get_integer("maxDepth", s.max_depth);
     if (s.max_depth < -1) doc_.fail(node, "maxDepth must be -1 (unlimited) or >= 0");
     s.rr_depth = props.get_integer("rrDepth", s.rr_depth);
+    // Parameters that steer how fast an integrator converges, never what it converges to:
+    // emlt's integrators have their own (command line) controls.
+    std::vector<std::string> tuning;
+    for (const char* name :
+         {"lightImage", "sampleDirect", "luminanceSamples", "twoStage",
+          "directSamples", "separateDirect", "bidirectionalMutation", "lensPerturbation",
+          "multiChainPerturbation", "causticPerturbation", "manifoldPerturbation", "lambda",
+          "emitterSamples", "bsdfSamples", "granularity"})
+      if (props.has(name)) tuning.push_back(name);
+    for (const std::string& name : tuning) props.ignore({name.c_str()});
+    // Switches whose default is what emlt does; switched on, they change the image and are
+    // reported as unsupported.
+    for (const char* name : {"strictNormals", "hideEmitters"})
+      if (props.get_boolean(name, false))
+        doc_.warn(node, std::string("'") + name + "' is not supported; rendered as if false");
+    if (!tuning.empty()) {
+      std::string names;
+      for (const std::string& name : tuning) names += (names.empty() ? "'" : ", '") + name + "'";
+      doc_.warn(node, "convergence parameters " + names + " ignored (they change the noise, not the image)",
+                Document::Warning::Note);
+    }
     for (pugi::xml_node child : props.objects())
       doc_.warn(child, "unsupported element <" + std::string(child.name()) +
                            "> inside <integrator> ignored");
@@ -102,6 +125,17 @@ class MitsubaSceneReader {
     Properties props(doc_, node);
     CameraDesc& camera = desc_.camera;
     camera.to_world = props.get_transform("toWorld");
+    // Mitsuba's pinhole reads no focus distance (scene exporters write one anyway).
+    if (type == "perspective") props.ignore({"focusDistance"});
+    if (props.has("nearClip") || props.has("farClip")) {
+      const float near_clip = props.get_float("nearClip", 1e-2f);
+      const float far_clip = props.get_float("farClip", 1e4f);
+      doc_.warn(node,
+                fmt::format("nearClip {:g} and farClip {:g}", near_clip, far_clip) +
+                    " are not applied: only geometry nearer the camera than nearClip, or "
+                    "farther than farClip, would look different",
+                Document::Warning::Note);
+    }
     for (pugi::xml_node child : props.objects()) {
       const std::string kind = child.name();
       if (kind == "film")
@@ -156,9 +190,10 @@ class MitsubaSceneReader {
     Properties props(doc_, node);
     desc_.camera.width = props.get_integer("width", 768);
     desc_.camera.height = props.get_integer("height", 576);
-    // Output encoding only; the renderer chooses its own from the output file name.
+    // Output encoding only; the renderer chooses its own from the output file name (an
+    // ldrfilm's tone mapping included: emlt writes linear radiance and a PNG preview).
     props.ignore({"banner", "pixelFormat", "componentFormat", "fileFormat", "attachLog",
-                  "highQualityEdges"});
+                  "highQualityEdges", "tonemapMethod", "gamma", "exposure", "key", "burn"});
     desc_.camera.filter = {PixelFilterDesc::Kind::Gaussian};  // Mitsuba's default
     for (pugi::xml_node child : props.objects()) {
       if (std::string(child.name()) == "rfilter")

@@ -464,3 +464,27 @@ TEST(Loader, FilmFilterFollowsMitsubaDefaultsAndJsonOptIn) {
             std::string::npos)
       << load_and_build_error(bad);
 }
+
+TEST(Loader, MitsubaSettingsThatChangeNoImageKeepTheVerdictExact) {
+  const auto dir = test::scratch_dir("exact-settings");
+  // Public scenes carry clip planes, a pinhole's focus distance, tone mapping and MLT
+  // tuning: none changes the converged image, so the scene stays exact.
+  std::string xml = small_xml("");
+  xml.replace(xml.find("<float name=\"fov\" value=\"40\"/>"), 0,
+              "<float name=\"nearClip\" value=\"0.1\"/><float name=\"farClip\" value=\"100\"/>"
+              "<float name=\"focusDistance\" value=\"3\"/>");
+  xml.replace(xml.find("<sensor"), 0,
+              "<integrator type=\"mlt\"><integer name=\"directSamples\" value=\"4\"/>"
+              "<boolean name=\"twoStage\" value=\"true\"/><boolean name=\"strictNormals\" "
+              "value=\"false\"/></integrator>\n");
+  const SceneDescription exact = load_scene_description(write_file(dir, "exact.xml", xml));
+  EXPECT_EQ(exact.verdict(), "exact");
+  EXPECT_EQ(exact.defaults.integrator, "mlt");
+  EXPECT_TRUE(any_contains(exact.warnings, "nearClip 0.1 and farClip 100 are not applied"));
+  // Switched on, strictNormals changes the image: unsupported.
+  xml.replace(xml.find("name=\"strictNormals\" value=\"false\""),
+              std::string("name=\"strictNormals\" value=\"false\"").size(),
+              "name=\"strictNormals\" value=\"true\"");
+  EXPECT_EQ(load_scene_description(write_file(dir, "strict.xml", xml)).verdict(),
+            "unsupported: 1 item");
+}

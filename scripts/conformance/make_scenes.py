@@ -1,0 +1,564 @@
+#!/usr/bin/env python3
+"""Writes the Mitsuba 0.6 conformance suite: tests/conformance/scenes/*.xml, their assets
+and tests/conformance/suite.json (the manifest the check reads).
+
+Every scene is small (64x64 unless the camera is the subject) and isolates one convention
+of Mitsuba 0.6 in a simple room of our own making: an open box (floor, ceiling, back wall,
+a red and a green side wall) lit by a small area light under the ceiling, with the
+subject in the middle. Reference images are rendered by Mitsuba itself
+(scripts/conformance/render_references.sh) and compared with emlt's by
+tests/conformance/check.py.
+
+Standard library only, deterministic: run it again and nothing changes.
+    python3 scripts/conformance/make_scenes.py
+"""
+import json
+import math
+import os
+import struct
+import sys
+import zlib
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+SUITE = os.path.join(ROOT, "tests", "conformance")
+SCENES = os.path.join(SUITE, "scenes")
+ASSETS = os.path.join(SCENES, "assets")
+
+sys.path.insert(0, os.path.dirname(HERE))
+from make_textured_room import write_png  # noqa: E402  (8-bit RGB PNG, standard library)
+
+# ---------------------------------------------------------------------------------------
+# Assets
+
+
+def write_exr(path, width, height, rgb):
+    """An uncompressed scanline OpenEXR file of 32-bit float R, G, B (rows top first)."""
+    def attribute(name, kind, value):
+        return name.encode() + b"\0" + kind.encode() + b"\0" + struct.pack("<i", len(value)) + value
+
+    channels = b"".join(c + b"\0" + struct.pack("<iB3xii", 2, 0, 1, 1) for c in (b"B", b"G", b"R"))
+    window = struct.pack("<iiii", 0, 0, width - 1, height - 1)
+    header = (b"\x76\x2f\x31\x01" + struct.pack("<i", 2) +
+              attribute("channels", "chlist", channels + b"\0") +
+              attribute("compression", "compression", b"\0") +
+              attribute("dataWindow", "box2i", window) +
+              attribute("displayWindow", "box2i", window) +
+              attribute("lineOrder", "lineOrder", b"\0") +
+              attribute("pixelAspectRatio", "float", struct.pack("<f", 1.0)) +
+              attribute("screenWindowCenter", "v2f", struct.pack("<ff", 0.0, 0.0)) +
+              attribute("screenWindowWidth", "float", struct.pack("<f", 1.0)) + b"\0")
+    line_bytes = 3 * 4 * width
+    first = len(header) + 8 * height
+    table = b"".join(struct.pack("<Q", first + y * (8 + line_bytes)) for y in range(height))
+    lines = []
+    for y, row in enumerate(rgb):
+        data = b"".join(struct.pack("<%df" % width, *(px[c] for px in row)) for c in (2, 1, 0))
+        lines.append(struct.pack("<ii", y, line_bytes) + data)
+    with open(path, "wb") as f:
+        f.write(header + table + b"".join(lines))
+
+
+def colour_grid(width, height):
+    """An asymmetric colour pattern (so flips and offsets show), values in [0, 1]."""
+    rows = []
+    for y in range(height):
+        row = []
+        for x in range(width):
+            r = 0.15 + 0.8 * x / (width - 1)
+            g = 0.15 + 0.7 * (1 - y / (height - 1))
+            b = 0.9 if (x // 4 + y // 4) % 2 == 0 else 0.1
+            if x < width // 4 and y < height // 4:  # a marker in the top left corner
+                r, g, b = 0.95, 0.95, 0.2
+            row.append((r, g, b))
+        rows.append(row)
+    return rows
+
+
+def to_bytes(rows):
+    return [[tuple(int(round(255 * c)) for c in px) for px in row] for row in rows]
+
+
+def write_obj(path, positions, normals, uvs, faces):
+    """faces: lists of 1-based vertex indices (shared by v, vt and vn where present)."""
+    with open(path, "w") as f:
+        for p in positions:
+            f.write("v %g %g %g\n" % p)
+        for t in uvs:
+            f.write("vt %g %g\n" % t)
+        for n in normals:
+            f.write("vn %g %g %g\n" % n)
+        for face in faces:
+            if normals and uvs:
+                f.write("f " + " ".join("%d/%d/%d" % (i, i, i) for i in face) + "\n")
+            elif normals:
+                f.write("f " + " ".join("%d//%d" % (i, i) for i in face) + "\n")
+            elif uvs:
+                f.write("f " + " ".join("%d/%d" % (i, i) for i in face) + "\n")
+            else:
+                f.write("f " + " ".join(str(i) for i in face) + "\n")
+
+
+def write_serialized(path, meshes):
+    """Mitsuba's serialized mesh format, version 4, single precision; each mesh is
+    (name, positions, normals or None, uvs or None, triangles)."""
+    offsets = []
+    body = b""
+    for name, positions, normals, uvs, triangles in meshes:
+        flags = 0x1000  # single precision
+        if normals:
+            flags |= 0x0001
+        if uvs:
+            flags |= 0x0002
+        payload = struct.pack("<I", flags) + name.encode() + b"\0"
+        payload += struct.pack("<QQ", len(positions), len(triangles))
+        payload += b"".join(struct.pack("<fff", *p) for p in positions)
+        if normals:
+            payload += b"".join(struct.pack("<fff", *n) for n in normals)
+        if uvs:
+            payload += b"".join(struct.pack("<ff", *t) for t in uvs)
+        payload += b"".join(struct.pack("<III", *t) for t in triangles)
+        offsets.append(len(body))
+        body += struct.pack("<HH", 0x041C, 4) + zlib.compress(payload, 9)
+    body += b"".join(struct.pack("<Q", o) for o in offsets) + struct.pack("<I", len(meshes))
+    with open(path, "wb") as f:
+        f.write(body)
+
+
+def write_ply(path, positions, normals, faces, binary):
+    header = ["ply", "format %s 1.0" % ("binary_little_endian" if binary else "ascii"),
+              "comment emlt conformance asset", "element vertex %d" % len(positions),
+              "property float x", "property float y", "property float z"]
+    if normals:
+        header += ["property float nx", "property float ny", "property float nz"]
+    header += ["element face %d" % len(faces), "property list uchar int vertex_indices",
+               "end_header"]
+    with open(path, "wb") as f:
+        f.write(("\n".join(header) + "\n").encode())
+        for i, p in enumerate(positions):
+            values = list(p) + (list(normals[i]) if normals else [])
+            if binary:
+                f.write(struct.pack("<%df" % len(values), *values))
+            else:
+                f.write((" ".join("%g" % v for v in values) + "\n").encode())
+        for face in faces:
+            if binary:
+                f.write(struct.pack("<B%di" % len(face), len(face), *face))
+            else:
+                f.write((" ".join(str(v) for v in [len(face)] + list(face)) + "\n").encode())
+
+
+def uv_sphere(rings=12, segments=16):
+    positions, normals, triangles = [], [], []
+    for r in range(rings + 1):
+        theta = math.pi * r / rings
+        for s in range(segments + 1):
+            phi = 2 * math.pi * s / segments
+            n = (math.sin(theta) * math.cos(phi), math.cos(theta), math.sin(theta) * math.sin(phi))
+            positions.append(n)
+            normals.append(n)
+    row = segments + 1
+    for r in range(rings):
+        for s in range(segments):
+            a, b = r * row + s, r * row + s + 1
+            c, d = a + row, b + row
+            if r != 0:
+                triangles.append((a, b, c))
+            if r != rings - 1:
+                triangles.append((b, d, c))
+    return positions, normals, triangles
+
+
+def write_assets():
+    os.makedirs(ASSETS, exist_ok=True)
+    grid = colour_grid(32, 32)
+    write_png(os.path.join(ASSETS, "grid.png"), 32, 32, to_bytes(grid))
+    write_exr(os.path.join(ASSETS, "grid.exr"), 32, 32, grid)
+    heights = [[(0.5 + 0.5 * math.sin(2 * math.pi * x / 8) * math.sin(2 * math.pi * y / 8),) * 3
+                for x in range(32)] for y in range(32)]
+    write_png(os.path.join(ASSETS, "bumps.png"), 32, 32, to_bytes(heights))
+    holes = [[(0.0,) * 3 if ((x // 8) + (y // 8)) % 2 else (1.0,) * 3 for x in range(32)]
+             for y in range(32)]
+    write_png(os.path.join(ASSETS, "holes.png"), 32, 32, to_bytes(holes))
+    # A lat-long environment: a bright warm blob above the horizon on one side, a blue sky
+    # gradient, a dark ground; asymmetric so that a rotation shows.
+    env = []
+    for y in range(32):
+        row = []
+        for x in range(64):
+            theta = math.pi * (y + 0.5) / 32
+            phi = 2 * math.pi * (x + 0.5) / 64
+            up = math.cos(theta)
+            sky = (0.2 + 0.3 * max(up, 0), 0.3 + 0.4 * max(up, 0), 0.6 + 0.6 * max(up, 0))
+            if up < 0:
+                sky = (0.08, 0.06, 0.04)
+            d = (phi - 1.2) ** 2 + (theta - 1.0) ** 2
+            if d < 0.08:
+                sky = (12.0, 9.0, 5.0)
+            row.append(sky)
+        env.append(row)
+    write_exr(os.path.join(ASSETS, "sky.exr"), 64, 32, env)
+
+    # The door scene's lamp: a quad wound to face up (+y) whose vertex normals face down.
+    quad = [(-1, 0, -1), (-1, 0, 1), (1, 0, 1), (1, 0, -1)]
+    wound_up = [(1, 2, 3, 4)]  # (p2-p1) x (p3-p1) = (0,0,2) x (2,0,2) = +y
+    write_obj(os.path.join(ASSETS, "lamp_normals_down.obj"), quad, [(0, -1, 0)] * 4, [], wound_up)
+    # A textured quad in the xy plane facing +z, with uvs (v up in the file).
+    panel = [(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)]
+    write_obj(os.path.join(ASSETS, "panel_uv.obj"), panel, [], [(0, 0), (1, 0), (1, 1), (0, 1)],
+              [(1, 2, 3, 4)])
+    # The same quad facing +z by winding, with vertex normals facing -z.
+    write_obj(os.path.join(ASSETS, "panel_normals_back.obj"), panel, [(0, 0, -1)] * 4, [],
+              [(1, 2, 3, 4)])
+    sphere_p, sphere_n, sphere_t = uv_sphere()
+    write_serialized(os.path.join(ASSETS, "shapes.serialized"), [
+        ("quad", [(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], None, None, [(0, 1, 2), (0, 2, 3)]),
+        ("ball", sphere_p, sphere_n, None, sphere_t),
+    ])
+    write_ply(os.path.join(ASSETS, "ball_ascii.ply"), sphere_p, sphere_n,
+              [t for t in sphere_t], binary=False)
+    prism = [(-1, 0, -1), (1, 0, -1), (1, 0, 1), (-1, 0, 1), (0, 1.5, 0)]
+    write_ply(os.path.join(ASSETS, "pyramid_binary.ply"), prism, None,
+              [(0, 1, 2, 3), (0, 4, 1), (1, 4, 2), (2, 4, 3), (3, 4, 0)], binary=True)
+
+
+# ---------------------------------------------------------------------------------------
+# Scenes
+
+DIFFUSE = '<bsdf type="diffuse"><rgb name="reflectance" value="%s"/></bsdf>'
+ROOM_LIGHT = """  <shape type="rectangle">
+    <transform name="toWorld"><scale x="0.3" y="0.3"/><rotate x="1" angle="90"/><translate y="1.98"/></transform>
+    <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf>
+    <emitter type="area">%s</emitter>
+  </shape>
+"""
+DEFAULT_RADIANCE = '<rgb name="radiance" value="18, 16, 12"/>'
+
+
+def room(walls=True):
+    """The open box: floor y=0, ceiling y=2, back wall z=-1, red x=-1, green x=+1."""
+    if not walls:
+        return ""
+    pieces = [
+        ("0.7, 0.7, 0.7", '<rotate x="1" angle="-90"/>'),                             # floor
+        ("0.7, 0.7, 0.7", '<rotate x="1" angle="90"/><translate y="2"/>'),             # ceiling
+        ("0.7, 0.7, 0.7", '<translate y="1" z="-1"/>'),                                # back
+        ("0.6, 0.1, 0.08", '<rotate y="1" angle="90"/><translate x="-1" y="1"/>'),     # red
+        ("0.12, 0.5, 0.1", '<rotate y="1" angle="-90"/><translate x="1" y="1"/>'),     # green
+    ]
+    return "".join('  <shape type="rectangle">\n    <transform name="toWorld">%s</transform>\n'
+                   '    %s\n  </shape>\n' % (t, DIFFUSE % c) for c, t in pieces)
+
+
+def sensor(width=64, height=64, fov=50, fov_axis=None, transform=None, rfilter="box"):
+    transform = transform or '<lookat origin="0, 1, 3.4" target="0, 0.9, 0" up="0, 1, 0"/>'
+    axis = '\n    <string name="fovAxis" value="%s"/>' % fov_axis if fov_axis else ""
+    filt = '\n      <rfilter type="%s"/>' % rfilter if rfilter else ""
+    return f"""  <sensor type="perspective">
+    <float name="fov" value="{fov}"/>{axis}
+    <transform name="toWorld">{transform}</transform>
+    <sampler type="independent"><integer name="sampleCount" value="$spp"/></sampler>
+    <film type="hdrfilm">
+      <integer name="width" value="{width}"/>
+      <integer name="height" value="{height}"/>
+      <string name="pixelFormat" value="rgb"/>
+      <string name="fileFormat" value="pfm"/>{filt}
+    </film>
+  </sensor>
+"""
+
+
+def integrator(kind="path", max_depth=6, rr_depth=None):
+    extra = '\n    <integer name="rrDepth" value="%d"/>' % rr_depth if rr_depth is not None else ""
+    return (f'  <integrator type="{kind}">\n    <integer name="maxDepth" value="{max_depth}"/>'
+            f'{extra}\n  </integrator>\n')
+
+
+def scene(subject, light=None, walls=True, cam=None, integ=None):
+    light = ROOM_LIGHT % DEFAULT_RADIANCE if light is None else light
+    return ('<?xml version="1.0" encoding="utf-8"?>\n<!-- emlt conformance suite; written by '
+            'scripts/conformance/make_scenes.py -->\n<scene version="0.6.0">\n'
+            '  <default name="spp" value="64"/>\n' + (integ or integrator()) +
+            (cam or sensor()) + room(walls) + light + subject + "</scene>\n")
+
+
+def point(name, xyz):
+    """Mitsuba 0.6's <point> takes x, y and z attributes (no 'value')."""
+    x, y, z = (v.strip() for v in xyz.split(","))
+    return f'<point name="{name}" x="{x}" y="{y}" z="{z}"/>'
+
+
+def sphere(bsdf, center="0, 0.55, 0", radius=0.55):
+    return (f'  <shape type="sphere">\n    {point("center", center)}\n'
+            f'    <float name="radius" value="{radius}"/>\n    {bsdf}\n  </shape>\n')
+
+
+def rect(bsdf, transform, extra=""):
+    return (f'  <shape type="rectangle">\n    <transform name="toWorld">{transform}</transform>\n'
+            f'    {bsdf}{extra}\n  </shape>\n')
+
+
+def obj(filename, bsdf, transform, params=""):
+    return (f'  <shape type="obj">\n    <string name="filename" value="assets/{filename}"/>\n'
+            f'{params}    <transform name="toWorld">{transform}</transform>\n    {bsdf}\n  </shape>\n')
+
+
+WHITE = DIFFUSE % "0.75, 0.75, 0.75"
+PANEL = '<scale x="0.6" y="0.6"/><translate y="0.8" z="-0.2"/>'  # faces the camera (+z)
+TEXTURED = '<bsdf type="diffuse"><texture type="bitmap" name="reflectance">%s</texture></bsdf>'
+
+
+def bitmap(file="grid.png", params=""):
+    return f'<string name="filename" value="assets/{file}"/><string name="filterType" value="bilinear"/>{params}'
+
+
+def build():
+    s = {}  # name -> (convention, xml, integrators)
+    pt_bdpt = ["pt", "bdpt"]
+
+    # --- orientation
+    s["orient-obj-emitter"] = ("OBJ emitter oriented by its vertex normals (down), not its winding (up)",
+        scene("", light=obj("lamp_normals_down.obj", DIFFUSE % "0",
+                            '<scale x="0.3" z="0.3"/><translate y="1.98"/>',
+                            "") .replace("</shape>", "<emitter type=\"area\">%s</emitter>\n  </shape>" % DEFAULT_RADIANCE)
+              + sphere(WHITE)), pt_bdpt + ["mlt"])
+    s["orient-facenormals"] = ("faceNormals: the same lamp oriented by its winding (emits up)",
+        scene("", light=obj("lamp_normals_down.obj", DIFFUSE % "0",
+                            '<scale x="0.3" z="0.3"/><translate y="1.7"/>',
+                            '    <boolean name="faceNormals" value="true"/>\n')
+              .replace("</shape>", "<emitter type=\"area\">%s</emitter>\n  </shape>" % DEFAULT_RADIANCE)
+              + sphere(WHITE)), pt_bdpt)
+    s["orient-flipnormals"] = ("flipNormals on a rectangle emitter (faces down) and on an OBJ with normals",
+        scene(obj("panel_normals_back.obj", '<bsdf type="diffuse"/>', PANEL,
+                  '    <boolean name="flipNormals" value="true"/>\n'),
+              light=ROOM_LIGHT.replace('<rotate x="1" angle="90"/>', '<rotate x="1" angle="-90"/>')
+              .replace("</emitter>", "</emitter>\n    <boolean name=\"flipNormals\" value=\"true\"/>")
+              % DEFAULT_RADIANCE), pt_bdpt)
+    s["orient-onesided-back"] = ("a one-sided diffuse panel seen from its back is black",
+        scene(rect(DIFFUSE % "0.8, 0.8, 0.8", '<scale x="0.6" y="0.6"/><rotate y="1" angle="180"/>'
+                   '<translate y="0.8" z="-0.2"/>')), pt_bdpt)
+    s["orient-twosided"] = ("twosided makes the back of a panel reflect like its front",
+        scene(rect('<bsdf type="twosided">' + DIFFUSE % "0.8, 0.8, 0.8" + "</bsdf>",
+                   '<scale x="0.6" y="0.6"/><rotate y="1" angle="180"/><translate y="0.8" z="-0.2"/>')),
+        pt_bdpt)
+    s["orient-obj-normals-back"] = ("an OBJ panel whose vertex normals face away is its back side",
+        scene(obj("panel_normals_back.obj", DIFFUSE % "0.8, 0.8, 0.8", PANEL)), pt_bdpt)
+
+    # --- depth
+    for depth in (1, 2, 3, 8):
+        s[f"depth-{depth}"] = (f"maxDepth {depth}", scene(sphere(WHITE), integ=integrator(max_depth=depth)),
+                               pt_bdpt + (["mlt"] if depth == 3 else []))
+    s["depth-unbounded"] = ("maxDepth -1 (Russian roulette from rrDepth 5)",
+                            scene(sphere(WHITE), integ=integrator(max_depth=-1)), pt_bdpt)
+    s["depth-rr1"] = ("rrDepth 1 changes no expectation", scene(sphere(WHITE), integ=integrator(max_depth=-1, rr_depth=1)),
+                      pt_bdpt)
+
+    # --- BSDFs
+    bsdfs = {
+        "bsdf-plastic": ("plastic", '<bsdf type="plastic"><rgb name="diffuseReflectance" value="0.6, 0.15, 0.1"/>'
+                         '<float name="intIOR" value="1.5"/></bsdf>'),
+        "bsdf-roughplastic": ("roughplastic, beckmann, nonlinear false",
+                              '<bsdf type="roughplastic"><string name="distribution" value="beckmann"/>'
+                              '<float name="alpha" value="0.2"/><rgb name="diffuseReflectance" value="0.1, 0.3, 0.6"/></bsdf>'),
+        "bsdf-roughplastic-nonlinear": ("roughplastic, ggx, nonlinear true",
+                                        '<bsdf type="roughplastic"><string name="distribution" value="ggx"/>'
+                                        '<float name="alpha" value="0.3"/><boolean name="nonlinear" value="true"/>'
+                                        '<rgb name="diffuseReflectance" value="0.1, 0.5, 0.2"/></bsdf>'),
+        "bsdf-conductor-cu": ("conductor, named material Cu", '<bsdf type="conductor"><string name="material" value="Cu"/></bsdf>'),
+        "bsdf-roughconductor-beckmann": ("roughconductor, beckmann, Au, alpha 0.2",
+                                         '<bsdf type="roughconductor"><string name="material" value="Au"/>'
+                                         '<float name="alpha" value="0.2"/></bsdf>'),
+        "bsdf-roughconductor-ggx": ("roughconductor, ggx, Al, specularReflectance",
+                                    '<bsdf type="roughconductor"><string name="distribution" value="ggx"/>'
+                                    '<string name="material" value="Al"/><float name="alpha" value="0.3"/>'
+                                    '<rgb name="specularReflectance" value="0.9, 0.8, 0.5"/></bsdf>'),
+        "bsdf-roughconductor-phong": ("roughconductor, phong distribution",
+                                      '<bsdf type="roughconductor"><string name="distribution" value="phong"/>'
+                                      '<string name="material" value="Cu"/><float name="alpha" value="0.25"/></bsdf>'),
+        "bsdf-roughconductor-aniso": ("roughconductor, ggx, alphaU and alphaV",
+                                      '<bsdf type="roughconductor"><string name="distribution" value="ggx"/>'
+                                      '<string name="material" value="Ag"/><float name="alphaU" value="0.05"/>'
+                                      '<float name="alphaV" value="0.4"/></bsdf>'),
+        "bsdf-dielectric": ("dielectric, intIOR 1.5", '<bsdf type="dielectric"><float name="intIOR" value="1.5"/></bsdf>'),
+        "bsdf-roughdielectric": ("roughdielectric, beckmann alpha 0.15",
+                                 '<bsdf type="roughdielectric"><float name="alpha" value="0.15"/>'
+                                 '<string name="intIOR" value="bk7"/></bsdf>'),
+        "bsdf-thindielectric": ("thindielectric", '<bsdf type="thindielectric"><float name="intIOR" value="1.5"/></bsdf>'),
+    }
+    bsdfs["bsdf-roughdielectric-aniso"] = ("roughdielectric, ggx, alphaU 0.08 and alphaV 0.35",
+                                           '<bsdf type="roughdielectric"><string name="distribution" value="ggx"/>'
+                                           '<float name="alphaU" value="0.08"/><float name="alphaV" value="0.35"/></bsdf>')
+    bsdfs["bsdf-roughdielectric-phong"] = ("roughdielectric, phong, alpha 0.2",
+                                           '<bsdf type="roughdielectric"><string name="distribution" value="phong"/>'
+                                           '<float name="alpha" value="0.2"/></bsdf>')
+    for name, (conv, bsdf) in bsdfs.items():
+        s[name] = (conv, scene(sphere(bsdf)), pt_bdpt + (["mlt"] if name == "bsdf-dielectric" else []))
+    # Anisotropy on a mesh follows dp/du of its uvs (turned 30 degrees off the panel's edges).
+    s["bsdf-roughconductor-aniso-mesh"] = ("roughconductor, beckmann, alphaU 0.05 and alphaV 0.3 on an OBJ with uvs",
+        scene(obj("panel_uv.obj", '<bsdf type="roughconductor"><string name="material" value="Cr"/>'
+                  '<float name="alphaU" value="0.05"/><float name="alphaV" value="0.3"/></bsdf>',
+                  '<rotate z="1" angle="30"/><scale x="0.6" y="0.6"/><rotate x="1" angle="-60"/>'
+                  '<translate y="0.6" z="-0.2"/>')), pt_bdpt)
+    s["bsdf-mask"] = ("mask: opacity from a bitmap",
+                      scene(rect('<bsdf type="mask"><texture type="bitmap" name="opacity">' + bitmap("holes.png") +
+                                 '</texture>' + DIFFUSE % "0.8, 0.8, 0.3" + "</bsdf>", PANEL)), pt_bdpt)
+    s["bsdf-bumpmap"] = ("bumpmap: a bitmap height field scaled by a scale texture",
+                         scene(rect('<bsdf type="bumpmap"><texture type="scale"><float name="scale" value="0.02"/>'
+                                    '<texture type="bitmap">' + bitmap("bumps.png") + '</texture></texture>' +
+                                    DIFFUSE % "0.8, 0.8, 0.8" + "</bsdf>",
+                                    '<scale x="0.9" y="0.9"/><rotate x="1" angle="-90"/><translate y="0.01"/>')), pt_bdpt)
+
+    # --- textures (on a panel facing the camera)
+    def panel_tex(params, file="grid.png"):
+        return rect(TEXTURED % bitmap(file, params), PANEL)
+    s["tex-png-srgb"] = ("an 8-bit PNG is sRGB-decoded", scene(panel_tex("")), pt_bdpt)
+    s["tex-png-gamma"] = ("gamma 1 overrides a PNG's sRGB curve",
+                          scene(panel_tex('<float name="gamma" value="1"/>')), pt_bdpt)
+    s["tex-exr-linear"] = ("an EXR texture is linear", scene(panel_tex("", "grid.exr")), pt_bdpt)
+    s["tex-uv-transform"] = ("uscale/vscale and uoffset/voffset with repeat",
+                             scene(panel_tex('<float name="uscale" value="3"/><float name="vscale" value="2"/>'
+                                             '<float name="uoffset" value="0.25"/><float name="voffset" value="0.1"/>')),
+                             pt_bdpt)
+    s["tex-wrap-clamp"] = ("uvscale 2 with wrapMode clamp",
+                           scene(panel_tex('<float name="uvscale" value="2"/><string name="wrapMode" value="clamp"/>')),
+                           pt_bdpt)
+    s["tex-wrap-mirror"] = ("uvscale 2.5 with wrapMode mirror",
+                            scene(panel_tex('<float name="uvscale" value="2.5"/><string name="wrapMode" value="mirror"/>')),
+                            pt_bdpt)
+    s["tex-obj-fliptexcoords"] = ("OBJ texture coordinates flipped by default, and not with flipTexCoords false",
+                                  scene(obj("panel_uv.obj", TEXTURED % bitmap(),
+                                            '<scale x="0.45" y="0.45"/><translate x="-0.5" y="0.8" z="-0.2"/>') +
+                                        obj("panel_uv.obj", TEXTURED % bitmap(),
+                                            '<scale x="0.45" y="0.45"/><translate x="0.5" y="0.8" z="-0.2"/>',
+                                            '    <boolean name="flipTexCoords" value="false"/>\n')), pt_bdpt)
+    s["tex-checkerboard"] = ("checkerboard colours and uscale",
+                             scene(rect('<bsdf type="diffuse"><texture type="checkerboard" name="reflectance">'
+                                        '<rgb name="color0" value="0.1, 0.2, 0.7"/><rgb name="color1" value="0.8, 0.7, 0.1"/>'
+                                        '<float name="uscale" value="4"/><float name="vscale" value="3"/></texture></bsdf>',
+                                        PANEL)), pt_bdpt)
+    s["tex-sphere-uv"] = ("a bitmap on a sphere uses Mitsuba's sphere parametrisation",
+                          scene(sphere(TEXTURED % bitmap()), cam=sensor()), pt_bdpt)
+
+    # --- spectra
+    cbox_white = ("400:0.343, 404:0.445, 408:0.551, 412:0.624, 416:0.665, 420:0.687, 424:0.708, 428:0.723, "
+                  "432:0.715, 436:0.71, 440:0.745, 444:0.758, 448:0.739, 452:0.767, 456:0.777, 460:0.765, "
+                  "464:0.751, 468:0.745, 472:0.748, 476:0.729, 480:0.745, 484:0.757, 488:0.753, 492:0.75, "
+                  "496:0.746, 500:0.747, 504:0.735, 508:0.732, 512:0.739, 516:0.734, 520:0.725, 524:0.721, "
+                  "528:0.733, 532:0.725, 536:0.732, 540:0.743, 544:0.744, 548:0.748, 552:0.728, 556:0.716, "
+                  "560:0.733, 564:0.726, 568:0.713, 572:0.74, 576:0.754, 580:0.764, 584:0.752, 588:0.736, "
+                  "592:0.734, 596:0.741, 600:0.74, 604:0.732, 608:0.745, 612:0.755, 616:0.751, 620:0.744, "
+                  "624:0.731, 628:0.733, 632:0.744, 636:0.731, 640:0.712, 644:0.708, 648:0.729, 652:0.73, "
+                  "656:0.727, 660:0.707, 664:0.703, 668:0.729, 672:0.75, 676:0.76, 680:0.751, 684:0.739, "
+                  "688:0.724, 692:0.73, 696:0.74, 700:0.737")
+    cbox_light = "400:0, 500:8, 600:15.6, 700:18.4"
+    s["spectrum-forms"] = ("one value, three values, rgb, srgb hex and a wavelength list as reflectances",
+                           scene(sphere('<bsdf type="diffuse"><spectrum name="reflectance" value="%s"/></bsdf>' % cbox_white,
+                                        center="-0.45, 0.3, 0", radius=0.3) +
+                                 sphere('<bsdf type="diffuse"><spectrum name="reflectance" value="0.2, 0.5, 0.8"/></bsdf>',
+                                        center="0.45, 0.3, 0", radius=0.3) +
+                                 sphere('<bsdf type="diffuse"><srgb name="reflectance" value="#c08040"/></bsdf>',
+                                        center="0, 0.3, 0.45", radius=0.3) +
+                                 sphere('<bsdf type="diffuse"><spectrum name="reflectance" value="0.4"/></bsdf>',
+                                        center="0, 0.9, -0.3", radius=0.3)), pt_bdpt)
+    s["spectrum-emitter"] = ("an emitter's radiance as a wavelength list (the classic Cornell box's lamp)",
+                             scene(sphere(WHITE), light=ROOM_LIGHT % ('<spectrum name="radiance" value="%s"/>' % cbox_light)),
+                             pt_bdpt)
+    s["spectrum-blackbody"] = ("an emitter's radiance as a blackbody with scale",
+                               scene(sphere(WHITE), light=ROOM_LIGHT % '<blackbody name="radiance" temperature="3200K" scale="0.012"/>'),
+                               pt_bdpt)
+
+    # --- camera and film (non-square where the axis matters)
+    for axis in ("x", "y", "diagonal", "smaller", "larger"):
+        s[f"camera-fovaxis-{axis}"] = (f"fovAxis {axis} on a 96x64 image",
+                                       scene(sphere(WHITE), cam=sensor(96, 64, 40, axis)), pt_bdpt)
+    s["camera-fovaxis-y-portrait"] = ("fovAxis smaller on a 48x80 portrait image",
+                                      scene(sphere(WHITE), cam=sensor(48, 80, 40, "smaller")), pt_bdpt)
+    s["camera-matrix"] = ("camera toWorld as rotate + translate (no lookat)",
+                          scene(sphere(WHITE), cam=sensor(transform='<rotate y="1" angle="188"/><rotate x="1" angle="6"/>'
+                                                                    '<translate x="-0.3" y="1.1" z="3.2"/>')), pt_bdpt)
+    s["shape-transforms"] = ("scale, rotate, translate and matrix on shapes",
+                             scene('  <shape type="cube">\n    <transform name="toWorld"><scale x="0.3" y="0.5" z="0.2"/>'
+                                   '<rotate y="1" angle="30"/><translate x="-0.4" y="0.5"/></transform>\n    ' + WHITE +
+                                   '\n  </shape>\n' +
+                                   rect(DIFFUSE % "0.3, 0.6, 0.8",
+                                        '<matrix value="0.3 0 0.1 0.45  0 0.4 0 0.5  -0.1 0 0.3 0.1  0 0 0 1"/>')), pt_bdpt)
+    s["film-gaussian"] = ("the film's default reconstruction filter (gaussian)",
+                          scene(sphere(WHITE), cam=sensor(rfilter=None)), pt_bdpt + ["mlt"])
+
+    # --- shapes and lights
+    s["shape-sphere-disk-cube"] = ("sphere, disk and cube",
+                                   scene(sphere(WHITE, "-0.5, 0.3, 0", 0.3) +
+                                         '  <shape type="disk">\n    <transform name="toWorld"><scale value="0.3"/>'
+                                         '<rotate y="1" angle="20"/><translate x="0.45" y="0.8" z="-0.5"/></transform>\n    ' +
+                                         DIFFUSE % "0.8, 0.4, 0.2" + '\n  </shape>\n' +
+                                         '  <shape type="cube">\n    <transform name="toWorld"><scale value="0.2"/>'
+                                         '<translate x="0.4" y="0.2" z="0.2"/></transform>\n    ' + WHITE + '\n  </shape>\n'),
+                                   pt_bdpt)
+    s["shape-cylinder"] = ("cylinder (open, p0/p1/radius)",
+                           scene('  <shape type="cylinder">\n    ' + point("p0", "0, 0.1, 0") + point("p1", "0.2, 1.1, -0.1") +
+                                 '<float name="radius" value="0.3"/>\n    ' +
+                                 '<bsdf type="twosided">' + DIFFUSE % "0.8, 0.6, 0.3" + '</bsdf>\n  </shape>\n'), pt_bdpt)
+    s["shape-serialized"] = ("serialized meshes chosen by shapeIndex",
+                             scene('  <shape type="serialized">\n    <string name="filename" value="assets/shapes.serialized"/>'
+                                   '<integer name="shapeIndex" value="1"/>\n    <transform name="toWorld"><scale value="0.5"/>'
+                                   '<translate y="0.5"/></transform>\n    ' + WHITE + '\n  </shape>\n'
+                                   '  <shape type="serialized">\n    <string name="filename" value="assets/shapes.serialized"/>'
+                                   '<integer name="shapeIndex" value="0"/>\n    <transform name="toWorld"><scale value="0.3"/>'
+                                   '<translate x="0.6" y="1.2" z="-0.5"/></transform>\n    ' + DIFFUSE % "0.2, 0.4, 0.8" +
+                                   '\n  </shape>\n'), pt_bdpt)
+    s["shape-ply"] = ("PLY meshes, ASCII with normals and binary with quads",
+                      scene('  <shape type="ply">\n    <string name="filename" value="assets/ball_ascii.ply"/>\n'
+                            '    <transform name="toWorld"><scale value="0.35"/><translate x="-0.4" y="0.35"/></transform>\n    ' +
+                            WHITE + '\n  </shape>\n'
+                            '  <shape type="ply">\n    <string name="filename" value="assets/pyramid_binary.ply"/>\n'
+                            '    <transform name="toWorld"><scale value="0.35"/><translate x="0.4"/></transform>\n    ' +
+                            DIFFUSE % "0.8, 0.5, 0.2" + '\n  </shape>\n'), pt_bdpt)
+    s["shape-instance"] = ("shapegroup and instance",
+                           scene('  <shape type="shapegroup" id="pair">\n' + sphere(WHITE, "0, 0.2, 0", 0.2) +
+                                 sphere(DIFFUSE % "0.2, 0.3, 0.8", "0.3, 0.15, 0.2", 0.15) + '  </shape>\n'
+                                 '  <shape type="instance">\n    <ref id="pair"/>\n    <transform name="toWorld">'
+                                 '<translate x="-0.5"/></transform>\n  </shape>\n'
+                                 '  <shape type="instance">\n    <ref id="pair"/>\n    <transform name="toWorld">'
+                                 '<rotate y="1" angle="90"/><scale value="1.3"/><translate x="0.4" z="-0.2"/></transform>\n'
+                                 '  </shape>\n'), pt_bdpt)
+    s["light-sphere"] = ("an emissive sphere", scene(sphere(WHITE, "-0.3, 0.35, 0", 0.35),
+                                                      light='  <shape type="sphere">\n    ' + point("center", "0.45, 1.3, 0") +
+                                                            '<float name="radius" value="0.15"/>\n    <emitter type="area">'
+                                                            '<rgb name="radiance" value="10, 8, 6"/></emitter>\n  </shape>\n'),
+                         pt_bdpt)
+    s["light-constant"] = ("constant environment emitter", scene(sphere(WHITE) + rect(WHITE, '<scale value="3"/><rotate x="1" angle="-90"/>'),
+                                                                 light='  <emitter type="constant"><rgb name="radiance" value="0.8, 0.9, 1.2"/></emitter>\n',
+                                                                 walls=False), pt_bdpt)
+    s["light-envmap"] = ("envmap orientation (toWorld) and scale",
+                         scene(sphere('<bsdf type="roughconductor"><string name="material" value="Al"/><float name="alpha" value="0.05"/></bsdf>') +
+                               rect(WHITE, '<scale value="3"/><rotate x="1" angle="-90"/>'),
+                               light='  <emitter type="envmap"><string name="filename" value="assets/sky.exr"/>'
+                                     '<float name="scale" value="1.5"/><transform name="toWorld"><rotate y="1" angle="60"/></transform></emitter>\n',
+                               walls=False), pt_bdpt)
+    return s
+
+
+def main():
+    write_assets()
+    os.makedirs(SCENES, exist_ok=True)
+    manifest = []
+    for name, (convention, xml, integrators) in build().items():
+        with open(os.path.join(SCENES, name + ".xml"), "w") as f:
+            f.write(xml)
+        manifest.append({"name": name, "convention": convention, "integrators": integrators})
+    path = os.path.join(SUITE, "suite.json")
+    old = {}
+    if os.path.exists(path):  # keep hand-set fields (spp, known differences) of existing entries
+        for entry in json.load(open(path))["scenes"]:
+            old[entry["name"]] = entry
+    for entry in manifest:
+        for key, value in old.get(entry["name"], {}).items():
+            entry.setdefault(key, value)
+    with open(path, "w") as f:
+        json.dump({"scenes": manifest}, f, indent=1)
+        f.write("\n")
+    print(f"wrote {len(manifest)} scenes to {os.path.relpath(SCENES, ROOT)}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,181 @@
+#!/usr/bin/env python3
+"""The Mitsuba 0.6 conformance check: renders scenes of tests/conformance/suite.json with
+emlt and compares them with Mitsuba's own images in tests/conformance/references/.
+
+    tests/conformance/check.py [--emlt build/emlt] [--scene NAME ...] [--integrator pt ...]
+                               [--table docs/conformance.md] [--json FILE]
+
+For each scene and integrator emlt renders the scene twice (seeds 1 and 2). Two numbers
+decide:
+  * the image mean, per colour channel, of the two renders' average over the reference's:
+    within 1 % (channels with under 2 % of the brightest channel's mean are compared in
+    absolute terms, against 1 % of that brightest mean);
+  * the per-pixel error: the mean squared difference from the reference over the noise
+    expected from the renders themselves (estimated from the difference between the two
+    seeds) plus the reference's (estimated from its sample count). A correct renderer
+    gives about 1 (0.5 to 1.6 measured over seed pairs on this suite: fireflies and
+    emitter edges make the estimate itself noisy), so the limit is 2; a shifted, blurred,
+    flipped or wrongly coloured image gives far more (a box-filtered image against a
+    Gaussian-filtered reference: 14).
+A scene may list known differences ("known": {"reason": ..., "integrators": [...]}) in
+the manifest: those are reported as XFAIL and do not fail the run; one that passes is
+reported as XPASS so that the entry can be removed. Exit status 1 when any other check
+fails, 2 on a usage error or a missing reference.
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+from emlt_images import read_pfm  # noqa: E402
+
+MEAN_TOLERANCE = 0.01
+ERROR_RATIO_LIMIT = 2.0
+DEFAULT_SPP = {"pt": 64, "bdpt": 32, "mlt": 64, "direct": 64}
+
+
+def load_suite():
+    with open(os.path.join(HERE, "suite.json")) as f:
+        return json.load(f)["scenes"]
+
+
+def render(emlt, scene, integrator, budget, seed, out, threads):
+    """Renders one image; returns the warnings emlt printed."""
+    args = [emlt, "render", os.path.join(HERE, "scenes", scene + ".xml"), "-o", out,
+            "--integrator", integrator, "--seed", str(seed), "--quiet"]
+    args += ["--mpp", str(budget)] if integrator in ("mlt", "gamlt", "emlt") else ["--spp", str(budget)]
+    if threads:
+        args += ["--threads", str(threads)]
+    result = subprocess.run(args, capture_output=True, text=True)
+    if result.returncode != 0:
+        raise RuntimeError(f"{scene} ({integrator}): emlt failed: {result.stderr.strip()}")
+    return [line for line in result.stderr.splitlines() if "warning" in line]
+
+
+def compare(first, second, reference, budget, reference_spp):
+    """The mean ratio per channel, the error ratio and the mean's standard error."""
+    if first.shape != reference.shape:
+        raise RuntimeError(f"image size {first.shape[1]}x{first.shape[0]} differs from the "
+                           f"reference's {reference.shape[1]}x{reference.shape[0]}")
+    average = 0.5 * (first + second)
+    noise = np.mean((first - second) ** 2) / 4.0          # variance of the average, per value
+    # The reference's noise: the same kind of estimator with reference_spp samples against
+    # 2 * budget (a rough scale; it is small by construction).
+    noise += np.mean((first - second) ** 2) / 2.0 * budget / reference_spp
+    error = float(np.mean((average - reference) ** 2))
+    ref_mean = reference.reshape(-1, 3).mean(axis=0)
+    emlt_mean = average.reshape(-1, 3).mean(axis=0)
+    brightest = float(max(ref_mean.max(), 1e-12))
+    ratios = []
+    for c in range(3):
+        if ref_mean[c] >= 0.02 * brightest:
+            ratios.append(float(emlt_mean[c] / ref_mean[c]))
+        else:  # a nearly black channel: its absolute difference against the brightest
+            ratios.append(1.0 + float(emlt_mean[c] - ref_mean[c]) / brightest)
+    per_channel_noise = np.mean(((first - second) ** 2).reshape(-1, 3), axis=0) / 4.0
+    standard_error = float(np.sqrt(per_channel_noise.max() / (first.shape[0] * first.shape[1]))) / brightest
+    return ratios, error / max(noise, 1e-30), standard_error, error
+
+
+def check_scene(emlt, entry, integrator, threads, workdir):
+    name = entry["name"]
+    reference_path = os.path.join(HERE, "references", name + ".pfm")
+    if not os.path.exists(reference_path):
+        raise FileNotFoundError(f"{name}: no reference image {os.path.relpath(reference_path, ROOT)}; "
+                                "run scripts/conformance/render_references.sh with MITSUBA= set")
+    reference = read_pfm(reference_path)
+    budget = entry.get("spp", {}).get(integrator, DEFAULT_SPP[integrator])
+    images, warnings = [], []
+    for seed in (1, 2):
+        out = os.path.join(workdir, f"{name}.{integrator}.{seed}.pfm")
+        warnings = render(emlt, name, integrator, budget, seed, out, threads)
+        images.append(read_pfm(out))
+    ratios, error_ratio, standard_error, mse = compare(images[0], images[1], reference, budget,
+                                                       entry.get("reference_spp", 4096))
+    mean_ok = all(abs(r - 1.0) <= MEAN_TOLERANCE for r in ratios)
+    ok = mean_ok and error_ratio <= ERROR_RATIO_LIMIT
+    known = entry.get("known")
+    expected_to_fail = bool(known) and integrator in known.get("integrators", [integrator])
+    status = ("XPASS" if ok else "XFAIL") if expected_to_fail else ("PASS" if ok else "FAIL")
+    return {
+        "scene": name, "integrator": integrator, "convention": entry["convention"],
+        "status": status, "mean_ratio": ratios, "error_ratio": error_ratio,
+        "mean_standard_error": standard_error, "mse": mse, "budget": budget,
+        "warnings": warnings, "reason": known.get("reason", "") if expected_to_fail else "",
+    }
+
+
+def write_table(results, path):
+    lines = ["| scene | convention | integrator | emlt mean / Mitsuba's (R, G, B) | error / noise | verdict |",
+             "|---|---|---|---|---|---|"]
+    for r in results:
+        ratio = ", ".join(f"{v:.3f}" for v in r["mean_ratio"])
+        verdict = r["status"] + (f": {r['reason']}" if r["reason"] else "")
+        lines.append(f"| `{r['scene']}` | {r['convention']} | {r['integrator']} | {ratio} | "
+                     f"{r['error_ratio']:.2f} | {verdict} |")
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--emlt", default=os.environ.get("EMLT_BINARY", os.path.join(ROOT, "build", "emlt")))
+    parser.add_argument("--scene", action="append", help="only these scenes (repeatable)")
+    parser.add_argument("--integrator", action="append", help="only these integrators (repeatable)")
+    parser.add_argument("--threads", type=int, default=0)
+    parser.add_argument("--table", help="write a Markdown table of the results here")
+    parser.add_argument("--json", help="write the results as JSON here")
+    args = parser.parse_args()
+
+    suite = load_suite()
+    names = {e["name"] for e in suite}
+    for wanted in args.scene or []:
+        if wanted not in names:
+            print(f"conformance: no scene '{wanted}' in suite.json", file=sys.stderr)
+            return 2
+    results, failures = [], 0
+    with tempfile.TemporaryDirectory() as workdir:
+        for entry in suite:
+            if args.scene and entry["name"] not in args.scene:
+                continue
+            for integrator in entry["integrators"]:
+                if args.integrator and integrator not in args.integrator:
+                    continue
+                try:
+                    r = check_scene(args.emlt, entry, integrator, args.threads, workdir)
+                except FileNotFoundError as e:
+                    print(f"conformance: {e}", file=sys.stderr)
+                    return 2
+                except RuntimeError as e:
+                    r = {"scene": entry["name"], "integrator": integrator, "convention": entry["convention"],
+                         "status": "FAIL", "mean_ratio": [float("nan")] * 3, "error_ratio": float("nan"),
+                         "mean_standard_error": float("nan"), "mse": float("nan"), "budget": 0,
+                         "warnings": [], "reason": str(e)}
+                results.append(r)
+                failures += r["status"] == "FAIL"
+                ratio = " ".join(f"{v:.4f}" for v in r["mean_ratio"])
+                print(f"{r['status']:5} {r['scene']} [{integrator}] mean ratio {ratio} "
+                      f"(se {r['mean_standard_error']:.4f}), error/noise {r['error_ratio']:.2f}"
+                      + (f" -- {r['reason']}" if r["reason"] else ""))
+                for w in r["warnings"]:
+                    print(f"      {w}")
+    if args.table:
+        write_table(results, args.table)
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(results, f, indent=1)
+    passed = sum(r["status"] in ("PASS", "XPASS") for r in results)
+    print(f"conformance: {passed} passed, {failures} failed, "
+          f"{sum(r['status'] == 'XFAIL' for r in results)} known differences")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

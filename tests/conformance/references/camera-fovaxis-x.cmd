@@ -1,0 +1,2 @@
+# Mitsuba 0.6 (version 0.6.0, RGB mode, single precision), run in tests/conformance/, 15 s
+mitsuba -q -p 2 -Dspp=4096 scenes/camera-fovaxis-x.xml -o references/camera-fovaxis-x.pfm
