@@ -408,6 +408,15 @@ def build():
                                     DIFFUSE % "0.8, 0.8, 0.8" + "</bsdf>",
                                     '<scale x="0.9" y="0.9"/><rotate x="1" angle="-90"/><translate y="0.01"/>')), pt_bdpt)
 
+    s["bsdf-default"] = ("shapes naming no BSDF: a one-sided diffuse 0.5, black on an emitter",
+                         scene('  <shape type="sphere">\n    ' + point("center", "-0.45, 0.35, 0.1") +
+                               '<float name="radius" value="0.35"/>\n  </shape>\n' +
+                               '  <shape type="rectangle">\n    <transform name="toWorld"><scale x="0.3" y="0.4"/>'
+                               '<rotate y="1" angle="160"/><translate x="0.45" y="0.6" z="-0.2"/></transform>\n  </shape>\n' +
+                               '  <shape type="rectangle">\n    <transform name="toWorld"><scale x="0.5" y="0.3"/>'
+                               '<translate y="1.2" z="-0.98"/></transform>\n    <emitter type="area">'
+                               '<rgb name="radiance" value="2, 2.5, 3"/></emitter>\n  </shape>\n'), pt_bdpt)
+
     # --- textures (on a panel facing the camera)
     def panel_tex(params, file="grid.png"):
         return rect(TEXTURED % bitmap(file, params), PANEL)

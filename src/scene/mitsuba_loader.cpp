@@ -8,6 +8,7 @@
 
 #include "emlt/core/error.h"
 #include "emlt/scene/loader.h"
+#include "emlt/scene/materials.h"
 #include "emlt/scene/obj_loader.h"
 #include "emlt/scene/ply_loader.h"
 #include "emlt/scene/serialized_loader.h"
@@ -239,6 +240,17 @@ class MitsubaSceneReader {
     props.warn_unused();
   }
 
+  // Mitsuba's BSDF for a shape that names none: a one-sided diffuse of reflectance 0.5,
+  // or, on an emitter, a black one (a lamp reflects nothing).
+  int default_material(bool emitter) {
+    int& index = emitter ? default_emitter_material_ : default_material_;
+    if (index < 0)
+      index = loader::material_index(
+          desc_, make_lambertian(Rgb(emitter ? 0.0f : 0.5f)),
+          emitter ? "default (black diffuse, emitter)" : "default (diffuse 0.5)");
+    return index;
+  }
+
   int material_of(pugi::xml_node node) {
     MaterialDesc material = mitsuba::read_bsdf(doc_, node, named_, desc_.warnings);
     if (material.name.empty())
@@ -321,6 +333,8 @@ class MitsubaSceneReader {
     if (std::find_if(std::begin(kSupported), std::end(kSupported),
                      [&](const char* t) { return type == t; }) == std::end(kSupported)) {
       doc_.warn(node, "unsupported shape type '" + type + "' " + doc_.describe(node) + " skipped");
+      desc_.skipped_shapes.push_back(doc_.describe(node) + " at line " +
+                                     std::to_string(doc_.line(node)));
       return;
     }
     Properties props(doc_, node);
@@ -350,6 +364,7 @@ class MitsubaSceneReader {
         doc_.warn(child, "unsupported element " + doc_.describe(child) + " inside <shape> ignored");
       }
     }
+    if (material < 0) material = default_material(!is_black(emission));
     const bool flip = props.get_boolean("flipNormals", false);
 
     if (type == "sphere") {
@@ -462,6 +477,7 @@ class MitsubaSceneReader {
   Document doc_;
   mitsuba::NamedObjects named_;
   std::map<std::string, ShapeGroup> groups_;  // shapegroups by id
+  int default_material_ = -1, default_emitter_material_ = -1;
 };
 
 }  // namespace

@@ -303,7 +303,16 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
     s.geometries_.push_back(std::move(g));
     ++s.stats_.spheres;
   }
-  if (s.geometries_.empty()) throw file_error(d.source, "scene has no geometry");
+  if (s.geometries_.empty()) {
+    std::string skipped;
+    for (size_t i = 0; i < d.skipped_shapes.size() && i < 4; ++i)
+      skipped += (i ? ", " : "") + d.skipped_shapes[i];
+    if (d.skipped_shapes.size() > 4)
+      skipped += " and " + std::to_string(d.skipped_shapes.size() - 4) + " more";
+    throw file_error(d.source, skipped.empty() ? std::string("scene has no geometry")
+                                               : "scene has no geometry: every shape was skipped (" +
+                                                     skipped + ")");
+  }
   s.stats_.materials = d.materials.size();
 
   s.bounds_center_ = 0.5f * (lower + upper);

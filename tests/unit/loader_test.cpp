@@ -488,3 +488,37 @@ TEST(Loader, MitsubaSettingsThatChangeNoImageKeepTheVerdictExact) {
   EXPECT_EQ(load_scene_description(write_file(dir, "strict.xml", xml)).verdict(),
             "unsupported: 1 item");
 }
+
+TEST(Loader, ShapesWithoutABsdfGetMitsubasDefault) {
+  const auto dir = test::scratch_dir("default-bsdf");
+  // A lamp that names no BSDF: Mitsuba makes it black. A panel that names none: a
+  // one-sided diffuse of 0.5, black from behind.
+  const auto scene = Scene::build(load_scene_description(write_file(dir, "scene.xml", small_xml(R"(
+  <shape type="rectangle"><transform name="toWorld"><translate z="-3"/></transform>
+    <emitter type="area"><rgb name="radiance" value="2"/></emitter></shape>
+  <shape type="rectangle"><transform name="toWorld"><translate z="3"/></transform></shape>)"))));
+  const Vec3 up(0.0f, 0.0f, 1.0f), tilted = glm::normalize(Vec3(0.3f, 0.1f, 1.0f));
+  SurfaceHit lamp, front;
+  ASSERT_TRUE(scene->intersect(Ray{Vec3(0.1f, 0.2f, -4), Vec3(0, 0, 1)}, lamp));
+  ASSERT_NE(lamp.light, nullptr);
+  EXPECT_TRUE(is_black(lamp.bsdf->eval({}, up, tilted)));
+  ASSERT_TRUE(scene->intersect(Ray{Vec3(0.1f, 0.2f, 5), Vec3(0, 0, -1)}, front));
+  EXPECT_EQ(front.light, nullptr);
+  EXPECT_NEAR(front.bsdf->eval({}, up, tilted).x, 0.5f * kInvPi, 1e-6f);
+  EXPECT_TRUE(is_black(front.bsdf->eval({}, -up, -tilted)));  // one-sided
+  for (const std::string& w : scene->warnings()) EXPECT_EQ(w.find("no material"), std::string::npos) << w;
+}
+
+TEST(Loader, SceneWhoseShapesWereAllSkippedNamesThem) {
+  const auto dir = test::scratch_dir("all-skipped");
+  const std::string path = write_file(dir, "skipped.xml", R"(<scene version="0.6.0">
+  <emitter type="constant"/>
+  <shape type="heightfield"/>
+  <shape type="hair"><string name="filename" value="x.hair"/></shape>
+</scene>)");
+  EXPECT_NE(load_and_build_error(path).find(
+                "skipped.xml: scene has no geometry: every shape was skipped (<shape "
+                "type=\"heightfield\"> at line 3, <shape type=\"hair\"> at line 4)"),
+            std::string::npos)
+      << load_and_build_error(path);
+}

@@ -98,6 +98,9 @@ struct SceneDescription {
   RenderSettings defaults;  // integrator, spp, max depth ... from the file
   std::vector<std::string> warnings;
   std::vector<Divergence> divergences;  // each also in warnings
+  // Shapes a loader could not read ("<shape type=\"heightfield\"> at line 12"), named in
+  // the error when no geometry is left.
+  std::vector<std::string> skipped_shapes;
 
   // "exact", or "approximated: N items, unsupported: M items" (either part alone when
   // the other count is zero).
