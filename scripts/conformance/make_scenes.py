@@ -440,6 +440,11 @@ def build():
                                         obj("panel_uv.obj", TEXTURED % bitmap(),
                                             '<scale x="0.45" y="0.45"/><translate x="0.5" y="0.8" z="-0.2"/>',
                                             '    <boolean name="flipTexCoords" value="false"/>\n')), pt_bdpt)
+    s["tex-ewa-default"] = ("a bitmap with Mitsuba's default EWA filtering, minified on a receding floor",
+                            scene(rect('<bsdf type="diffuse"><texture type="bitmap" name="reflectance">'
+                                       '<string name="filename" value="assets/grid.png"/><float name="uvscale" value="6"/>'
+                                       '</texture></bsdf>',
+                                       '<scale value="0.98"/><rotate x="1" angle="-90"/><translate y="0.01"/>')), pt_bdpt)
     s["tex-checkerboard"] = ("checkerboard colours and uscale",
                              scene(rect('<bsdf type="diffuse"><texture type="checkerboard" name="reflectance">'
                                         '<rgb name="color0" value="0.1, 0.2, 0.7"/><rgb name="color1" value="0.8, 0.7, 0.1"/>'

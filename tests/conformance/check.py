@@ -124,6 +124,30 @@ def write_table(results, path):
         f.write("\n".join(lines) + "\n")
 
 
+CATEGORIES = {"orient": "orientation", "depth": "path depth", "bsdf": "BSDFs", "tex": "textures",
+              "spectrum": "spectra", "camera": "camera", "film": "film filter", "shape": "shapes",
+              "light": "lights"}
+
+
+def write_summary(results, path):
+    """One row per group of conventions (the scene names' first word): for the README."""
+    groups = {}
+    for r in results:
+        groups.setdefault(CATEGORIES.get(r["scene"].split("-")[0], r["scene"]), []).append(r)
+    lines = ["| conventions | scenes | renders | worst mean ratio | worst error / noise | verdict |",
+             "|---|---|---|---|---|---|"]
+    for name, rows in groups.items():
+        worst = max(rows, key=lambda r: max(abs(v - 1.0) for v in r["mean_ratio"]))
+        ratio = min(worst["mean_ratio"], key=lambda v: -abs(v - 1.0))
+        failed = [r for r in rows if r["status"] in ("FAIL", "XFAIL")]
+        verdict = "all pass" if not failed else ", ".join(
+            f"`{r['scene']}` [{r['integrator']}] {r['status'].lower()}" for r in failed)
+        lines.append(f"| {name} | {len({r['scene'] for r in rows})} | {len(rows)} | {ratio:.3f} | "
+                     f"{max(r['error_ratio'] for r in rows):.2f} | {verdict} |")
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--emlt", default=os.environ.get("EMLT_BINARY", os.path.join(ROOT, "build", "emlt")))
@@ -132,6 +156,7 @@ def main():
     parser.add_argument("--threads", type=int, default=0)
     parser.add_argument("--table", help="write a Markdown table of the results here")
     parser.add_argument("--json", help="write the results as JSON here")
+    parser.add_argument("--summary", help="write a Markdown table by group of conventions here")
     args = parser.parse_args()
 
     suite = load_suite()
@@ -168,6 +193,8 @@ def main():
                     print(f"      {w}")
     if args.table:
         write_table(results, args.table)
+    if args.summary:
+        write_summary(results, args.summary)
     if args.json:
         with open(args.json, "w") as f:
             json.dump(results, f, indent=1)
