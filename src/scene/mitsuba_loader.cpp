@@ -64,6 +64,10 @@ class MitsubaSceneReader {
         has_sensor = true;
       } else if (kind == "integrator")
         read_integrator(child);
+      else if (kind == "medium" && !referenced(doc_.attribute(child, "id")))
+        // A medium only acts where a shape or sensor names it; exporters leave unused ones.
+        doc_.warn(child, "<medium> '" + doc_.attribute(child, "id") + "' is used by nothing; ignored",
+                  Document::Warning::Note);
       else
         doc_.warn(child, "unsupported element <" + kind + "> ignored");
     }
@@ -240,6 +244,14 @@ class MitsubaSceneReader {
     props.warn_unused();
   }
 
+  // Whether any <ref> of the document names `id` ("" never is).
+  bool referenced(const std::string& id) const {
+    if (id.empty()) return true;  // cannot tell; treat as used
+    for (pugi::xpath_node ref : doc_.scene().select_nodes("//ref"))
+      if (doc_.attribute(ref.node(), "id") == id) return true;
+    return false;
+  }
+
   // Mitsuba's BSDF for a shape that names none: a one-sided diffuse of reflectance 0.5,
   // or, on an emitter, a black one (a lamp reflects nothing).
   int default_material(bool emitter) {
@@ -345,8 +357,14 @@ class MitsubaSceneReader {
     // <ref name="bsdf" id=...>: a named reference is a parameter, not an object.
     for (const std::string& ref : props.names_of_kind("ref")) {
       props.ignore({ref.c_str()});
-      for (pugi::xml_node child : node.children("ref"))
-        if (child.attribute("name").as_string() == ref) material = material_of(child);
+      for (pugi::xml_node child : node.children("ref")) {
+        if (child.attribute("name").as_string() != ref) continue;
+        if (ref == "interior" || ref == "exterior")
+          doc_.warn(child, "participating medium '" + doc_.attribute(child, "id") + "' (" + ref +
+                               ") is not supported; the shape's inside is a vacuum");
+        else
+          material = material_of(child);
+      }
     }
     for (pugi::xml_node child : props.objects()) {
       const std::string kind = child.name();

@@ -522,3 +522,12 @@ TEST(Loader, SceneWhoseShapesWereAllSkippedNamesThem) {
             std::string::npos)
       << load_and_build_error(path);
 }
+
+TEST(Loader, AMediumIsUnsupportedOnlyWhereSomethingUsesIt) {
+  const auto dir = test::scratch_dir("medium");
+  const std::string unused = R"(<medium type="homogeneous" id="fog"/>)";
+  EXPECT_EQ(load_scene_description(write_file(dir, "unused.xml", small_xml(unused))).verdict(), "exact");
+  const std::string used = unused + R"(
+  <shape type="sphere"><ref name="interior" id="fog"/><bsdf type="dielectric"/></shape>)";
+  EXPECT_NE(load_scene_description(write_file(dir, "used.xml", small_xml(used))).verdict(), "exact");
+}
