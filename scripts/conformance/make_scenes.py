@@ -347,11 +347,11 @@ def build():
     # --- depth
     for depth in (1, 2, 3, 8):
         s[f"depth-{depth}"] = (f"maxDepth {depth}", scene(sphere(WHITE), integ=integrator(max_depth=depth)),
-                               pt_bdpt + (["mlt"] if depth == 3 else []))
+                               pt_bdpt + ["mlt"])
     s["depth-unbounded"] = ("maxDepth -1 (Russian roulette from rrDepth 5)",
-                            scene(sphere(WHITE), integ=integrator(max_depth=-1)), pt_bdpt)
+                            scene(sphere(WHITE), integ=integrator(max_depth=-1)), pt_bdpt + ["mlt"])
     s["depth-rr1"] = ("rrDepth 1 changes no expectation", scene(sphere(WHITE), integ=integrator(max_depth=-1, rr_depth=1)),
-                      pt_bdpt)
+                      pt_bdpt + ["mlt"])
 
     # --- BSDFs
     bsdfs = {
