@@ -3,6 +3,8 @@
 // conductors, alpha 0.1, Beckmann distribution) so that a scene renders like it does in
 // Mitsuba. `mask` and `bumpmap` become the material's opacity and bump textures;
 // `coating` falls back to its nested BSDF with a warning.
+#include <cctype>
+
 #include "emlt/core/error.h"
 #include "emlt/scene/conductor_presets.h"
 #include "emlt/scene/materials.h"
@@ -76,8 +78,10 @@ class BsdfReader {
   }
 
   MicrofacetType distribution(Properties& props, pugi::xml_node node) {
-    const std::string name = props.get_string("distribution", "beckmann");
+    std::string name = props.get_string("distribution", "beckmann");
+    for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));  // as Mitsuba
     if (name == "ggx") return MicrofacetType::Ggx;
+    if (name == "phong" || name == "as") return MicrofacetType::Phong;  // "as": Ashikhmin-Shirley
     if (name != "beckmann")
       doc_.warn(node, "microfacet distribution '" + name +
                           "' is not supported; using Beckmann with the same alpha",
@@ -85,12 +89,32 @@ class BsdfReader {
     return MicrofacetType::Beckmann;
   }
 
+  // Mitsuba's roughness: `alpha`, or both `alphaU` (along dp/du) and `alphaV`; either may
+  // be a texture. `v` is null when the roughness is isotropic.
+  struct Roughness {
+    TexturePtr u, v;
+  };
+  Roughness roughness(Properties& props, pugi::xml_node node) {
+    if (!props.has("alphaU") && !props.has("alphaV")) return {alpha(props, node), nullptr};
+    // Mitsuba refuses both of these.
+    if (props.has("alpha")) doc_.fail(node, "give either 'alpha' or 'alphaU'/'alphaV'");
+    if (!props.has("alphaU") || !props.has("alphaV"))
+      doc_.fail(node, "'alphaU' and 'alphaV' must both be given");
+    TexturePtr u = texture(props, "alphaU", Rgb(0.1f)), v = texture(props, "alphaV", Rgb(0.1f));
+    for (const TexturePtr& a : {u, v})
+      if (auto c = a->constant(); c && !((c->x + c->y + c->z) >= 0.0f))
+        doc_.fail(node, "alphaU and alphaV must not be negative");
+    return {u, v};
+  }
+
   TexturePtr alpha(Properties& props, pugi::xml_node node) {
     if (props.has("alphaU") || props.has("alphaV")) {
+      // Only roughplastic comes here with alphaU/alphaV: Mitsuba's refuses anisotropy.
       const float a = props.get_float("alpha", 0.1f);
       const float u = props.get_float("alphaU", a), v = props.get_float("alphaV", a);
       if (u != v)
-        doc_.warn(node, "anisotropic roughness approximated by the mean of alphaU and alphaV",
+        doc_.warn(node, "anisotropic roughness approximated by the mean of alphaU and alphaV "
+                        "(Mitsuba's roughplastic refuses it)",
                   Document::Warning::Approximated);
       if (!(u + v > 0.0f)) doc_.fail(node, "alpha must be positive");
       return make_constant_texture(Rgb(0.5f * (u + v)));
@@ -205,12 +229,12 @@ class BsdfReader {
     }
     if (type == "roughdielectric") {
       const MicrofacetType dist = distribution(props, node);
-      TexturePtr a = alpha(props, node);
+      const Roughness a = roughness(props, node);
       const float int_ior = ior(props, "intIOR", 1.5046f, node);
       const float ext_ior = ior(props, "extIOR", 1.000277f, node);
-      return make_rough_dielectric(a, int_ior, ext_ior, dist,
+      return make_rough_dielectric(a.u, int_ior, ext_ior, dist,
                                    props.get_color("specularReflectance", Rgb(1.0f)),
-                                   props.get_color("specularTransmittance", Rgb(1.0f)));
+                                   props.get_color("specularTransmittance", Rgb(1.0f)), a.v);
     }
     if (type == "conductor") {
       Rgb eta, k;
@@ -219,11 +243,11 @@ class BsdfReader {
     }
     if (type == "roughconductor") {
       const MicrofacetType dist = distribution(props, node);
-      TexturePtr a = alpha(props, node);
+      const Roughness a = roughness(props, node);
       Rgb eta, k;
       conductor_ior(props, node, &eta, &k);
-      return make_rough_conductor(a, eta, k, texture(props, "specularReflectance", Rgb(1.0f)),
-                                  dist);
+      return make_rough_conductor(a.u, eta, k, texture(props, "specularReflectance", Rgb(1.0f)),
+                                  dist, a.v);
     }
     if (type == "plastic" || type == "roughplastic") {
       MicrofacetType dist = MicrofacetType::Ggx;

@@ -98,7 +98,8 @@ void triangle_uv_derivatives(const Vec3& p0, const Vec3& p1, const Vec3& p2, con
 // Tilts the shading normal as if the surface were displaced along it by the texture's
 // height (Blinn 1978, in Mitsuba 0.6's form: the tangents lose their normal component
 // and gain the height gradient instead). Central differences over about one texel.
-void apply_bump(const Texture& height, SurfaceHit& hit) {
+// Returns the bumped dp/du, which orients the shading frame as in Mitsuba's bumpmap.
+Vec3 apply_bump(const Texture& height, SurfaceHit& hit) {
   const Vec2 step = height.gradient_step();
   const Vec2 du(step.x, 0.0f), dv(0.0f, step.y);
   const float d_du =
@@ -110,10 +111,11 @@ void apply_bump(const Texture& height, SurfaceHit& hit) {
   const Vec3 dpdv = hit.dpdv + n * (d_dv - glm::dot(n, hit.dpdv));
   Vec3 bumped = glm::cross(dpdu, dpdv);
   const float length = glm::length(bumped);
-  if (!(length > 0.0f) || !std::isfinite(length)) return;
+  if (!(length > 0.0f) || !std::isfinite(length)) return hit.dpdu;
   bumped /= length;
   if (glm::dot(bumped, n) < 0.0f) bumped = -bumped;
   hit.shading_normal = bumped;
+  return dpdu;
 }
 
 // uv for a mesh that has none but needs some: the positions projected onto the plane of
@@ -499,8 +501,11 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
                               &hit.dpdu, &hit.dpdv);
     if (!g.lights.empty()) hit.light = g.lights[hit.primitive_id];
   }
-  if (g.bump) apply_bump(*g.bump, hit);
-  hit.shading = Frame(hit.shading_normal);
+  // The shading frame's s axis follows dp/du as Mitsuba's does (anisotropic BSDFs are
+  // oriented by it): for a sphere its parallels, for a mesh with uvs the direction of
+  // increasing u, for one without, p1 - p0 (Mitsuba's choice too).
+  const Vec3 tangent = g.bump ? apply_bump(*g.bump, hit) : hit.dpdu;
+  hit.shading = Frame(hit.shading_normal, tangent);
   return true;
 }
 

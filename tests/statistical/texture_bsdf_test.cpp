@@ -345,7 +345,7 @@ TEST(BeckmannDistribution, IsNormalisedAndItsVisibleNormalsAreToo) {
     return total;
   };
   for (const float alpha : {0.05f, 0.3f, 0.8f}) {
-    const BeckmannDistribution beckmann(alpha);
+    const MicrofacetDistribution beckmann(MicrofacetType::Beckmann, alpha);
     EXPECT_NEAR(integrate_hemisphere([&](const Vec3& m) { return beckmann.D(m) * m.z; }), 1.0,
                 1e-3)
         << alpha;

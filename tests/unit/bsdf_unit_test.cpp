@@ -82,7 +82,7 @@ TEST(BsdfFresnel, DiffuseReflectanceObeysInternalExternalRelation) {
 
 TEST(BsdfGgx, ProjectedNormalDistributionAndVisibleNormalsAreNormalised) {
   for (const float alpha : {0.05f, 0.3f, 0.8f}) {
-    const GgxDistribution ggx(alpha);
+    const MicrofacetDistribution ggx(MicrofacetType::Ggx, alpha);
     // Integrate over theta in pieces fine enough for the sharpest lobe.
     const auto integrate_hemisphere = [&](const std::function<double(const Vec3&)>& f) {
       double total = 0.0;
@@ -104,18 +104,18 @@ TEST(BsdfGgx, ProjectedNormalDistributionAndVisibleNormalsAreNormalised) {
     for (const float cos_o : {1.0f, 0.5f, 0.1f}) {
       const Vec3 wo = direction(cos_o, 0.4);
       const double total =
-          integrate_hemisphere([&](const Vec3& m) { return ggx.visible_normal_pdf(wo, m); });
+          integrate_hemisphere([&](const Vec3& m) { return ggx.normal_pdf(wo, m); });
       EXPECT_NEAR(total, 1.0, 2e-3) << alpha << " " << cos_o;
     }
   }
 }
 
 TEST(BsdfGgx, VisibleNormalsFaceTheViewer) {
-  const GgxDistribution ggx(0.6f);
+  const MicrofacetDistribution ggx(MicrofacetType::Ggx, 0.6f, 0.2f);
   Rng rng(3, 0);
   for (int n = 0; n < 10000; ++n) {
     const Vec3 wo = direction(std::max(1e-3f, rng.uniform()), 2.0 * M_PI * rng.uniform());
-    const Vec3 m = ggx.sample_visible_normal(wo, rng.uniform2());
+    const Vec3 m = ggx.sample_normal(wo, rng.uniform2());
     ASSERT_NEAR(glm::length(m), 1.0f, 1e-4f);
     ASSERT_GT(m.z, 0.0f);
     ASSERT_GE(glm::dot(wo, m), -1e-4f);

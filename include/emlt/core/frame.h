@@ -19,6 +19,18 @@ struct Frame {
     t = Vec3(b, sign + n.y * n.y * a, -n.y);
   }
 
+  // Mitsuba's shading frame: s is the tangent made orthogonal to the normal (Gram-Schmidt),
+  // t = n x s. Anisotropic BSDFs depend on s, so a surface's frame follows its dp/du; a
+  // tangent (nearly) parallel to the normal, or not finite, gives the frame of the normal
+  // alone.
+  Frame(const Vec3& normal, const Vec3& tangent) : Frame(normal) {
+    const Vec3 s_raw = tangent - n * glm::dot(n, tangent);
+    const float length2 = glm::dot(s_raw, s_raw);
+    if (!(length2 > 1e-12f * glm::dot(tangent, tangent)) || !std::isfinite(length2)) return;
+    s = s_raw / std::sqrt(length2);
+    t = glm::cross(n, s);
+  }
+
   Vec3 to_local(const Vec3& w) const { return {glm::dot(w, s), glm::dot(w, t), glm::dot(w, n)}; }
   Vec3 to_world(const Vec3& w) const { return w.x * s + w.y * t + w.z * n; }
 };

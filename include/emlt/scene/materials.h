@@ -7,8 +7,9 @@
 
 namespace emlt {
 
-// Microfacet normal distributions (Mitsuba's `distribution`: "ggx", "beckmann").
-enum class MicrofacetType { Ggx, Beckmann };
+// Microfacet normal distributions (Mitsuba's `distribution`: "ggx", "beckmann", "phong";
+// Phong's exponent is derived from alpha as Mitsuba does, 2 / alpha^2 - 2).
+enum class MicrofacetType { Ggx, Beckmann, Phong };
 
 // One-sided BSDFs are black when wo or wi is below the surface; two_sided() mirrors the
 // frame so the back behaves like the front (Mitsuba's `twosided`).
@@ -20,13 +21,16 @@ BsdfPtr make_dielectric(float int_ior = 1.5046f, float ext_ior = 1.000277f,
                         const Rgb& specular_reflectance = Rgb(1.0f),
                         const Rgb& specular_transmittance = Rgb(1.0f));
 // Rough dielectric interface (Walter et al. 2007): microfacet reflection and refraction,
-// both sides, both transport modes. GGX samples visible normals, Beckmann the full
-// distribution.
+// both sides, both transport modes. GGX samples visible normals, Beckmann and Phong the
+// full distribution. `alpha` is the roughness along the shading frame's s axis (dp/du);
+// a non-null `alpha_v` makes it anisotropic, with alpha_v along t (Mitsuba's
+// alphaU / alphaV).
 BsdfPtr make_rough_dielectric(TexturePtr alpha, float int_ior = 1.5046f,
                               float ext_ior = 1.000277f,
                               MicrofacetType distribution = MicrofacetType::Ggx,
                               const Rgb& specular_reflectance = Rgb(1.0f),
-                              const Rgb& specular_transmittance = Rgb(1.0f));
+                              const Rgb& specular_transmittance = Rgb(1.0f),
+                              TexturePtr alpha_v = nullptr);
 // Thin dielectric slab (window pane): delta reflection with the slab's multiple-bounce
 // reflectance R' = R + T^2 R / (1 - R^2), and transmission straight through.
 BsdfPtr make_thin_dielectric(float int_ior = 1.5046f, float ext_ior = 1.000277f,
@@ -37,12 +41,13 @@ BsdfPtr make_thin_dielectric(float int_ior = 1.5046f, float ext_ior = 1.000277f,
 BsdfPtr make_conductor(const Rgb& eta, const Rgb& k, const Rgb& specular_reflectance = Rgb(1.0f));
 BsdfPtr make_conductor(const Rgb& eta, const Rgb& k, TexturePtr specular_reflectance);
 // Microfacet conductor (GGX by default, with visible-normal sampling); eta/k are the
-// per-channel complex IOR.
+// per-channel complex IOR. alpha / alpha_v as for make_rough_dielectric.
 BsdfPtr make_rough_conductor(float alpha, const Rgb& eta, const Rgb& k,
                              const Rgb& specular_reflectance = Rgb(1.0f));
 BsdfPtr make_rough_conductor(TexturePtr alpha, const Rgb& eta, const Rgb& k,
                              TexturePtr specular_reflectance,
-                             MicrofacetType distribution = MicrofacetType::Ggx);
+                             MicrofacetType distribution = MicrofacetType::Ggx,
+                             TexturePtr alpha_v = nullptr);
 // Diffuse base under a dielectric coating (alpha == 0: smooth, delta coating lobe).
 // `nonlinear` is Mitsuba's: the base's internal reflections darken and saturate its
 // colour (Kd / (1 - Kd Fdr) instead of Kd / (1 - Fdr)).

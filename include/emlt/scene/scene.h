@@ -17,7 +17,7 @@ struct SurfaceHit {
   Vec3 position{0.0f};
   Vec3 geometric_normal{0.0f};  // unit; triangle winding / sphere outward (flippable)
   Vec3 shading_normal{0.0f};    // unit; interpolated normal, same side as geometric
-  Frame shading;                // z = shading_normal
+  Frame shading;                // z = shading_normal, s = dpdu made orthogonal to it (Mitsuba's)
   Vec2 uv{0.0f};
   // Surface derivatives with respect to uv (not normalised; an arbitrary tangent pair
   // when the uv mapping is degenerate). Bump mapping tilts the shading frame with them.

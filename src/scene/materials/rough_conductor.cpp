@@ -1,5 +1,6 @@
-// Conductors: the rough one is a microfacet BRDF (GGX or Beckmann, height-correlated
-// Smith masking-shadowing) with the exact conductor Fresnel term per RGB channel; the
+// Conductors: the rough one is a microfacet BRDF (Mitsuba 0.6's roughconductor: GGX,
+// Beckmann or Phong, isotropic or anisotropic, separable Smith masking-shadowing) with the
+// exact conductor Fresnel term per RGB channel; the
 // smooth one a delta reflection weighted by the same Fresnel term. Both one-sided; the
 // roughness and the specular tint may be textures.
 #include <utility>
@@ -14,12 +15,13 @@ namespace {
 
 class RoughConductor final : public Bsdf {
  public:
-  RoughConductor(TexturePtr alpha, MicrofacetType type, const Rgb& eta, const Rgb& k,
-                 TexturePtr reflectance)
-      : alpha_(std::move(alpha)), type_(type), eta_(eta), k_(k),
-        reflectance_(std::move(reflectance)) {}
+  RoughConductor(TexturePtr alpha_u, TexturePtr alpha_v, MicrofacetType type, const Rgb& eta,
+                 const Rgb& k, TexturePtr reflectance)
+      : alpha_u_(std::move(alpha_u)),
+        alpha_v_(alpha_v ? std::make_optional<TextureParam>(std::move(alpha_v)) : std::nullopt),
+        type_(type), eta_(eta), k_(k), reflectance_(std::move(reflectance)) {}
 
-  // f = R F(wi.h) D(h) G2(wo, wi) / (4 cos_o cos_i)
+  // f = R F(wi.h) D(h) G1(wo, h) G1(wi, h) / (4 cos_o cos_i)
   Rgb eval(const BsdfContext& ctx, const Vec3& wo, const Vec3& wi) const override {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return Rgb(0.0f);
     const MicrofacetDistribution dist = distribution(ctx);
@@ -27,7 +29,7 @@ class RoughConductor final : public Bsdf {
     const float d = dist.D(h);
     if (d == 0.0f) return Rgb(0.0f);
     const Rgb fresnel = fresnel_conductor(glm::dot(wi, h), eta_, k_);
-    return reflectance_.at(ctx.uv) * fresnel * (d * dist.G2(wo, wi) / (4.0f * wo.z * wi.z));
+    return reflectance_.at(ctx.uv) * fresnel * (d * dist.G(wo, wi, h) / (4.0f * wo.z * wi.z));
   }
 
   float pdf(const BsdfContext& ctx, const Vec3& wo, const Vec3& wi) const override {
@@ -56,15 +58,19 @@ class RoughConductor final : public Bsdf {
 
   uint32_t lobes() const override { return kLobeGlossy | kLobeReflection; }
   std::string name() const override {
-    return type_ == MicrofacetType::Ggx ? "rough_conductor" : "rough_conductor_beckmann";
+    return type_ == MicrofacetType::Ggx        ? "rough_conductor"
+           : type_ == MicrofacetType::Beckmann ? "rough_conductor_beckmann"
+                                               : "rough_conductor_phong";
   }
 
  private:
   MicrofacetDistribution distribution(const BsdfContext& ctx) const {
-    return MicrofacetDistribution(type_, alpha_.average_at(ctx.uv));
+    const float alpha_u = alpha_u_.average_at(ctx.uv);
+    return MicrofacetDistribution(type_, alpha_u, alpha_v_ ? alpha_v_->average_at(ctx.uv) : alpha_u);
   }
 
-  TextureParam alpha_;
+  TextureParam alpha_u_;
+  std::optional<TextureParam> alpha_v_;  // absent: isotropic
   MicrofacetType type_;
   Rgb eta_, k_;
   TextureParam reflectance_;
@@ -109,9 +115,11 @@ BsdfPtr make_rough_conductor(float alpha, const Rgb& eta, const Rgb& k,
 }
 
 BsdfPtr make_rough_conductor(TexturePtr alpha, const Rgb& eta, const Rgb& k,
-                             TexturePtr specular_reflectance, MicrofacetType distribution) {
-  return std::make_shared<RoughConductor>(std::move(alpha), distribution, glm::max(eta, Rgb(0.0f)),
-                                          glm::max(k, Rgb(0.0f)), std::move(specular_reflectance));
+                             TexturePtr specular_reflectance, MicrofacetType distribution,
+                             TexturePtr alpha_v) {
+  return std::make_shared<RoughConductor>(std::move(alpha), std::move(alpha_v), distribution,
+                                          glm::max(eta, Rgb(0.0f)), glm::max(k, Rgb(0.0f)),
+                                          std::move(specular_reflectance));
 }
 
 BsdfPtr make_conductor(const Rgb& eta, const Rgb& k, const Rgb& specular_reflectance) {

@@ -1,8 +1,9 @@
 // Rough dielectric interface (Walter et al. 2007, "Microfacet models for refraction
 // through rough surfaces"), with the generalised half vector m ~ eta' wi + wo for both
-// reflection and refraction, visible-normal (GGX) or full-distribution (Beckmann)
+// reflection and refraction, visible-normal (GGX) or full-distribution (Beckmann, Phong)
 // sampling, and the reflection/refraction choice made with the microfacet's Fresnel
-// reflectance. Works from both sides; eta' is always n(wi side) / n(wo side).
+// reflectance. Works from both sides; eta' is always n(wi side) / n(wo side). As Mitsuba
+// 0.6's roughdielectric: anisotropic roughness, separable Smith masking-shadowing.
 #include <utility>
 
 #include "emlt/scene/materials.h"
@@ -15,13 +16,15 @@ namespace {
 
 class RoughDielectric final : public Bsdf {
  public:
-  RoughDielectric(TexturePtr alpha, MicrofacetType type, float eta, const Rgb& reflectance,
-                  const Rgb& transmittance)
-      : alpha_(std::move(alpha)), type_(type), eta_(eta), reflectance_(reflectance),
-        transmittance_(transmittance) {}
+  RoughDielectric(TexturePtr alpha_u, TexturePtr alpha_v, MicrofacetType type, float eta,
+                  const Rgb& reflectance, const Rgb& transmittance)
+      : alpha_u_(std::move(alpha_u)),
+        alpha_v_(alpha_v ? std::make_optional<TextureParam>(std::move(alpha_v)) : std::nullopt),
+        type_(type), eta_(eta), reflectance_(reflectance), transmittance_(transmittance) {}
 
-  // Reflection: f = Ks F D G2 / (4 |cos_o cos_i|).
-  // Refraction: f = Kt (1 - F) D G2 |wi.m wo.m| / (|cos_o cos_i| (wi.m + wo.m / eta')^2),
+  // With G = G1(wo, m) G1(wi, m):
+  // Reflection: f = Ks F D G / (4 |cos_o cos_i|).
+  // Refraction: f = Kt (1 - F) D G |wi.m wo.m| / (|cos_o cos_i| (wi.m + wo.m / eta')^2),
   // divided by eta'^2 for radiance (the compression of the solid angle; importance is not
   // compressed, which makes the importance BSDF the radiance one with arguments swapped).
   Rgb eval(const BsdfContext& ctx, const Vec3& wo, const Vec3& wi) const override {
@@ -31,12 +34,12 @@ class RoughDielectric final : public Bsdf {
     const float d = dist.D(g.m);
     if (d == 0.0f) return Rgb(0.0f);
     const float fresnel = fresnel_dielectric(glm::dot(wo, g.m), eta_);
-    const float g2 = dist.G2(wo, wi);
+    const float masking = dist.G(wo, wi, g.m);
     const float cos_product = std::abs(wo.z * wi.z);
-    if (g.reflection) return reflectance_ * (fresnel * d * g2 / (4.0f * cos_product));
+    if (g.reflection) return reflectance_ * (fresnel * d * masking / (4.0f * cos_product));
     const float wi_m = glm::dot(wi, g.m), wo_m = glm::dot(wo, g.m);
     const float denom = square(wi_m + wo_m / g.eta_prime);
-    float f = (1.0f - fresnel) * d * g2 * std::abs(wi_m * wo_m) / (cos_product * denom);
+    float f = (1.0f - fresnel) * d * masking * std::abs(wi_m * wo_m) / (cos_product * denom);
     if (ctx.mode == TransportMode::Radiance) f /= square(g.eta_prime);
     return transmittance_ * f;
   }
@@ -89,7 +92,9 @@ class RoughDielectric final : public Bsdf {
     return kLobeGlossy | kLobeReflection | kLobeTransmission;
   }
   std::string name() const override {
-    return type_ == MicrofacetType::Ggx ? "rough_dielectric" : "rough_dielectric_beckmann";
+    return type_ == MicrofacetType::Ggx        ? "rough_dielectric"
+           : type_ == MicrofacetType::Beckmann ? "rough_dielectric_beckmann"
+                                               : "rough_dielectric_phong";
   }
 
  private:
@@ -117,10 +122,12 @@ class RoughDielectric final : public Bsdf {
   }
 
   MicrofacetDistribution distribution(const BsdfContext& ctx) const {
-    return MicrofacetDistribution(type_, alpha_.average_at(ctx.uv));
+    const float alpha_u = alpha_u_.average_at(ctx.uv);
+    return MicrofacetDistribution(type_, alpha_u, alpha_v_ ? alpha_v_->average_at(ctx.uv) : alpha_u);
   }
 
-  TextureParam alpha_;
+  TextureParam alpha_u_;
+  std::optional<TextureParam> alpha_v_;  // absent: isotropic
   MicrofacetType type_;
   float eta_;  // n_inside / n_outside
   Rgb reflectance_, transmittance_;
@@ -130,8 +137,9 @@ class RoughDielectric final : public Bsdf {
 
 BsdfPtr make_rough_dielectric(TexturePtr alpha, float int_ior, float ext_ior,
                               MicrofacetType distribution, const Rgb& specular_reflectance,
-                              const Rgb& specular_transmittance) {
-  return std::make_shared<RoughDielectric>(std::move(alpha), distribution, int_ior / ext_ior,
+                              const Rgb& specular_transmittance, TexturePtr alpha_v) {
+  return std::make_shared<RoughDielectric>(std::move(alpha), std::move(alpha_v), distribution,
+                                           int_ior / ext_ior,
                                            glm::max(specular_reflectance, Rgb(0.0f)),
                                            glm::max(specular_transmittance, Rgb(0.0f)));
 }

@@ -29,12 +29,13 @@ class RoughPlastic final : public Bsdf {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return Rgb(0.0f);
     Rgb result = diffuse_value(ctx, wo, wi);
     if (!smooth_) {
-      // Coating: f = Ks F(wo.h) D(h) G2 / (4 cos_o cos_i)
+      // Coating: f = Ks F(wo.h) D(h) G1(wo, h) G1(wi, h) / (4 cos_o cos_i) (Mitsuba's
+      // separable Smith masking-shadowing)
       const MicrofacetDistribution dist = distribution(ctx);
       const Vec3 h = reflection_half_vector(wo, wi);
       const float fresnel = fresnel_dielectric(glm::dot(wo, h), eta_);
       result += specular_.at(ctx.uv) *
-                (fresnel * dist.D(h) * dist.G2(wo, wi) / (4.0f * wo.z * wi.z));
+                (fresnel * dist.D(h) * dist.G(wo, wi, h) / (4.0f * wo.z * wi.z));
     }
     return result;
   }
