@@ -18,6 +18,7 @@ struct Scene::Geometry {
   const Bsdf* bsdf = nullptr;
   const Texture* opacity = nullptr;  // Mitsuba `mask`: alpha-tested in Embree's filter
   const Texture* bump = nullptr;     // Mitsuba `bumpmap`: applied when a hit is filled
+  bool anisotropic = false;          // the BSDF's frame must follow dp/du
   // Triangles (degenerate ones already removed).
   std::vector<Vec3> positions, normals;
   std::vector<Vec2> uvs;
@@ -218,6 +219,7 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
     g.bsdf = material->bsdf.get();
     g.opacity = material->opacity.get();
     g.bump = material->bump.get();
+    g.anisotropic = g.bsdf->is_anisotropic();
   };
   // The default material may be appended while shapes are read; reserving keeps the
   // MaterialDesc pointers above valid.
@@ -501,11 +503,12 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
                               &hit.dpdu, &hit.dpdv);
     if (!g.lights.empty()) hit.light = g.lights[hit.primitive_id];
   }
-  // The shading frame's s axis follows dp/du as Mitsuba's does (anisotropic BSDFs are
-  // oriented by it): for a sphere its parallels, for a mesh with uvs the direction of
-  // increasing u, for one without, p1 - p0 (Mitsuba's choice too).
+  // Under an anisotropic BSDF the shading frame's s axis follows dp/du as Mitsuba's does:
+  // for a sphere its parallels, for a mesh with uvs the direction of increasing u, for one
+  // without, p1 - p0 (Mitsuba's choice too). Other BSDFs keep the normal's own frame,
+  // which is cheaper and leaves their random streams as they were.
   const Vec3 tangent = g.bump ? apply_bump(*g.bump, hit) : hit.dpdu;
-  hit.shading = Frame(hit.shading_normal, tangent);
+  hit.shading = g.anisotropic ? Frame(hit.shading_normal, tangent) : Frame(hit.shading_normal);
   return true;
 }
 

@@ -19,6 +19,11 @@ SceneDescription with_light() {
   SceneDescription desc;
   desc.source = "frame-test";
   desc.materials.push_back({"grey", make_lambertian(Rgb(0.5f))});
+  // Material 1 is anisotropic: only such BSDFs make the frame follow dp/du.
+  desc.materials.push_back(
+      {"brushed", make_rough_conductor(make_constant_texture(Rgb(0.1f)), Rgb(0.2f), Rgb(3.0f),
+                                       make_constant_texture(Rgb(1.0f)), MicrofacetType::Ggx,
+                                       make_constant_texture(Rgb(0.4f)))});
   desc.camera.to_world = look_at_matrix(Vec3(0, 0, -20), Vec3(0, 0, 0), Vec3(0, 1, 0));
   desc.camera.width = desc.camera.height = 8;
   MeshDesc light = make_rectangle_mesh(glm::translate(Mat4(1.0f), Vec3(0, 100, 0)));
@@ -58,7 +63,7 @@ TEST(ShadingFrame, GramSchmidtOfTheTangent) {
 
 TEST(ShadingFrame, SphereFollowsItsParallels) {
   SceneDescription desc = with_light();
-  desc.spheres.push_back({"ball", Vec3(1, 2, 3), 2.0f, 0, Rgb(0.0f), false});
+  desc.spheres.push_back({"ball", Vec3(1, 2, 3), 2.0f, 1, Rgb(0.0f), false});
   const auto scene = Scene::build(desc);
   for (const Vec3 target : {Vec3(1.5f, 2.5f, 3.0f), Vec3(0.2f, 1.1f, 3.0f), Vec3(1.0f, 3.9f, 3.0f)}) {
     SurfaceHit hit;
@@ -75,7 +80,7 @@ TEST(ShadingFrame, MeshWithUvsFollowsIncreasingU) {
   SceneDescription desc = with_light();
   MeshDesc quad;
   quad.name = "quad";
-  quad.material = 0;
+  quad.material = 1;
   quad.positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
   quad.indices = {0, 1, 2, 0, 2, 3};
   // u grows along +y, v along -x: the frame's s must point along +y whatever the winding.
@@ -99,7 +104,7 @@ TEST(ShadingFrame, MeshWithoutUvsUsesTheFirstEdge) {
   SceneDescription desc = with_light();
   MeshDesc tri;
   tri.name = "tri";
-  tri.material = 0;
+  tri.material = 1;
   tri.positions = {{-1, -1, 0}, {1, 0, 0}, {-1, 1, 0}};
   tri.indices = {0, 1, 2};
   desc.meshes.push_back(tri);
@@ -108,4 +113,17 @@ TEST(ShadingFrame, MeshWithoutUvsUsesTheFirstEdge) {
   ASSERT_TRUE(scene->intersect(Ray{Vec3(-0.5f, 0.0f, 5.0f), Vec3(0, 0, -1)}, hit));
   expect_orthonormal(hit.shading);
   expect_near(hit.shading.s, glm::normalize(Vec3(2, 1, 0)));  // p1 - p0, as Mitsuba
+}
+
+TEST(ShadingFrame, IsotropicBsdfsKeepTheNormalsOwnFrame) {
+  // Turning the frame about the normal changes nothing an isotropic BSDF returns, so those
+  // keep the normal's own frame (and the random streams of every existing render).
+  SceneDescription desc = with_light();
+  desc.spheres.push_back({"ball", Vec3(1, 2, 3), 2.0f, 0, Rgb(0.0f), false});
+  const auto scene = Scene::build(desc);
+  SurfaceHit hit;
+  ASSERT_TRUE(scene->intersect(Ray{Vec3(1.5f, 2.5f, -10.0f), Vec3(0, 0, 1)}, hit));
+  const Frame own(hit.shading_normal);
+  expect_near(hit.shading.s, own.s);
+  expect_near(hit.shading.t, own.t);
 }

@@ -63,6 +63,10 @@ class Bsdf {
   // Union of the flags of every lobe this BSDF has.
   virtual uint32_t lobes() const = 0;
   virtual std::string name() const = 0;
+  // Whether the BSDF changes when the shading frame turns about the normal (anisotropic
+  // roughness). Only then must a surface's frame follow dp/du as Mitsuba's does; any other
+  // BSDF sees the same expectation in any frame, and keeps the normal's own.
+  virtual bool is_anisotropic() const { return false; }
 
   bool has_delta_lobe() const { return (lobes() & kLobeSpecular) != 0; }
   bool is_purely_delta() const {

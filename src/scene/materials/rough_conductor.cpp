@@ -57,6 +57,7 @@ class RoughConductor final : public Bsdf {
   }
 
   uint32_t lobes() const override { return kLobeGlossy | kLobeReflection; }
+  bool is_anisotropic() const override { return alpha_v_.has_value(); }
   std::string name() const override {
     return type_ == MicrofacetType::Ggx        ? "rough_conductor"
            : type_ == MicrofacetType::Beckmann ? "rough_conductor_beckmann"

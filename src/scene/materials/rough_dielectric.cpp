@@ -91,6 +91,7 @@ class RoughDielectric final : public Bsdf {
   uint32_t lobes() const override {
     return kLobeGlossy | kLobeReflection | kLobeTransmission;
   }
+  bool is_anisotropic() const override { return alpha_v_.has_value(); }
   std::string name() const override {
     return type_ == MicrofacetType::Ggx        ? "rough_dielectric"
            : type_ == MicrofacetType::Beckmann ? "rough_dielectric_beckmann"

@@ -32,6 +32,7 @@ class TwoSided final : public Bsdf {
   }
 
   uint32_t lobes() const override { return inner_->lobes(); }
+  bool is_anisotropic() const override { return inner_->is_anisotropic(); }
   std::string name() const override { return "two_sided(" + inner_->name() + ")"; }
 
  private:
