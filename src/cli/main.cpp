@@ -8,6 +8,7 @@
 
 #include "cli/commands.h"
 #include "cli/compare_command.h"
+#include "cli/readable_range.h"
 #include "emlt/core/error.h"
 
 int main(int argc, char** argv) {
@@ -34,7 +35,7 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);
-    std::fprintf(stderr, "emlt: error: %s\n", e.what());
+    std::fprintf(stderr, "emlt: error: %s\n", emlt::cli::readable_parse_error(e.what()).c_str());
     return 2;
   }
 

@@ -1,9 +1,12 @@
+#include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fmt/core.h>
 
 #include "cli/commands.h"
 #include "cli/fidelity.h"
 #include "cli/mlt_report.h"
+#include "cli/readable_range.h"
 #include "emlt/mcmc/mlt_integrator.h"
 #include "emlt/render/convergence_log.h"
 #include "emlt/render/image_metrics.h"
@@ -47,52 +50,62 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
   command.add_option("scene", o.scene, "Scene file (.json or Mitsuba .xml)")->required();
   command.add_option("-o,--output", o.output, "Output image (.exr, .pfm, .png, .hdr)");
   command.add_option("--integrator", s.integrator, "direct | pt | bdpt | mlt | gamlt | emlt");
-  command.add_option("--spp", s.spp, "Samples per pixel")->check(CLI::Range(1, 1 << 24));
+  command.add_option("--spp", s.spp, "Samples per pixel")
+      ->check(whole_number(1, kMaxSpp, "a whole number from 1 to 2^24 (about 16.8 million)"));
   command.add_option("--time", s.time_limit_s, "Time budget in seconds (renders until spent)")
-      ->check(CLI::PositiveNumber);
-  command.add_option("--seed", s.seed, "Random seed (same seed, same image)");
+      ->check(real_number(0.0, true, kMaxTimeSeconds,
+                          "a positive number of seconds, at most 30 days"));
+  command.add_option("--seed", s.seed, "Random seed (same seed, same image)")
+      ->check(whole_number(0, INT64_MAX, "a whole number from 0 to 2^63 - 1"));
   command.add_option("--threads", s.threads, "Worker threads (0 = all cores)")
-      ->check(CLI::Range(0, 4096));
-  command.add_option("--width", s.width, "Image width in pixels")->check(CLI::Range(1, 16384));
-  command.add_option("--height", s.height, "Image height in pixels")->check(CLI::Range(1, 16384));
+      ->check(whole_number(0, kMaxThreads, "1..1024, or 0 for all cores"));
+  command.add_option("--width", s.width, "Image width in pixels")
+      ->check(whole_number(1, 16384, "a whole number of pixels from 1 to 16384"));
+  command.add_option("--height", s.height, "Image height in pixels")
+      ->check(whole_number(1, 16384, "a whole number of pixels from 1 to 16384"));
   command.add_option("--max-depth", s.max_depth, "Longest path in segments (-1 = unlimited)")
-      ->check(CLI::Range(-1, 100000));
+      ->check(whole_number(-1, 100000, "a whole number from 0 to 100000, or -1 for unlimited"));
   command.add_option("--rr-depth", s.rr_depth, "Segments before Russian roulette starts")
-      ->check(CLI::Range(1, 100000));
+      ->check(whole_number(1, 100000, "a whole number from 1 to 100000"));
   command.add_option("--mis", o.mis, "MIS heuristic")->check(CLI::IsMember({"balance", "power"}));
   command.add_option("--direct-samples", s.direct_samples,
                      "Light and BSDF samples per direct-lighting estimate")
-      ->check(CLI::Range(1, 1 << 16));
+      ->check(whole_number(1, 1 << 16, "a whole number from 1 to 65536"));
   command.add_option("--direct-sampler", o.direct_point_set,
                      "Point set for direct lighting: independent | fibonacci")
       ->check(CLI::IsMember({"independent", "fibonacci"}));
   command.add_option("--bdpt-strategies", s.bdpt_strategies_dir,
                      "bdpt: also write each strategy's MIS-weighted image (s<s>_t<t>.exr) here");
   command.add_option("--mpp", s.mutations_per_pixel, "mlt: mutations per pixel")
-      ->check(CLI::PositiveNumber);
+      ->check(real_number(0.0, true, kMaxSpp,
+                          "a positive number, at most 2^24 (about 16.8 million)"));
   command.add_option("--chains", s.chains, "mlt: independent chains (0 = from the budget)")
-      ->check(CLI::Range(0, 1 << 20));
+      ->check(whole_number(0, 1 << 20,
+                           "1 to 2^20 (about a million), or 0 to choose from the budget"));
   command.add_option("--bootstrap", s.bootstrap_samples, "mlt: BDPT samples for b and the seeds")
-      ->check(CLI::Range(1, 1 << 30));
+      ->check(whole_number(1, kMaxBootstrapSamples,
+                           "a whole number from 1 to 2^24 (about 16.8 million)"));
   command.add_option("--mutations", s.mutations,
                      "mlt/gamlt/emlt: strategy mix, e.g. bidir=3,lens=2, or a preset: mlt, gamlt, emlt, "
                      "emlt-ani, emlt-lin (default: the integrator's own)");
   command.add_option("--ensemble-size", s.ensemble_size,
                      "emlt: paths in each ensemble, |X| = |Y| (0 = 16384, fewer on small images)")
-      ->check(CLI::Range(0, 1 << 17));
+      ->check(whole_number(0, 1 << 17, "1 to 131072, or 0 for the default"));
   command.add_option("--ensemble-neighbours", s.ensemble_neighbours,
                      "emlt: guide paths of one step (M, default 8)")
-      ->check(CLI::Range(1, 64));
+      ->check(whole_number(1, 64, "a whole number from 1 to 64"));
   command.add_option("--ensemble-iterations", s.ensemble_iterations,
                      "emlt: steps per path between swaps (0 = W*H / (|X|+|Y|))")
-      ->check(CLI::Range(0, 1 << 20));
+      ->check(whole_number(0, 1 << 20,
+                           "1 to 2^20 (about a million), or 0 for the image's pixels per path"));
   command.add_option("--ensemble-alpha", s.ensemble_alpha,
                      "emlt: fixed stretch scale alpha of the linear kernels (0 = adaptive, paper 3.4)")
-      ->check(CLI::Range(0.0, 100.0));
+      ->check(real_number(0.0, false, 100.0, "a number from 0 (adaptive) to 100"));
   command.add_option("--ensemble-similarity-length", s.ensemble_similarity_length,
                      "emlt: length (scene units) dividing distances in the path similarity "
                      "(0 = the paper's literal 1)")
-      ->check(CLI::Range(0.0, 1e30));
+      ->check(real_number(0.0, false, HUGE_VAL,
+                          "a positive length, or 0 for the paper's literal 1"));
   command.add_option("--ensemble-aniso-fallback", o.aniso_fallback,
                      "emlt: the anisotropic kernel's fallback when a fit is unusable: the paper's "
                      "vMF about the previous vertex's direction, or an isotropic Gaussian on the "
@@ -106,7 +119,7 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
       ->check(CLI::IsMember({"separate", "mlt"}));
   command.add_option("--direct-spp", s.direct_spp,
                      "mlt: samples of the separate direct image (default: the mutations per pixel)")
-      ->check(CLI::Range(1, 1 << 20));
+      ->check(whole_number(1, 1 << 20, "a whole number from 1 to 2^20 (about a million)"));
   command.add_option("--stats", s.stats_path, "mlt: write statistics as JSON to this file");
   command.add_option("--reference", o.reference, "Reference image for error metrics");
   command.add_option("--log", o.log,

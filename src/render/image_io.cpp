@@ -64,6 +64,22 @@ float linear_to_srgb(float c) {
   return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
 }
 
+// Every reader checks the size its header claims against these before it allocates or
+// decodes anything, so a corrupt or hostile header cannot ask for gigabytes. 32768 x
+// 16384 (a large environment map) still fits: 2^29 texels are 6 GiB as float RGB.
+constexpr int64_t kMaxImageSide = 65536;
+constexpr int64_t kMaxImageTexels = int64_t(1) << 29;
+
+void check_image_size(const std::string& path, int64_t width, int64_t height) {
+  if (width <= 0 || height <= 0) throw file_error(path, "image has zero size");
+  // The sides first, so that their product cannot overflow.
+  if (width > kMaxImageSide || height > kMaxImageSide || width * height > kMaxImageTexels)
+    throw file_error(path, "header claims " + std::to_string(width) + " x " +
+                               std::to_string(height) +
+                               " texels; images may have at most 65536 texels a side and "
+                               "about 537 million in all");
+}
+
 // ---- OpenEXR ---------------------------------------------------------------------------
 
 // Finds a channel by its base name, with or without a layer prefix ("R" or "diffuse.R"),
@@ -85,8 +101,7 @@ Image read_exr(const std::string& path) {
   const Imath::Box2i window = file.header().dataWindow();
   const int64_t width = int64_t(window.max.x) - window.min.x + 1;
   const int64_t height = int64_t(window.max.y) - window.min.y + 1;
-  if (width <= 0 || height <= 0) throw file_error(path, "image has zero size");
-  if (width * height > (int64_t(1) << 31)) throw file_error(path, "image is too large");
+  check_image_size(path, width, height);
 
   const Imf::ChannelList& channels = file.header().channels();
   const char* r = find_channel(channels, "R");
@@ -151,8 +166,7 @@ Image read_pfm(const std::string& path) {
   double scale = 0.0;
   in >> magic >> width >> height >> scale;
   if (!in || (magic != "PF" && magic != "Pf")) throw file_error(path, "not a PFM file");
-  if (width <= 0 || height <= 0) throw file_error(path, "image has zero size");
-  if (width * height > (1LL << 31)) throw file_error(path, "image is too large");
+  check_image_size(path, width, height);
   if (scale == 0.0 || !std::isfinite(scale)) throw file_error(path, "malformed PFM scale");
   in.get();  // the single whitespace byte that ends the header
 
@@ -212,7 +226,32 @@ void write_pfm(const std::string& path, const Image& image) {
 
 // ---- stb formats (Radiance .hdr, PNG/JPEG) ------------------------------------------------
 
+// The size from the header alone (stbi_info decodes no pixels). stb refuses a PNG
+// header it finds too large as "too large", without the size: that is read here from
+// the IHDR chunk, which the format puts first. Any other header stb cannot read is left
+// to the decoder, which says why.
+void check_stb_image_size(const std::string& path) {
+  int width = 0, height = 0, components = 0;
+  if (stbi_info(path.c_str(), &width, &height, &components)) {
+    check_image_size(path, width, height);
+    return;
+  }
+  unsigned char header[24] = {};
+  std::ifstream in(path, std::ios::binary);
+  in.read(reinterpret_cast<char*>(header), sizeof(header));
+  static const unsigned char kPngIhdr[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (in.gcount() != std::streamsize(sizeof(header)) ||
+      std::memcmp(header, kPngIhdr, sizeof(kPngIhdr)) != 0 || std::memcmp(header + 12, "IHDR", 4))
+    return;
+  const auto big_endian = [&](int at) {
+    return int64_t(header[at]) << 24 | int64_t(header[at + 1]) << 16 |
+           int64_t(header[at + 2]) << 8 | int64_t(header[at + 3]);
+  };
+  check_image_size(path, big_endian(16), big_endian(20));
+}
+
 Image read_hdr(const std::string& path) {
+  check_stb_image_size(path);
   int width = 0, height = 0, components = 0;
   float* data = stbi_loadf(path.c_str(), &width, &height, &components, 3);
   if (!data) {
@@ -226,6 +265,7 @@ Image read_hdr(const std::string& path) {
 }
 
 Image read_ldr(const std::string& path) {
+  check_stb_image_size(path);
   int width = 0, height = 0, components = 0;
   unsigned char* data = stbi_load(path.c_str(), &width, &height, &components, 3);
   if (!data) {

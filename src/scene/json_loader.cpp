@@ -30,7 +30,7 @@ class JsonSceneReader {
     json root;
     try {
       root = json::parse(loader::read_text_file(path_));
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {  // parse_error, and out_of_range for 1e999
       fail("", std::string("malformed JSON: ") + e.what());
     }
     if (!root.is_object()) fail("", "the top level must be a JSON object");
@@ -113,9 +113,12 @@ class JsonSceneReader {
 
   float number(const json& v, const std::string& where) const {
     if (!v.is_number()) fail(where, "expected a number");
-    const auto x = v.get<double>();
-    if (!std::isfinite(x)) fail(where, "expected a finite number");
-    return float(x);
+    // Checked after the conversion: 1e39 is a finite double but an infinite float.
+    const auto x = float(v.get<double>());
+    if (!std::isfinite(x))
+      fail(where, "expected a finite number, not NaN or infinite (single precision reaches "
+                  "about +-3.4e38)");
+    return x;
   }
 
   float number(const json& obj, const char* key, const std::string& where, float fallback) const {
@@ -125,7 +128,12 @@ class JsonSceneReader {
   int integer(const json& obj, const char* key, const std::string& where, int fallback) const {
     if (!obj.contains(key)) return fallback;
     if (!obj[key].is_number_integer()) fail(where + "." + key, "expected an integer");
-    return obj[key].get<int>();
+    // get<int> would wrap a larger one silently (10^12 pixels into a negative width).
+    const bool fits = obj[key].is_number_unsigned()
+                          ? obj[key].get<uint64_t>() <= uint64_t(INT32_MAX)
+                          : obj[key].get<int64_t>() >= INT32_MIN && obj[key].get<int64_t>() <= INT32_MAX;
+    if (!fits) fail(where + "." + key, "expected an integer within +-2^31 (about 2.1 billion)");
+    return int(obj[key].get<int64_t>());
   }
 
   bool boolean(const json& obj, const char* key, const std::string& where, bool fallback) const {
@@ -335,7 +343,8 @@ class JsonSceneReader {
     s.max_depth = integer(i, "max_depth", "integrator", s.max_depth);
     s.rr_depth = integer(i, "rr_depth", "integrator", s.rr_depth);
     s.spp = integer(i, "spp", "integrator", s.spp);
-    if (s.spp < 1) fail("integrator.spp", "must be at least 1");
+    if (s.spp < 1 || s.spp > kMaxSpp)
+      fail("integrator.spp", "must be a whole number from 1 to 2^24 (about 16.8 million)");
     if (s.max_depth < -1) fail("integrator.max_depth", "must be -1 (unlimited) or >= 0");
   }
 
@@ -482,6 +491,7 @@ class JsonSceneReader {
           loader::resolve_path(path_, string(required(s, "file", where), where + ".file"));
       mesh = load_obj_mesh(file, to_world, boolean(s, "smooth_normals", where, false),
                            &desc_.warnings, boolean(s, "flip_tex_coords", where, true));
+      loader::drop_non_finite_triangles(desc_, mesh, file);
     } else {
       check_keys(s, where, {"type", "name", "transform", "material", "emission", "flip_normals"});
       if (type == "rectangle")

@@ -108,5 +108,57 @@ void transform_sphere(SphereDesc& sphere, const Mat4& to_world, const std::strin
   sphere.radius *= mean;
 }
 
+void drop_non_finite_triangles(SceneDescription& desc, MeshDesc& mesh, const std::string& file) {
+  const bool has_normals = mesh.normals.size() == mesh.positions.size();
+  const bool has_uvs = mesh.uvs.size() == mesh.positions.size();
+  auto finite_vertex = [&](uint32_t v) {
+    // Indices out of range are Scene::build's to report; they are kept here.
+    return v >= mesh.positions.size() ||
+           (is_finite(mesh.positions[v]) && (!has_normals || is_finite(mesh.normals[v])) &&
+            (!has_uvs || (std::isfinite(mesh.uvs[v].x) && std::isfinite(mesh.uvs[v].y))));
+  };
+  std::vector<uint32_t> kept;
+  kept.reserve(mesh.indices.size());
+  size_t dropped = 0;
+  for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
+    const uint32_t* corner = &mesh.indices[i];
+    if (finite_vertex(corner[0]) && finite_vertex(corner[1]) && finite_vertex(corner[2]))
+      kept.insert(kept.end(), corner, corner + 3);
+    else
+      ++dropped;
+  }
+  if (dropped == 0) return;
+  if (kept.empty())
+    throw file_error(file, "every triangle (" + std::to_string(dropped) +
+                               ") has a NaN or infinite vertex position, normal or texture "
+                               "coordinate; no triangle is left");
+
+  // Renumber the vertices still used, so that no non-finite one reaches the scene (a
+  // planar uv projection, for one, spans every vertex of a mesh).
+  constexpr uint32_t kUnused = UINT32_MAX;
+  std::vector<uint32_t> renumbered(mesh.positions.size(), kUnused);
+  MeshDesc compact;
+  for (uint32_t& v : kept) {
+    if (v >= mesh.positions.size()) continue;
+    if (renumbered[v] == kUnused) {
+      renumbered[v] = uint32_t(compact.positions.size());
+      compact.positions.push_back(mesh.positions[v]);
+      if (has_normals) compact.normals.push_back(mesh.normals[v]);
+      if (has_uvs) compact.uvs.push_back(mesh.uvs[v]);
+    }
+    v = renumbered[v];
+  }
+  mesh.positions = std::move(compact.positions);
+  if (has_normals) mesh.normals = std::move(compact.normals);
+  if (has_uvs) mesh.uvs = std::move(compact.uvs);
+  mesh.indices = std::move(kept);
+
+  const std::string message = file + ": " + std::to_string(dropped) +
+                              " triangles with non-finite vertices dropped (a NaN or infinite "
+                              "position, normal or texture coordinate)";
+  desc.warnings.push_back(message);
+  desc.divergences.push_back({Divergence::Kind::Unsupported, message});
+}
+
 }  // namespace loader
 }  // namespace emlt

@@ -38,4 +38,13 @@ int material_index(SceneDescription& desc, const MaterialDesc& material);
 void transform_sphere(SphereDesc& sphere, const Mat4& to_world, const std::string& where,
                       std::vector<std::string>& warnings);
 
+// The one check every mesh read from a file goes through (OBJ, serialized, PLY; from
+// JSON and Mitsuba scenes alike), after its transform and normal computation: drops each
+// triangle with a NaN or infinite position, normal or texture coordinate at a corner,
+// and the vertices only those used. The normal computation skips such triangles, so the
+// finite ones keep their normals. A drop is a warning and an unsupported divergence
+// ("<file>: N triangles with non-finite vertices dropped"), so --strict refuses it;
+// throws "<file>: ..." when it leaves the mesh with no triangle.
+void drop_non_finite_triangles(SceneDescription& desc, MeshDesc& mesh, const std::string& file);
+
 }  // namespace emlt::loader

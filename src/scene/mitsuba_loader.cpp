@@ -239,7 +239,8 @@ class MitsubaSceneReader {
   void read_sampler(pugi::xml_node node) {
     Properties props(doc_, node);
     desc_.defaults.spp = props.get_integer("sampleCount", desc_.defaults.spp);
-    if (desc_.defaults.spp < 1) doc_.fail(node, "sampleCount must be at least 1");
+    if (desc_.defaults.spp < 1 || desc_.defaults.spp > kMaxSpp)
+      doc_.fail(node, "sampleCount must be a whole number from 1 to 2^24 (about 16.8 million)");
     props.ignore({"scramble", "dimension", "resolution", "depth"});  // sequence details only
     props.warn_unused();
   }
@@ -408,17 +409,20 @@ class MitsubaSceneReader {
       // Mitsuba flips OBJ texture coordinates by default (v = 0 at the image's top).
       const bool flip_uv = props.get_boolean("flipTexCoords", true);
       mesh = load_obj_mesh(file, to_world, !face_normals, &desc_.warnings, flip_uv);
+      loader::drop_non_finite_triangles(desc_, mesh, file);
     } else if (type == "rectangle") {
       mesh = make_rectangle_mesh(to_world);
     } else if (type == "serialized") {
       if (!props.has("filename")) doc_.fail(node, "<shape type=\"serialized\"> needs a 'filename'");
       const std::string file = loader::resolve_path(doc_.path(), props.get_string("filename", ""));
       mesh = load_serialized_mesh(file, props.get_integer("shapeIndex", 0), to_world);
+      loader::drop_non_finite_triangles(desc_, mesh, file);
       read_mesh_normal_options(node, props, mesh, flip);
     } else if (type == "ply") {
       if (!props.has("filename")) doc_.fail(node, "<shape type=\"ply\"> needs a 'filename'");
       const std::string file = loader::resolve_path(doc_.path(), props.get_string("filename", ""));
       mesh = load_ply_mesh(file, to_world, &desc_.warnings);
+      loader::drop_non_finite_triangles(desc_, mesh, file);
       read_mesh_normal_options(node, props, mesh, flip);
       props.ignore({"srgb"});  // how vertex colours are read; they are not used
     } else if (type == "cylinder") {

@@ -167,6 +167,9 @@ int Properties::get_integer(const std::string& name, int fallback) {
   if (!node) return fallback;
   const float value = doc_.to_float(node, doc_.attribute(node, "value"));
   if (value != std::floor(value)) doc_.fail(node, "'" + name + "' must be an integer");
+  // Converting a float beyond int's range is undefined; 2^31 itself is a float exactly.
+  if (!(std::abs(value) < 2147483648.0f))
+    doc_.fail(node, "'" + name + "' must be an integer within +-2^31 (about 2.1 billion)");
   return int(value);
 }
 
@@ -197,11 +200,16 @@ Rgb Properties::get_color(const std::string& name, const Rgb& fallback) {
   // (src/librender/scenehandler.cpp; the conversions are described in spectrum.h).
   // Errors of the spectrum module are reported against this element's line.
   auto convert = [&](auto&& conversion) -> Rgb {
+    Rgb rgb(0.0f);
     try {
-      return conversion();
+      rgb = conversion();
     } catch (const std::exception& e) {
       doc_.fail(node, e.what());
     }
+    // Finite inputs can still overflow (a blackbody scaled by 1e38): refused here, at the
+    // element's line, rather than as an emitter's or material's NaN much later.
+    if (!is_finite(rgb)) doc_.fail(node, "'" + name + "' gives a NaN or infinite colour");
+    return rgb;
   };
   if (kind == "blackbody") {
     // Temperature in kelvin, with an optional trailing 'K'.
@@ -368,6 +376,8 @@ Mat4 Properties::get_transform(const std::string& name) {
     }
     if (!is_finite_matrix(step)) doc_.fail(op, "transform contains NaN or infinite values");
     m = step * m;
+    // Finite steps can still overflow together (two scales by 1e30).
+    if (!is_finite_matrix(m)) doc_.fail(op, "transform overflows to NaN or infinite values");
   }
   return m;
 }

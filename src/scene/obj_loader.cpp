@@ -2,7 +2,10 @@
 
 #include <tiny_obj_loader.h>
 
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <sstream>
 #include <tuple>
@@ -21,6 +24,42 @@ std::string first_line(const std::string& text) {
   while (std::getline(stream, line))
     if (!line.empty()) return line;
   return text;
+}
+
+// tinyobjloader reads "nan" and "inf" as 0 without a word, which moves a vertex instead
+// of flagging it. This re-reads the v, vn and vt lines and puts back each coordinate
+// that strtod reads as NaN or infinite, so that the loader's non-finite check
+// (loader::drop_non_finite_triangles) sees it. Left alone when the counts disagree with
+// tinyobjloader's (a line format this scan does not follow).
+void restore_non_finite(const std::string& path, std::vector<float>& vertices,
+                        std::vector<float>& normals, std::vector<float>& texcoords) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  struct Kind {
+    const char* tag;
+    std::vector<float>* values;
+    size_t per_line;
+    std::vector<std::pair<size_t, float>> found;
+    size_t lines = 0;
+  } kinds[] = {{"v", &vertices, 3, {}, 0}, {"vn", &normals, 3, {}, 0}, {"vt", &texcoords, 2, {}, 0}};
+  while (std::getline(in, line)) {
+    std::istringstream words(line);
+    std::string tag;
+    words >> tag;
+    for (Kind& kind : kinds) {
+      if (tag != kind.tag) continue;
+      std::string word;
+      for (size_t k = 0; k < kind.per_line && words >> word; ++k) {
+        const double value = std::strtod(word.c_str(), nullptr);
+        if (!std::isfinite(value)) kind.found.emplace_back(kind.lines * kind.per_line + k, float(value));
+      }
+      ++kind.lines;
+    }
+  }
+  for (Kind& kind : kinds) {
+    if (kind.lines * kind.per_line != kind.values->size()) continue;
+    for (const auto& [at, value] : kind.found) (*kind.values)[at] = value;
+  }
 }
 
 }  // namespace
@@ -44,7 +83,8 @@ MeshDesc load_obj_mesh(const std::string& path, const Mat4& to_world, bool smoot
         warnings->push_back(path + ": " + line);
   }
 
-  const tinyobj::attrib_t& attrib = reader.GetAttrib();
+  tinyobj::attrib_t attrib = reader.GetAttrib();
+  restore_non_finite(path, attrib.vertices, attrib.normals, attrib.texcoords);
   const auto vertex_count = int(attrib.vertices.size() / 3);
   const auto normal_count = int(attrib.normals.size() / 3);
   const auto uv_count = int(attrib.texcoords.size() / 2);

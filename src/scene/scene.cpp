@@ -136,8 +136,10 @@ std::vector<Vec2> planar_uvs(const std::vector<Vec3>& positions) {
   return uvs;
 }
 
+// The film's limit, stated in words in validate_camera; 16384 x 16384 (2^28 pixels) is
+// 3 GiB of float RGB per film, and the MCMC integrators keep several.
 constexpr int kMaxResolution = 16384;
-constexpr int64_t kMaxPixels = int64_t(1) << 28;
+constexpr int64_t kMaxPixels = int64_t(kMaxResolution) * kMaxResolution;
 
 // Embree reports errors through a callback; the build collects them and fails on any.
 struct EmbreeErrors {
@@ -157,8 +159,8 @@ void validate_camera(const SceneDescription& desc) {
   if (camera.width <= 0 || camera.height <= 0 || camera.width > kMaxResolution ||
       camera.height > kMaxResolution || int64_t(camera.width) * camera.height > kMaxPixels)
     throw file_error(desc.source, "unusable image resolution " + std::to_string(camera.width) +
-                                      "x" + std::to_string(camera.height) + " (each side 1.." +
-                                      std::to_string(kMaxResolution) + ", at most 2^28 pixels)");
+                                      "x" + std::to_string(camera.height) +
+                                      " (each side must be 1 to 16384 pixels)");
   if (!is_finite_matrix(camera.to_world))
     throw file_error(desc.source, "camera transform contains NaN or infinite values");
   if (!(camera.fov_degrees > 0.0f && camera.fov_degrees < 180.0f))

@@ -7,6 +7,14 @@ namespace emlt {
 
 class SnapshotSink;
 
+// Limits the command line and the scene files share. Beyond them a render could not
+// finish in any useful time, or its counters (samples x pixels in 64 bits) and buffers
+// (bootstrap candidates) would overflow memory, so they are refused before it starts.
+inline constexpr int kMaxSpp = 1 << 24;                   // samples (and mutations) per pixel
+inline constexpr int kMaxBootstrapSamples = 1 << 24;
+inline constexpr int kMaxThreads = 1024;                  // 0 means every core TBB may use
+inline constexpr double kMaxTimeSeconds = 30.0 * 86400.0;  // --time: 30 days
+
 enum class MisHeuristic { Balance, Power };
 enum class DirectPointSet { Independent, Fibonacci };
 
