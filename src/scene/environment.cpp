@@ -87,19 +87,44 @@ float ConstantEnvironment::pdf_direction(const Vec3& w) const {
 // ---------------------------------------------------------------------------------------
 // EnvironmentMap
 //
-// Design choice: radiance lookup is nearest-texel, and texels of zero luminance get zero
-// sampling probability (no floor). The sampled density is then positive exactly where the
-// looked-up radiance is non-zero, so environment sampling alone is an unbiased estimator
-// of any integral of the map. Bilinear lookup would smear bright texels into black
-// neighbours that the table never samples (bias for light-only strategies such as BDPT's
-// s=1 connections), and a probability floor would only trade that bias for variance.
-// Negative and non-finite texels are clamped to zero at construction, so "zero luminance"
-// and "black" coincide (the Rec. 709 weights are all positive).
+// Radiance is Mitsuba 0.6's envmap lookup (emitters/envmap.cpp, evalBilinear(0, uv) of
+// render/mipmap.h): bilinear interpolation of the level-0 texels, texel (i, j) centred at
+// ((i + 0.5) / W, (j + 0.5) / H), repeating in u and clamped in v. (Mitsuba filters
+// camera rays with ray differentials by EWA instead, but where a pixel's footprint is
+// under one texel, as a lat-long map of ordinary resolution presents it to a camera away
+// from the poles, its EWA falls back to this same bilinear lookup. Not reproduced: EWA
+// where a pixel covers more than a texel, i.e. directly seen sky of a high-resolution
+// map, or close to a pole, where a pixel spans many texel columns.)
+//
+// Sampling follows Mitsuba's construction, made exact at the poles: pick texel (i, j)
+// with probability P_ij proportional to luminance x sin(theta_j) (theta_j at the row's
+// centre), then offset the texel centre by a tent-distributed amount in each axis. In
+// pixel units the density is then sum_ij P_ij tent(x - i) tent(y - j), which is exactly
+// the bilinear interpolation of P at the sample, with the same taps and weights as the
+// radiance lookup. Wrapping x around the seam makes it the repeat-in-u interpolation.
+// Where a tent leaves the map over a pole, Mitsuba lets theta go negative (the sample
+// lands mirrored across the pole, half a map away in phi) although its pdf assumes
+// clamping; here the overshoot is reflected back into the same column instead, and the
+// reflected tent adds up to a constant across the last half row, which is exactly the
+// clamp-in-v interpolation. So the sampled density is the bilinear interpolation of P
+// everywhere, and pdf_direction() evaluates exactly that (over the lat-long Jacobian).
+//
+// The density is positive wherever the radiance is: both blend the same taps with the
+// same positive weights, and a tap has P_ij > 0 exactly when its texel is not black
+// (positive Rec. 709 weights, sin(theta_j) > 0 at row centres; barring float underflow
+// of texels ~1e-38 below the map's total). Negative and non-finite
+// texels are clamped to zero at construction (Mitsuba clamps negatives too), so black and
+// zero luminance coincide.
 
 namespace {
 
 inline float texel_sin_theta(int row, int height) {
   return std::sin(kPi * (float(row) + 0.5f) / float(height));
+}
+
+// Inverse CDF of the tent density 1 - |t| on [-1, 1] (Mitsuba's squareToTent, per axis).
+inline float sample_tent(float u) {
+  return u < 0.5f ? std::sqrt(2.0f * u) - 1.0f : 1.0f - std::sqrt(2.0f - 2.0f * u);
 }
 
 }  // namespace
@@ -116,29 +141,64 @@ EnvironmentMap::EnvironmentMap(Image map, float scale, const Mat3& to_world)
   const int width = map_.width, height = map_.height;
   if (width <= 0 || height <= 0) return;  // empty map: black sky, never sampled
 
-  // Texel weight = luminance x sin(theta at the texel centre): the (u,v) -> direction
-  // Jacobian is 2 pi^2 sin(theta), so this makes each texel's probability proportional to
-  // its radiance times its solid angle. Within a texel (u,v) is uniform, so the exact
-  // solid-angle density is the table's (u,v) density over 2 pi^2 sin(theta) of the
-  // direction itself, which is what pdf_direction() computes.
+  // Texel weight = luminance x sin(theta at the row centre), Mitsuba's table: the
+  // (u,v) -> direction Jacobian is 2 pi^2 sin(theta), so this makes each texel's
+  // probability roughly proportional to its radiance times its solid angle. Exactness
+  // does not depend on the choice: pdf_direction() uses the same P.
   // to_world is assumed to be a rotation: a rotation needs no extra Jacobian.
-  std::vector<float> weights(size_t(width) * size_t(height));
+  std::vector<float> row_mass(static_cast<size_t>(height));
+  columns_.reserve(size_t(height));
   double weighted_sum[3] = {0.0, 0.0, 0.0};
   double sin_sum = 0.0;
   for (int y = 0; y < height; ++y) {
     const float sin_theta = texel_sin_theta(y, height);
+    std::vector<float> weights(static_cast<size_t>(width));
     for (int x = 0; x < width; ++x) {
       const Rgb& texel = map_.at(x, y);
-      weights[size_t(y) * width + x] = luminance(texel) * sin_theta;
+      weights[size_t(x)] = luminance(texel) * sin_theta;
       for (int c = 0; c < 3; ++c) weighted_sum[c] += double(texel[c]) * sin_theta;
       sin_sum += sin_theta;
     }
+    columns_.emplace_back(std::move(weights));
+    row_mass[size_t(y)] = float(columns_.back().total());
   }
-  distribution_ = Distribution2D(weights, size_t(width), size_t(height));
-  // Solid-angle-weighted mean radiance (midpoint rule in theta, matching the table).
+  rows_ = Distribution1D(std::move(row_mass));
+  // The probabilities the two-stage discrete choice really has (from the same cdfs), so
+  // that the evaluated density is that of the sampler up to float round-off.
+  texel_probability_.assign(map_.pixels.size(), 0.0f);
+  if (!rows_.empty_mass()) {
+    for (int y = 0; y < height; ++y) {
+      const double row_pmf = rows_.pmf(size_t(y));
+      for (int x = 0; x < width; ++x) {
+        texel_probability_[size_t(y) * width + x] =
+            float(row_pmf * double(columns_[size_t(y)].pmf(size_t(x))));
+      }
+    }
+  }
+  // Solid-angle-weighted mean radiance (midpoint rule in theta, matching the table): used
+  // for light selection only, so the few-per-mille difference from the exact integral of
+  // the interpolated map does not matter.
   for (int c = 0; c < 3; ++c) {
     average_radiance_[c] = float(scale_ * weighted_sum[c] / std::max(sin_sum, 1e-30));
   }
+}
+
+EnvironmentMap::BilinearTaps EnvironmentMap::bilinear_taps(const Vec2& uv) const {
+  const int width = map_.width, height = map_.height;
+  // Texel centres at (i + 0.5) / size: pixel coordinates are u W - 0.5, v H - 0.5.
+  const float x = uv.x * float(width) - 0.5f, y = uv.y * float(height) - 0.5f;
+  const float x_floor = std::floor(x), y_floor = std::floor(y);
+  const float fx = x - x_floor, fy = y - y_floor;
+  const int x0 = int(x_floor), y0 = int(y_floor);
+  const auto column = [width](int i) {  // repeat in u (phi is periodic)
+    i %= width;
+    return size_t(i < 0 ? i + width : i);
+  };
+  const auto row = [height](int j) { return size_t(std::clamp(j, 0, height - 1)); };  // clamp in v
+  const size_t c0 = column(x0), c1 = column(x0 + 1);
+  const size_t r0 = row(y0) * size_t(width), r1 = row(y0 + 1) * size_t(width);
+  return BilinearTaps{{r0 + c0, r0 + c1, r1 + c0, r1 + c1},
+                      {(1.0f - fx) * (1.0f - fy), fx * (1.0f - fy), (1.0f - fx) * fy, fx * fy}};
 }
 
 Rgb EnvironmentMap::power() const {
@@ -151,43 +211,60 @@ Rgb EnvironmentMap::radiance(const Vec3& w) const {
   const Vec3 local = to_local_ * w;
   const float length = glm::length(local);
   if (!(length > 0.0f)) return Rgb(0.0f);
-  const Vec2 uv = direction_to_latlong(local / length);
-  const int x = std::clamp(int(uv.x * float(map_.width)), 0, map_.width - 1);
-  const int y = std::clamp(int(uv.y * float(map_.height)), 0, map_.height - 1);
-  return scale_ * map_.at(x, y);
+  const BilinearTaps taps = bilinear_taps(direction_to_latlong(local / length));
+  Rgb sum(0.0f);
+  for (int k = 0; k < 4; ++k) sum += taps.weight[k] * map_.pixels[taps.index[k]];
+  return scale_ * sum;
 }
 
 Vec3 EnvironmentMap::sample_direction(const Vec2& u, float* pdf) const {
-  if (distribution_.empty_mass() || scale_ <= 0.0f) {
+  if (!samplable()) {
     if (pdf) *pdf = 0.0f;
     return Vec3(0.0f, 1.0f, 0.0f);
   }
-  float pdf_uv = 0.0f;
-  const Vec2 uv = distribution_.sample(u, &pdf_uv);
+  const int width = map_.width, height = map_.height;
+  // u.y picks the row, u.x the column within it (Mitsuba's order); what is left of each
+  // number inside its bucket drives the tent offset along that axis.
+  float u_row = 0.0f, u_column = 0.0f;
+  const size_t row = rows_.sample_discrete(u.y, nullptr, &u_row);
+  const size_t column = columns_[row].sample_discrete(u.x, nullptr, &u_column);
+  // Pixel coordinates (texel i spans [i, i+1)), centre plus tent offset.
+  float x = float(column) + 0.5f + sample_tent(u_column);
+  float y = float(row) + 0.5f + sample_tent(u_row);
+  // Reflect overshoot past a pole back into the map (see the comment above: this is what
+  // makes the density the clamp-in-v interpolation). |overshoot| <= 1/2 < height.
+  if (y < 0.0f) y = -y;
+  else if (y > float(height)) y = 2.0f * float(height) - y;
+  // Wrap across the phi seam: x is within half a texel of [0, width].
+  float uu = x / float(width);
+  if (uu < 0.0f) uu += 1.0f;
+  else if (uu >= 1.0f) uu -= 1.0f;
+  const Vec2 uv(uu, std::clamp(y / float(height), 0.0f, 1.0f));
   const Vec3 w = glm::normalize(to_world_ * latlong_to_direction(uv));
-  // The density is re-evaluated from the returned direction rather than from (u,v): the
-  // two agree except within float round-off of a texel edge, where the (u,v) -> w -> (u,v)
-  // round trip may land in the neighbouring texel. Reporting pdf_direction(w) keeps every
-  // consumer (MIS weights, Metropolis acceptance) bit-identical for the same direction.
-  if (pdf) *pdf = pdf_uv > 0.0f ? pdf_direction(w) : 0.0f;
+  // The density is evaluated from the returned direction: it is continuous, so the
+  // (u,v) -> w -> (u,v) round trip changes it only by float round-off, and reporting
+  // pdf_direction(w) keeps every consumer (MIS weights, Metropolis acceptance)
+  // bit-identical for the same direction.
+  if (pdf) *pdf = pdf_direction(w);
   return w;
 }
 
 float EnvironmentMap::pdf_direction(const Vec3& w) const {
-  if (distribution_.empty_mass() || scale_ <= 0.0f) return 0.0f;
+  if (!samplable()) return 0.0f;
   const Vec3 local = to_local_ * w;
   const float length = glm::length(local);
   if (!(length > 0.0f)) return 0.0f;
   const Vec3 d = local / length;
-  const Vec2 uv = direction_to_latlong(d);
   // sin(theta) from the direction's horizontal part (not sin(pi v) or sqrt(1 - y^2)):
   // accurate near the poles, where acos and 1 - y^2 lose precision. At the poles the
   // Jacobian vanishes and the density is reported as 0 rather than infinite.
   const float sin_theta = std::sqrt(d.x * d.x + d.z * d.z);
   if (!(sin_theta > 0.0f)) return 0.0f;
-  const float v = std::min(uv.y, kOneMinusEpsilon);
-  const float pdf_uv = distribution_.pdf(Vec2(uv.x, v));
-  const float pdf = pdf_uv / (2.0f * kPi * kPi * sin_theta);
+  const BilinearTaps taps = bilinear_taps(direction_to_latlong(d));
+  float probability = 0.0f;  // bilinear interpolation of P: density per unit pixel area
+  for (int k = 0; k < 4; ++k) probability += taps.weight[k] * texel_probability_[taps.index[k]];
+  const float pdf = probability * float(map_.width) * float(map_.height) /
+                    (2.0f * kPi * kPi * sin_theta);
   return std::isfinite(pdf) ? pdf : 0.0f;
 }
 

@@ -1,7 +1,9 @@
 #pragma once
-// Environment emitters: a constant colour, or a lat-long map importance-sampled with a
-// piecewise-constant 2-D distribution over luminance x sin(theta). The sampler's pdf and
-// pdf_direction() agree exactly (same table, same Jacobian), which MIS and MLT require.
+// Environment emitters: a constant colour, or a lat-long map looked up by bilinear
+// interpolation (Mitsuba 0.6's envmap) and importance-sampled by a texel table over
+// luminance x sin(theta) convolved with a tent, whose density is the bilinear
+// interpolation of that table. The sampler's pdf and pdf_direction() agree exactly (same
+// table, same Jacobian), which MIS and MLT require.
 #include "emlt/core/distribution.h"
 #include "emlt/render/image.h"
 #include "emlt/scene/light.h"
@@ -61,10 +63,21 @@ class EnvironmentMap final : public EnvironmentLight {
   const Image& map() const { return map_; }
 
  private:
+  // The four texels (row-major indices) a bilinear lookup at lat-long (u, v) blends, and
+  // their weights; radiance and sampling density both interpolate through this.
+  struct BilinearTaps {
+    size_t index[4];
+    float weight[4];
+  };
+  BilinearTaps bilinear_taps(const Vec2& uv) const;
+  bool samplable() const { return !rows_.empty_mass() && scale_ > 0.0f; }
+
   Image map_;
   float scale_;
   Mat3 to_world_, to_local_;
-  Distribution2D distribution_;
+  Distribution1D rows_;                   // marginal over rows
+  std::vector<Distribution1D> columns_;   // one conditional per row
+  std::vector<float> texel_probability_;  // P(texel) of the discrete choice, row-major
   Rgb average_radiance_{0.0f};
 };
 
