@@ -210,6 +210,18 @@ class BsdfReader {
   }
 
   BsdfPtr scattering(const std::string& type, pugi::xml_node node, Properties& props) {
+    // Exporters write roughness onto smooth materials, whose Mitsuba plugins never read it:
+    // ignoring it is what Mitsuba does too.
+    if (type == "dielectric" || type == "thindielectric" || type == "conductor" ||
+        type == "plastic") {
+      for (const char* name : {"alpha", "alphaU", "alphaV", "distribution"}) {
+        if (!props.has(name)) continue;
+        props.ignore({name});
+        doc_.warn(node, std::string("parameter '") + name + "' of a smooth " + type +
+                            " ignored, as Mitsuba does (it reads no roughness)",
+                  Document::Warning::Note);
+      }
+    }
     if (type == "diffuse" || type == "roughdiffuse") {
       if (type == "roughdiffuse") {
         doc_.warn(node, "roughdiffuse approximated by a Lambertian diffuse",

@@ -199,6 +199,11 @@ class MitsubaSceneReader {
     // ldrfilm's tone mapping included: emlt writes linear radiance and a PNG preview).
     props.ignore({"banner", "pixelFormat", "componentFormat", "fileFormat", "attachLog",
                   "highQualityEdges", "tonemapMethod", "gamma", "exposure", "key", "burn"});
+    if (props.has("filename")) {  // not a Mitsuba film parameter; the output is named by -o
+      props.ignore({"filename"});
+      doc_.warn(node, "film parameter 'filename' ignored, as Mitsuba does (the output is -o)",
+                Document::Warning::Note);
+    }
     desc_.camera.filter = {PixelFilterDesc::Kind::Gaussian};  // Mitsuba's default
     for (pugi::xml_node child : props.objects()) {
       if (std::string(child.name()) == "rfilter")

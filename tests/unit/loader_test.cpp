@@ -531,3 +531,21 @@ TEST(Loader, AMediumIsUnsupportedOnlyWhereSomethingUsesIt) {
   <shape type="sphere"><ref name="interior" id="fog"/><bsdf type="dielectric"/></shape>)";
   EXPECT_NE(load_scene_description(write_file(dir, "used.xml", small_xml(used))).verdict(), "exact");
 }
+
+TEST(Loader, ParametersMitsubaItselfIgnoresKeepTheVerdictExact) {
+  const auto dir = test::scratch_dir("mitsuba-ignores");
+  // Exporters write roughness onto smooth materials and a file name into the film; Mitsuba's
+  // plugins read neither, so ignoring them renders what Mitsuba renders.
+  std::string xml = small_xml(R"(
+  <shape type="sphere"><bsdf type="dielectric"><float name="alpha" value="0.001"/></bsdf></shape>
+  <shape type="disk"><bsdf type="conductor"><float name="alpha" value="0.1"/></bsdf></shape>)");
+  xml.replace(xml.find("<rfilter"), 0, "<string name=\"filename\" value=\"out.png\"/>");
+  const SceneDescription desc = load_scene_description(write_file(dir, "scene.xml", xml));
+  EXPECT_EQ(desc.verdict(), "exact");
+  EXPECT_TRUE(any_contains(desc.warnings, "parameter 'alpha' of a smooth dielectric ignored"));
+  // On a rough material an unknown parameter is still an unsupported item.
+  xml.replace(xml.find("type=\"conductor\""), std::string("type=\"conductor\"").size(),
+              "type=\"roughconductor\"><float name=\"wobble\" value=\"1\"/");
+  EXPECT_EQ(load_scene_description(write_file(dir, "rough.xml", xml)).verdict(),
+            "unsupported: 1 item");
+}
