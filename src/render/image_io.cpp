@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <stdexcept>
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
@@ -250,8 +251,77 @@ void check_stb_image_size(const std::string& path) {
   check_image_size(path, big_endian(16), big_endian(20));
 }
 
+// stb's Radiance decoder (Debian's 2.27) loops forever on a run-length scanline holding
+// a zero count, and reads past the end of the data as zeros. So the pixel data is walked
+// here first, exactly as stb will walk it: a zero count or data that ends early is an
+// error before stb sees the file; whatever stb itself refuses is left to it.
+void check_hdr_data(const std::string& path, int64_t width, int64_t height) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto byte = [&](size_t at) { return unsigned(static_cast<unsigned char>(bytes[at])); };
+  // The header as stb reads it (stbi__hdr_gettoken): the magic line, lines up to one that
+  // is empty or starts with a NUL, then the resolution line; lines are cut at 1023 bytes.
+  size_t pos = 0;
+  const auto read_line = [&]() -> unsigned {  // the line's first byte, 0 when empty
+    const auto get8 = [&]() -> unsigned { return pos < bytes.size() ? byte(pos++) : 0u; };
+    size_t length = 0;
+    unsigned first = 0, c = get8();
+    while (pos < bytes.size() && c != '\n') {
+      if (length++ == 0) first = c;
+      if (length == 1023) {
+        while (pos < bytes.size() && get8() != '\n') {
+        }
+        break;
+      }
+      c = get8();
+    }
+    return first;
+  };
+  read_line();
+  while (read_line() != 0) {
+  }
+  read_line();
+  const Error truncated = file_error(path, "truncated or corrupt Radiance HDR pixel data");
+  // Flat (uncompressed) RGBE from `pos` on, `texels` of them.
+  const auto check_flat = [&](int64_t texels) {
+    if (int64_t(bytes.size() - pos) < 4 * texels) throw truncated;
+  };
+  if (width < 8 || width >= 32768) return check_flat(width * height);
+  for (int64_t y = 0; y < height; ++y) {
+    if (pos + 4 > bytes.size()) throw truncated;
+    if (byte(pos) != 2 || byte(pos + 1) != 2 || (byte(pos + 2) & 0x80)) {
+      return check_flat(width * height);  // stb decodes the whole image flat from here
+    }
+    if (int64_t(byte(pos + 2) << 8 | byte(pos + 3)) != width) return;  // stb refuses it
+    pos += 4;
+    for (int channel = 0; channel < 4; ++channel) {
+      for (int64_t x = 0; x < width;) {
+        if (pos >= bytes.size()) throw truncated;
+        unsigned count = byte(pos++);
+        if (count > 128) {  // a run: one value
+          count -= 128;
+          if (pos >= bytes.size()) throw truncated;
+          ++pos;
+        } else {  // literal values
+          if (count == 0) throw file_error(path, "corrupt Radiance HDR run-length data");
+          if (count <= width - x && pos + count > bytes.size()) throw truncated;
+          pos += count;
+        }
+        if (count > width - x) return;  // stb refuses it
+        x += count;
+      }
+    }
+  }
+}
+
 Image read_hdr(const std::string& path) {
   check_stb_image_size(path);
+  {
+    int width = 0, height = 0, components = 0;
+    if (stbi_info(path.c_str(), &width, &height, &components)) {
+      check_hdr_data(path, width, height);
+    }
+  }
   int width = 0, height = 0, components = 0;
   float* data = stbi_loadf(path.c_str(), &width, &height, &components, 3);
   if (!data) {

@@ -1,0 +1,7 @@
+// libFuzzer target: read_image on a .png file.
+#include "emlt/render/image.h"
+#include "fuzz_input.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  return emlt::fuzz::run(data, size, ".png", [](const std::string& path) { emlt::read_image(path); });
+}
