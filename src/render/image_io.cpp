@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <initializer_list>
 #include <iterator>
 #include <stdexcept>
 #include <stb/stb_image.h>
@@ -314,7 +315,39 @@ void check_hdr_data(const std::string& path, int64_t width, int64_t height) {
   }
 }
 
+// stb decodes whatever format it recognises in the bytes, whatever the extension (a .png
+// that is a headerless TGA claiming 18505 x 21060 texels in 24 bytes), and decodes data
+// missing at the end as zeros. So the file must start with its format's signature, and
+// a JPEG must be long enough for its 8 x 8 blocks, each of which codes at least one bit
+// (its DC difference).
+void check_stb_file(const std::string& path, Format format) {
+  unsigned char head[8] = {};
+  std::ifstream in(path, std::ios::binary);
+  in.read(reinterpret_cast<char*>(head), sizeof(head));
+  const size_t got = size_t(in.gcount());
+  const auto starts_with = [&](std::initializer_list<unsigned char> signature) {
+    return got >= signature.size() && std::equal(signature.begin(), signature.end(), head);
+  };
+  if (format == Format::Png && !starts_with({0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'}))
+    throw file_error(path, "not a PNG file");
+  if (format == Format::Jpeg && !starts_with({0xff, 0xd8, 0xff}))
+    throw file_error(path, "not a JPEG file");
+  if (format == Format::Hdr && !starts_with({'#', '?'}))
+    throw file_error(path, "not a Radiance HDR file");
+  int width = 0, height = 0, components = 0;
+  if (format != Format::Jpeg || !stbi_info(path.c_str(), &width, &height, &components)) return;
+  const int64_t blocks = (int64_t(width) + 7) / 8 * ((int64_t(height) + 7) / 8);
+  std::error_code error;
+  const auto bytes = fs::file_size(path, error);
+  if (!error && int64_t(bytes) < blocks / 8) {
+    throw file_error(path, "truncated JPEG: " + std::to_string(bytes) + " bytes cannot hold " +
+                               std::to_string(width) + " x " + std::to_string(height) +
+                               " texels");
+  }
+}
+
 Image read_hdr(const std::string& path) {
+  check_stb_file(path, Format::Hdr);
   check_stb_image_size(path);
   {
     int width = 0, height = 0, components = 0;
@@ -335,6 +368,7 @@ Image read_hdr(const std::string& path) {
 }
 
 Image read_ldr(const std::string& path) {
+  check_stb_file(path, format_of(path));
   check_stb_image_size(path);
   int width = 0, height = 0, components = 0;
   unsigned char* data = stbi_load(path.c_str(), &width, &height, &components, 3);

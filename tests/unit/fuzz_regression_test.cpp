@@ -59,3 +59,21 @@ TEST(FuzzRegressionDeathTest, RadianceHdrHeaderEndingInNulLineIsChecked) {
   ASSERT_TRUE(fs::exists(path));
   EXPECT_EXIT(refused_in_time([&] { read_image(path); }), ::testing::ExitedWithCode(0), "");
 }
+
+// 24 bytes named .png that stb decoded as a headerless TGA of 18505 x 21060 texels (zeros
+// past the end): 4.7 GB allocated for an image that is not there.
+TEST(FuzzRegressionDeathTest, PngThatIsNotAPngIsRefused) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  const std::string path = regression_input("image_png", "regression-tga-in-png.png");
+  ASSERT_TRUE(fs::exists(path));
+  EXPECT_EXIT(refused_in_time([&] { read_image(path); }), ::testing::ExitedWithCode(0), "");
+}
+
+// A 525-byte JPEG header claiming 65032 x 2049 texels, decoded from zeros (seconds and
+// 1.6 GB for nothing): every 8 x 8 block needs at least one bit of data.
+TEST(FuzzRegressionDeathTest, JpegTooShortForItsSizeIsRefused) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  const std::string path = regression_input("image_jpg", "regression-huge-empty-jpeg.jpg");
+  ASSERT_TRUE(fs::exists(path));
+  EXPECT_EXIT(refused_in_time([&] { read_image(path); }), ::testing::ExitedWithCode(0), "");
+}
