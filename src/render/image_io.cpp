@@ -67,10 +67,12 @@ float linear_to_srgb(float c) {
 }
 
 // Every reader checks the size its header claims against these before it allocates or
-// decodes anything, so a corrupt or hostile header cannot ask for gigabytes. 32768 x
-// 16384 (a large environment map) still fits: 2^29 texels are 6 GiB as float RGB.
+// decodes anything, so a corrupt or hostile header cannot ask for gigabytes. 2^28 texels
+// are 3 GiB as float RGB, and a reader may hold a second copy while it converts: 16384 x
+// 16384 (the largest film) and 32768 x 8192 still fit; 2^29 would let one header take
+// 6 GiB or more.
 constexpr int64_t kMaxImageSide = 65536;
-constexpr int64_t kMaxImageTexels = int64_t(1) << 29;
+constexpr int64_t kMaxImageTexels = int64_t(1) << 28;
 
 void check_image_size(const std::string& path, int64_t width, int64_t height) {
   if (width <= 0 || height <= 0) throw file_error(path, "image has zero size");
@@ -79,7 +81,7 @@ void check_image_size(const std::string& path, int64_t width, int64_t height) {
     throw file_error(path, "header claims " + std::to_string(width) + " x " +
                                std::to_string(height) +
                                " texels; images may have at most 65536 texels a side and "
-                               "about 537 million in all");
+                               "2^28 (about 268 million) in all");
 }
 
 // ---- OpenEXR ---------------------------------------------------------------------------

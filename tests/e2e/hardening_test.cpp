@@ -268,7 +268,7 @@ TEST(ResourceLimits, AbsurdSizesAreRefusedBeforeAnythingIsAllocated) {
   }
   const std::string claim =
       "huge.pfm: header claims 100000 x 100000 texels; images may have at most 65536 texels a "
-      "side and about 537 million in all";
+      "side and 2^28 (about 268 million) in all";
   expect_clean_failure("compare " + (dir / "huge.pfm").string() + " " + (dir / "huge.pfm").string(),
                        claim, out);
   write_file(dir / "env.json", R"({"environment": {"type": "envmap", "file": "huge.pfm"},

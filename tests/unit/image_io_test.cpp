@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <vector>
@@ -192,6 +193,46 @@ TEST(ImageIo, MissingMalformedAndUnknownFilesNameThePath) {
   const std::string zero_out = (dir / "zero.exr").string();
   expect_file_error([&] { write_image(zero_out, Image()); }, zero_out, "empty");
   EXPECT_FALSE(fs::exists(zero_out));
+}
+
+// The readers' texel limit is 2^28 (16384 x 16384, the largest film): a header one row
+// beyond it is refused from the header, before 3 GiB are allocated for it. Under the old
+// limit (2^29) these headers got through to the allocation.
+TEST(ImageIo, HeaderJustAboveTheTexelLimitIsRefusedBeforeAllocation) {
+  const fs::path dir = test::scratch_dir("texel-limit");
+  const std::string refusal =
+      "header claims 16384 x 16385 texels; images may have at most 65536 texels a side and "
+      "2^28 (about 268 million) in all";
+  // At the limit the header passes, and the reader finds the data missing (it checks the
+  // file's length before it allocates).
+  const std::string at_limit = test::write_file(dir, "at_limit.pfm", "PF\n16384 16384\n-1.0\n");
+  expect_file_error([&] { read_image(at_limit); }, at_limit, "truncated PFM data");
+  const std::string pfm = test::write_file(dir, "above.pfm", "PF\n16384 16385\n-1.0\n");
+  expect_file_error([&] { read_image(pfm); }, pfm, refusal);
+
+  // An EXR whose data window is patched to 16384 x 16385 after a 1 x 1 image was written:
+  // OpenEXR reads the header and the offset table only, then emlt refuses.
+  const std::string exr = (dir / "above.exr").string();
+  write_image(exr, Image(1, 1, Rgb(1.0f)));
+  std::string bytes;
+  {
+    std::ifstream in(exr, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  // The attribute: name, type, size (16), then min.x, min.y, max.x, max.y, each a
+  // little-endian int32.
+  const std::string attribute("dataWindow\0box2i\0", 17);
+  const size_t at = bytes.find(attribute);
+  ASSERT_NE(at, std::string::npos);
+  const uint32_t max_corner[2] = {16383, 16384};
+  for (size_t i = 0; i < 2; ++i)
+    for (size_t b = 0; b < 4; ++b)
+      bytes[at + attribute.size() + 12 + 4 * i + b] = char((max_corner[i] >> (8 * b)) & 0xffu);
+  // Room for the offset table such a header implies (one 8-byte offset per 16 rows, as
+  // ZIP compresses), which OpenEXR reads with the header; the offsets themselves are junk.
+  bytes += std::string(16385 / 16 * 8 + 8, '\0');
+  test::write_file(dir, "above.exr", bytes);
+  expect_file_error([&] { read_image(exr); }, exr, refusal);
 }
 
 TEST(ImageIo, WritesAreAtomic) {
