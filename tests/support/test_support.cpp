@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <gtest/gtest.h>
 
 namespace emlt::test {
@@ -22,6 +23,13 @@ std::filesystem::path scratch_dir(const std::string& name) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
+}
+
+std::string write_file(const std::filesystem::path& dir, const std::string& name,
+                       const std::string& bytes) {
+  const auto path = dir / name;
+  std::ofstream(path, std::ios::binary) << bytes;
+  return path.string();
 }
 
 int run_command(const std::string& command, std::string* output) {

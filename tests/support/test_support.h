@@ -1,6 +1,6 @@
 #pragma once
 // Shared helpers for the test suites: repository paths, the chi-square goodness-of-fit
-// test used for every sampler, and temporary directories.
+// test used for every sampler, and temporary directories and the files written into them.
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -14,6 +14,9 @@ std::string source_path(const std::string& relative);
 std::string emlt_binary();
 // A fresh, empty directory under the build tree, unique per test.
 std::filesystem::path scratch_dir(const std::string& name);
+// Writes `bytes` (text or binary, unchanged) to dir/name and returns the file's path.
+std::string write_file(const std::filesystem::path& dir, const std::string& name,
+                       const std::string& bytes);
 
 // Runs a shell command, returns its exit status; stdout+stderr go to `output`.
 int run_command(const std::string& command, std::string* output = nullptr);

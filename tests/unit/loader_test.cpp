@@ -4,7 +4,6 @@
 
 #include <gtest/gtest.h>
 
-#include <fstream>
 #include <functional>
 
 #include "emlt/core/error.h"
@@ -16,12 +15,7 @@ using namespace emlt;
 
 namespace {
 
-std::string write_file(const std::filesystem::path& dir, const std::string& name,
-                       const std::string& text) {
-  const auto path = dir / name;
-  std::ofstream(path) << text;
-  return path.string();
-}
+using test::write_file;
 
 // Message of the emlt::Error thrown by f ("" when nothing is thrown).
 std::string error_of(const std::function<void()>& f) {

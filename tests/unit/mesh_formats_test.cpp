@@ -5,7 +5,6 @@
 #include <zlib.h>
 
 #include <cstring>
-#include <fstream>
 #include <functional>
 
 #include "emlt/core/error.h"
@@ -16,12 +15,7 @@ using namespace emlt;
 
 namespace {
 
-std::string write_file(const std::filesystem::path& dir, const std::string& name,
-                       const std::string& bytes) {
-  const auto path = dir / name;
-  std::ofstream(path, std::ios::binary) << bytes;
-  return path.string();
-}
+using test::write_file;
 
 std::string xml_scene(const std::string& body) {
   return "<?xml version=\"1.0\"?>\n<scene version=\"0.6.0\">\n" + body + "\n</scene>\n";

@@ -7,7 +7,6 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <sstream>
 #include <string>
@@ -21,6 +20,8 @@
 using namespace emlt;
 
 namespace {
+
+using test::write_file;
 
 // The classic Cornell box's measured reflectances (400-700 nm every 4 nm) and its light
 // (a public scene; only the numbers are used).
@@ -78,13 +79,6 @@ void expect_rgb_near(const Rgb& actual, const Rgb& expected, double relative) {
     EXPECT_NEAR(actual[c], expected[c], relative * std::abs(expected[c]) + 1e-12)
         << "channel " << c << " of (" << actual.x << ", " << actual.y << ", " << actual.z
         << ") against (" << expected.x << ", " << expected.y << ", " << expected.z << ")";
-}
-
-std::string write_file(const std::filesystem::path& dir, const std::string& name,
-                       const std::string& text) {
-  const auto path = dir / name;
-  std::ofstream(path) << text;
-  return path.string();
 }
 
 // A scene whose constant environment emitter has `colour` (an element named "radiance")

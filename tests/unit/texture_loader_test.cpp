@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 
 #include "emlt/core/error.h"
 #include "emlt/render/image.h"
@@ -17,12 +16,7 @@ using namespace emlt;
 
 namespace {
 
-std::string write_file(const std::filesystem::path& dir, const std::string& name,
-                       const std::string& text) {
-  const auto path = dir / name;
-  std::ofstream(path) << text;
-  return path.string();
-}
+using test::write_file;
 
 std::string joined(const std::vector<std::string>& lines) {
   std::string text;
