@@ -57,7 +57,7 @@ float Distribution1D::pdf(float x) const {
 }
 
 Distribution2D::Distribution2D(const std::vector<float>& weights, size_t width, size_t height)
-    : width_(width), height_(height) {
+    : height_(height) {
   rows_.reserve(height);
   std::vector<float> row_mass(height);
   for (size_t y = 0; y < height; ++y) {

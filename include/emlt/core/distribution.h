@@ -46,7 +46,7 @@ class Distribution2D {
   float pdf(const Vec2& p) const;
 
  private:
-  size_t width_ = 0, height_ = 0;
+  size_t height_ = 0;  // a row's width is its conditional's size()
   std::vector<Distribution1D> rows_;
   Distribution1D marginal_;
 };
