@@ -12,6 +12,7 @@
 #include "emlt/scene/obj_loader.h"
 #include "emlt/scene/shape_builders.h"
 #include "src/scene/loader_common.h"
+#include "src/scene/parameter_ranges.h"
 
 namespace emlt {
 
@@ -125,6 +126,19 @@ class JsonSceneReader {
     return obj.contains(key) ? number(obj[key], where + "." + key) : fallback;
   }
 
+  // A number refused outside `range`, in words: "camera.fov: must be a number of degrees
+  // between 0 and 180, both excluded (got 180)".
+  float number(const json& v, const std::string& where, const loader::RealRange& range) const {
+    const float x = number(v, where);
+    if (!range.contains(x)) fail(where, loader::refusal(range.words, v.dump()));
+    return x;
+  }
+
+  float number(const json& obj, const char* key, const std::string& where, float fallback,
+               const loader::RealRange& range) const {
+    return obj.contains(key) ? number(obj[key], where + "." + key, range) : fallback;
+  }
+
   int integer(const json& obj, const char* key, const std::string& where, int fallback) const {
     if (!obj.contains(key)) return fallback;
     if (!obj[key].is_number_integer()) fail(where + "." + key, "expected an integer");
@@ -134,6 +148,15 @@ class JsonSceneReader {
                           : obj[key].get<int64_t>() >= INT32_MIN && obj[key].get<int64_t>() <= INT32_MAX;
     if (!fits) fail(where + "." + key, "expected an integer within +-2^31 (about 2.1 billion)");
     return int(obj[key].get<int64_t>());
+  }
+
+  // An integer refused outside `range`, in the command line's words for the same setting.
+  int integer(const json& obj, const char* key, const std::string& where, int fallback,
+              const loader::IntegerRange& range) const {
+    const int value = integer(obj, key, where, fallback);
+    if (obj.contains(key) && !range.contains(value))
+      fail(where + "." + key, loader::refusal(range.words, obj[key].dump()));
+    return value;
   }
 
   bool boolean(const json& obj, const char* key, const std::string& where, bool fallback) const {
@@ -244,7 +267,7 @@ class JsonSceneReader {
       if (auto value = loader::named_ior(name)) return *value;
       fail(where + "." + key, "unknown index of refraction name '" + name + "'");
     }
-    return number(obj[key], where + "." + key);
+    return number(obj[key], where + "." + key, loader::kPositiveRange);
   }
 
   Mat4 matrix16(const json& v, const std::string& where) const {
@@ -304,16 +327,18 @@ class JsonSceneReader {
       fail("camera", "give either 'lookat' or 'matrix'");
     if (c.contains("lookat")) camera.to_world = look_at(c["lookat"], "camera.lookat");
     if (c.contains("matrix")) camera.to_world = matrix16(c["matrix"], "camera.matrix");
-    camera.fov_degrees = number(c, "fov", "camera", camera.fov_degrees);
+    camera.fov_degrees = number(c, "fov", "camera", camera.fov_degrees, loader::kFovRange);
     if (c.contains("fov_axis")) {
       const auto axis = parse_fov_axis(string(c["fov_axis"], "camera.fov_axis"));
       if (!axis) fail("camera.fov_axis", "expected \"x\", \"y\", \"smaller\" or \"larger\"");
       camera.fov_axis = *axis;
     }
-    camera.aperture_radius = number(c, "aperture_radius", "camera", camera.aperture_radius);
-    camera.focus_distance = number(c, "focus_distance", "camera", camera.focus_distance);
-    camera.width = integer(c, "width", "camera", camera.width);
-    camera.height = integer(c, "height", "camera", camera.height);
+    camera.aperture_radius = number(c, "aperture_radius", "camera", camera.aperture_radius,
+                                    loader::kNonNegativeRange);
+    camera.focus_distance =
+        number(c, "focus_distance", "camera", camera.focus_distance, loader::kPositiveRange);
+    camera.width = integer(c, "width", "camera", camera.width, loader::kFilmSideRange);
+    camera.height = integer(c, "height", "camera", camera.height, loader::kFilmSideRange);
     if (c.contains("filter")) camera.filter = filter(c["filter"], "camera.filter");
   }
 
@@ -329,10 +354,8 @@ class JsonSceneReader {
       desc.kind = PixelFilterDesc::Kind::Tent;
     else if (type != "box")
       fail(where + ".type", "unknown filter '" + type + "' (box, gaussian, tent)");
-    desc.stddev = number(f, "stddev", where, desc.stddev);
-    desc.radius = number(f, "radius", where, desc.radius);
-    if (!(desc.stddev > 0.0f && desc.stddev <= 16.0f)) fail(where + ".stddev", "must be in (0, 16] pixels");
-    if (!(desc.radius > 0.0f && desc.radius <= 64.0f)) fail(where + ".radius", "must be in (0, 64] pixels");
+    desc.stddev = number(f, "stddev", where, desc.stddev, loader::kFilterStddevRange);
+    desc.radius = number(f, "radius", where, desc.radius, loader::kFilterRadiusRange);
     return desc;
   }
 
@@ -340,12 +363,9 @@ class JsonSceneReader {
     check_keys(i, "integrator", {"type", "max_depth", "rr_depth", "spp"});
     RenderSettings& s = desc_.defaults;
     if (i.contains("type")) s.integrator = string(i["type"], "integrator.type");
-    s.max_depth = integer(i, "max_depth", "integrator", s.max_depth);
-    s.rr_depth = integer(i, "rr_depth", "integrator", s.rr_depth);
-    s.spp = integer(i, "spp", "integrator", s.spp);
-    if (s.spp < 1 || s.spp > kMaxSpp)
-      fail("integrator.spp", "must be a whole number from 1 to 2^24 (about 16.8 million)");
-    if (s.max_depth < -1) fail("integrator.max_depth", "must be -1 (unlimited) or >= 0");
+    s.max_depth = integer(i, "max_depth", "integrator", s.max_depth, loader::kMaxDepthRange);
+    s.rr_depth = integer(i, "rr_depth", "integrator", s.rr_depth, loader::kRrDepthRange);
+    s.spp = integer(i, "spp", "integrator", s.spp, loader::kSppRange);
   }
 
   void conductor_ior(const json& m, const std::string& where, Rgb* eta, Rgb* k) const {
@@ -473,8 +493,7 @@ class JsonSceneReader {
       SphereDesc sphere;
       sphere.name = name;
       sphere.center = s.contains("center") ? vec3(s["center"], where + ".center") : Vec3(0.0f);
-      sphere.radius = number(s, "radius", where, 1.0f);
-      if (!(sphere.radius > 0.0f)) fail(where + ".radius", "must be positive");
+      sphere.radius = number(s, "radius", where, 1.0f, loader::kPositiveRange);
       loader::transform_sphere(sphere, to_world, path_ + ": " + where, desc_.warnings);
       sphere.material = material;
       sphere.emission = emission;
@@ -520,7 +539,7 @@ class JsonSceneReader {
       env.radiance = color(e, "radiance", "environment", Rgb(1.0f));
     } else if (type == "envmap") {
       check_keys(e, "environment", {"type", "file", "scale", "transform"});
-      env.scale = number(e, "scale", "environment", 1.0f);
+      env.scale = number(e, "scale", "environment", 1.0f, loader::kNonNegativeRange);
       if (e.contains("transform"))
         env.to_world = transform(e["transform"], "environment.transform");
       loader::load_environment_map(

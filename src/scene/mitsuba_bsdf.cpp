@@ -50,7 +50,8 @@ class BsdfReader {
   float ior(Properties& props, const char* name, float fallback, pugi::xml_node node) {
     if (!props.has(name)) return fallback;
     // Mitsuba accepts a number (<float>) or a material name (<string>) for an IOR.
-    if (props.kind_of(name) != "string") return props.get_float(name, fallback);
+    if (props.kind_of(name) != "string")
+      return props.get_float(name, fallback, loader::kPositiveRange);
     const std::string text = props.get_string(name, "");
     if (auto value = loader::named_ior(text)) return *value;
     doc_.fail(node, "unknown index of refraction '" + text + "'");

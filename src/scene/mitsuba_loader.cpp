@@ -93,9 +93,8 @@ class MitsubaSceneReader {
       doc_.warn(node,
                 "integrator type '" + type + "' is not supported; using '" + s.integrator + "'",
                 Document::Warning::Approximated);
-    s.max_depth = props.get_integer("maxDepth", s.max_depth);
-    if (s.max_depth < -1) doc_.fail(node, "maxDepth must be -1 (unlimited) or >= 0");
-    s.rr_depth = props.get_integer("rrDepth", s.rr_depth);
+    s.max_depth = props.get_integer("maxDepth", s.max_depth, loader::kMaxDepthRange);
+    s.rr_depth = props.get_integer("rrDepth", s.rr_depth, loader::kRrDepthRange);
     // Parameters that steer how fast an integrator converges, never what it converges to:
     // emlt's integrators have their own (command line) controls.
     std::vector<std::string> tuning;
@@ -161,7 +160,7 @@ class MitsubaSceneReader {
       doc_.fail(node, "unknown fovAxis '" + axis + "'");
 
     if (props.has("fov")) {
-      camera.fov_degrees = props.get_float("fov", 45.0f);
+      camera.fov_degrees = props.get_float("fov", 45.0f, loader::kFovRange);
       if (props.has("focalLength"))
         doc_.warn(node, "focalLength ignored because fov is given", Document::Warning::Note);
       props.ignore({"focalLength"});
@@ -170,7 +169,12 @@ class MitsubaSceneReader {
       std::string focal = props.get_string("focalLength", "50mm");
       if (focal.size() > 2 && focal.substr(focal.size() - 2) == "mm")
         focal.resize(focal.size() - 2);
-      const float millimetres = doc_.to_float(node, focal);
+      const pugi::xml_node given = props.node_of("focalLength");
+      const float millimetres = doc_.to_float(given, focal);
+      if (!(millimetres > 0.0f))
+        doc_.fail(given, "'focalLength' " +
+                             loader::refusal("a positive length in millimetres, such as 50mm",
+                                             props.get_string("focalLength", "")));
       camera.fov_degrees = glm::degrees(2.0f * std::atan(18.0f / millimetres));
       camera.fov_axis = CameraDesc::FovAxis::X;
       diagonal = false;
@@ -184,8 +188,10 @@ class MitsubaSceneReader {
       camera.fov_axis = CameraDesc::FovAxis::X;
     }
     if (type == "thinlens") {
-      camera.aperture_radius = props.get_float("apertureRadius", camera.aperture_radius);
-      camera.focus_distance = props.get_float("focusDistance", camera.focus_distance);
+      camera.aperture_radius =
+          props.get_float("apertureRadius", camera.aperture_radius, loader::kNonNegativeRange);
+      camera.focus_distance =
+          props.get_float("focusDistance", camera.focus_distance, loader::kPositiveRange);
     }
     props.ignore({"shutterOpen", "shutterClose"});
     props.warn_unused();
@@ -193,8 +199,8 @@ class MitsubaSceneReader {
 
   void read_film(pugi::xml_node node) {
     Properties props(doc_, node);
-    desc_.camera.width = props.get_integer("width", 768);
-    desc_.camera.height = props.get_integer("height", 576);
+    desc_.camera.width = props.get_integer("width", 768, loader::kFilmSideRange);
+    desc_.camera.height = props.get_integer("height", 576, loader::kFilmSideRange);
     // Output encoding only; the renderer chooses its own from the output file name (an
     // ldrfilm's tone mapping included: emlt writes linear radiance and a PNG preview).
     props.ignore({"banner", "pixelFormat", "componentFormat", "fileFormat", "attachLog",
@@ -222,13 +228,9 @@ class MitsubaSceneReader {
       filter.kind = PixelFilterDesc::Kind::Box;
     } else if (type == "tent") {
       filter.kind = PixelFilterDesc::Kind::Tent;
-      filter.radius = props.get_float("radius", 1.0f);
-      if (!(filter.radius > 0.0f && filter.radius <= 64.0f))
-        doc_.fail(node, "tent radius must be in (0, 64] pixels");
+      filter.radius = props.get_float("radius", 1.0f, loader::kFilterRadiusRange);
     } else if (type == "gaussian") {
-      filter.stddev = props.get_float("stddev", 0.5f);
-      if (!(filter.stddev > 0.0f && filter.stddev <= 16.0f))
-        doc_.fail(node, "gaussian stddev must be in (0, 16] pixels");
+      filter.stddev = props.get_float("stddev", 0.5f, loader::kFilterStddevRange);
     } else {
       // Mitchell-Netravali, Catmull-Rom and Lanczos have negative lobes, which neither
       // filter importance sampling nor non-negative splats can represent.
@@ -243,9 +245,7 @@ class MitsubaSceneReader {
 
   void read_sampler(pugi::xml_node node) {
     Properties props(doc_, node);
-    desc_.defaults.spp = props.get_integer("sampleCount", desc_.defaults.spp);
-    if (desc_.defaults.spp < 1 || desc_.defaults.spp > kMaxSpp)
-      doc_.fail(node, "sampleCount must be a whole number from 1 to 2^24 (about 16.8 million)");
+    desc_.defaults.spp = props.get_integer("sampleCount", desc_.defaults.spp, loader::kSppRange);
     props.ignore({"scramble", "dimension", "resolution", "depth"});  // sequence details only
     props.warn_unused();
   }
@@ -395,8 +395,7 @@ class MitsubaSceneReader {
       SphereDesc sphere;
       sphere.name = name;
       sphere.center = props.get_point("center", Vec3(0.0f));
-      sphere.radius = props.get_float("radius", 1.0f);
-      if (!(sphere.radius > 0.0f)) doc_.fail(node, "sphere radius must be positive");
+      sphere.radius = props.get_float("radius", 1.0f, loader::kPositiveRange);
       loader::transform_sphere(sphere, to_world, doc_.path() + ": " + name, desc_.warnings);
       sphere.material = material;
       sphere.emission = emission;
@@ -420,7 +419,8 @@ class MitsubaSceneReader {
     } else if (type == "serialized") {
       if (!props.has("filename")) doc_.fail(node, "<shape type=\"serialized\"> needs a 'filename'");
       const std::string file = loader::resolve_path(doc_.path(), props.get_string("filename", ""));
-      mesh = load_serialized_mesh(file, props.get_integer("shapeIndex", 0), to_world);
+      const int index = props.get_integer("shapeIndex", 0, loader::kShapeIndexRange);
+      mesh = load_serialized_mesh(file, index, to_world);
       loader::drop_non_finite_triangles(desc_, mesh, file);
       read_mesh_normal_options(node, props, mesh, flip);
     } else if (type == "ply") {
@@ -433,9 +433,7 @@ class MitsubaSceneReader {
     } else if (type == "cylinder") {
       const Vec3 p0 = props.get_point("p0", Vec3(0.0f));
       const Vec3 p1 = props.get_point("p1", Vec3(0.0f, 0.0f, 1.0f));
-      const float radius = props.get_float("radius", 1.0f);
-      if (!(radius > 0.0f) || !std::isfinite(radius))
-        doc_.fail(node, "cylinder radius must be positive");
+      const float radius = props.get_float("radius", 1.0f, loader::kPositiveRange);
       if (!(glm::length(p1 - p0) > 0.0f) || !std::isfinite(glm::length(p1 - p0)))
         doc_.fail(node, "cylinder p0 and p1 must be distinct finite points");
       mesh = make_cylinder_mesh(p0, p1, radius, to_world);
@@ -490,7 +488,7 @@ class MitsubaSceneReader {
       env.radiance = props.get_color("radiance", Rgb(1.0f));
     } else {
       if (!props.has("filename")) doc_.fail(node, "<emitter type=\"envmap\"> needs a 'filename'");
-      env.scale = props.get_float("scale", 1.0f);
+      env.scale = props.get_float("scale", 1.0f, loader::kNonNegativeRange);
       env.to_world = props.get_transform("toWorld");
       loader::load_environment_map(
           env, doc_.path(), loader::resolve_path(doc_.path(), props.get_string("filename", "")));

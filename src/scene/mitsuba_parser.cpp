@@ -165,12 +165,40 @@ float Properties::get_float(const std::string& name, float fallback) {
 int Properties::get_integer(const std::string& name, int fallback) {
   const pugi::xml_node node = take(name, {"integer"});
   if (!node) return fallback;
-  const float value = doc_.to_float(node, doc_.attribute(node, "value"));
+  const std::string text = doc_.attribute(node, "value");
+  doc_.to_float(node, text);  // refuses what is not a finite number, in its words
+  // The value itself in double precision, which holds every int exactly: single precision
+  // rounds 16777217 to 16777216, which a range check would then let through.
+  const double value = std::strtod(text.c_str(), nullptr);
   if (value != std::floor(value)) doc_.fail(node, "'" + name + "' must be an integer");
-  // Converting a float beyond int's range is undefined; 2^31 itself is a float exactly.
-  if (!(std::abs(value) < 2147483648.0f))
+  // Converting a double beyond int's range is undefined.
+  if (!(std::abs(value) < 2147483648.0))
     doc_.fail(node, "'" + name + "' must be an integer within +-2^31 (about 2.1 billion)");
   return int(value);
+}
+
+float Properties::get_float(const std::string& name, float fallback,
+                            const loader::RealRange& range) {
+  const float value = get_float(name, fallback);
+  if (!range.contains(value)) out_of_range(name, range.words);
+  return value;
+}
+
+int Properties::get_integer(const std::string& name, int fallback,
+                            const loader::IntegerRange& range) {
+  const int value = get_integer(name, fallback);
+  if (!range.contains(value)) out_of_range(name, range.words);
+  return value;
+}
+
+void Properties::out_of_range(const std::string& name, const char* words) const {
+  const pugi::xml_node node = node_of(name);
+  doc_.fail(node, "'" + name + "' " + loader::refusal(words, doc_.attribute(node, "value")));
+}
+
+pugi::xml_node Properties::node_of(const std::string& name) const {
+  const auto it = values_.find(name);
+  return it == values_.end() ? owner_ : it->second;
 }
 
 bool Properties::get_boolean(const std::string& name, bool fallback) {

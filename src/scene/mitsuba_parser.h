@@ -11,6 +11,7 @@
 #include "emlt/scene/description.h"
 #include "emlt/scene/loader.h"
 #include "emlt/scene/texture.h"
+#include "src/scene/parameter_ranges.h"
 
 namespace emlt::mitsuba {
 
@@ -81,6 +82,10 @@ class Properties {
   }
   float get_float(const std::string& name, float fallback);
   int get_integer(const std::string& name, int fallback);
+  // The same, refused outside `range` at the parameter's own line: "line 3: 'maxDepth'
+  // must be a whole number from 0 to 100000, or -1 for unlimited (got -2)".
+  float get_float(const std::string& name, float fallback, const loader::RealRange& range);
+  int get_integer(const std::string& name, int fallback, const loader::IntegerRange& range);
   bool get_boolean(const std::string& name, bool fallback);
   std::string get_string(const std::string& name, const std::string& fallback);
   Rgb get_color(const std::string& name, const Rgb& fallback);
@@ -91,6 +96,9 @@ class Properties {
   std::vector<std::string> names_of_kind(const std::string& kind) const;
   Vec3 get_point(const std::string& name, const Vec3& fallback);
   Mat4 get_transform(const std::string& name);  // identity when absent
+  // The element that gives parameter `name` (for messages about its value); the owner
+  // when the parameter is absent.
+  pugi::xml_node node_of(const std::string& name) const;
   // Marks parameters that change nothing in this renderer (e.g. a film's pixel format).
   void ignore(std::initializer_list<const char*> names);
 
@@ -99,6 +107,7 @@ class Properties {
 
  private:
   pugi::xml_node take(const std::string& name, std::initializer_list<const char*> kinds);
+  [[noreturn]] void out_of_range(const std::string& name, const char* words) const;
 
   const Document& doc_;
   pugi::xml_node owner_;

@@ -9,6 +9,7 @@
 #include "emlt/scene/materials.h"
 #include "emlt/scene/shape_builders.h"
 #include "emlt/scene/texture.h"
+#include "src/scene/parameter_ranges.h"
 
 namespace emlt {
 
@@ -136,9 +137,9 @@ std::vector<Vec2> planar_uvs(const std::vector<Vec3>& positions) {
   return uvs;
 }
 
-// The film's limit, stated in words in validate_camera; 16384 x 16384 (2^28 pixels) is
-// 3 GiB of float RGB per film, and the MCMC integrators keep several.
-constexpr int kMaxResolution = 16384;
+// The film's limit for descriptions that no loader checked (the loaders refuse a side
+// outside it with the file's key or line), stated in words in validate_camera.
+constexpr int kMaxResolution = loader::kFilmSideRange.high;
 constexpr int64_t kMaxPixels = int64_t(kMaxResolution) * kMaxResolution;
 
 // Embree reports errors through a callback; the build collects them and fails on any.

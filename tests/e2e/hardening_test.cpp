@@ -239,6 +239,87 @@ TEST(ReadableRanges, EveryNumericFlagStatesItsRangeInWords) {
   }
 }
 
+// A scene parameter that a flag also sets is refused past the same bound, in the same
+// words, by both scene formats (naming the JSON key or the XML line), and the bound itself
+// is accepted by both.
+TEST(ReadableRanges, SceneParametersShareTheFlagsBoundsAndWords) {
+  const fs::path dir = test::scratch_dir("scene-ranges");
+  const fs::path out = dir / "o.exr";
+  const std::string cornell = test::source_path("scenes/cornell-box/scene.json");
+  struct Setting {
+    std::string flag, json_key, xml_name, past, bound;
+  } settings[] = {
+      {"--width", "camera.width", "width", "16385", "16384"},
+      {"--height", "camera.height", "height", "0", "1"},
+      {"--spp", "integrator.spp", "sampleCount", "16777217", "16777216"},
+      {"--max-depth", "integrator.max_depth", "maxDepth", "100001", "100000"},
+      {"--max-depth", "integrator.max_depth", "maxDepth", "-2", "-1"},
+      {"--rr-depth", "integrator.rr_depth", "rrDepth", "0", "1"},
+  };
+  // A scene of each format whose camera and integrator give every one of these settings,
+  // `changed` (a JSON key or an XML name) at `value` and the others at ordinary values.
+  const auto json_scene = [](const std::string& changed, const std::string& value) {
+    const auto field = [&](const std::string& key, const std::string& ordinary) {
+      return "\"" + key.substr(key.find('.') + 1) + "\": " + (key == changed ? value : ordinary);
+    };
+    return R"({"camera": {"lookat": {"origin": [0,0,-4], "target": [0,0,0], "up": [0,1,0]}, )" +
+           field("camera.width", "8") + ", " + field("camera.height", "8") +
+           R"(}, "integrator": {)" + field("integrator.spp", "1") + ", " +
+           field("integrator.max_depth", "6") + ", " + field("integrator.rr_depth", "5") +
+           R"(}, "shapes": [{"type": "rectangle", "emission": [1,1,1]}]})";
+  };
+  // The XML parameters are on lines 2 (integrator), 5 (sampler) and 6 (film).
+  const auto xml_scene = [](const std::string& changed, const std::string& value) {
+    const auto param = [&](const std::string& name, const std::string& ordinary) {
+      return "<integer name=\"" + name + "\" value=\"" + (name == changed ? value : ordinary) +
+             "\"/>";
+    };
+    return "<scene version=\"0.6.0\">\n<integrator type=\"path\">" + param("maxDepth", "6") +
+           param("rrDepth", "5") + "</integrator>\n<sensor type=\"perspective\">\n" +
+           "<transform name=\"toWorld\"><lookat origin=\"0,0,-4\" target=\"0,0,0\" "
+           "up=\"0,1,0\"/></transform>\n<sampler type=\"independent\">" +
+           param("sampleCount", "1") + "</sampler>\n<film type=\"hdrfilm\">" +
+           param("width", "8") + param("height", "8") + "</film>\n</sensor>\n" +
+           "<shape type=\"rectangle\"><emitter type=\"area\"><rgb name=\"radiance\" "
+           "value=\"1\"/></emitter></shape>\n</scene>\n";
+  };
+  const std::regex long_number("[0-9]{7,}");
+  for (const Setting& s : settings) {
+    std::string flag_text;
+    EXPECT_NE(test::run_command(emlt_cmd("render " + cornell + " -o " + out.string() + " " +
+                                         s.flag + " " + s.past),
+                                &flag_text),
+              0);
+    const std::string prefix = "emlt: error: " + s.flag + " must be ";
+    const std::string suffix = " (got " + s.past + ")\n";
+    ASSERT_EQ(flag_text.rfind(prefix, 0), 0u) << flag_text;
+    ASSERT_GE(flag_text.size(), prefix.size() + suffix.size()) << flag_text;
+    const std::string words =
+        flag_text.substr(prefix.size(), flag_text.size() - prefix.size() - suffix.size());
+    EXPECT_FALSE(std::regex_search(words, long_number)) << words;
+
+    write_file(dir / "past.json", json_scene(s.json_key, s.past));
+    expect_clean_failure("render " + (dir / "past.json").string() + " -o " + out.string(),
+                         "past.json: " + s.json_key + ": must be " + words + suffix, out);
+    write_file(dir / "past.xml", xml_scene(s.xml_name, s.past));
+    const int line = s.xml_name == "sampleCount"                          ? 5
+                     : s.xml_name == "width" || s.xml_name == "height" ? 6
+                                                                         : 2;
+    expect_clean_failure("render " + (dir / "past.xml").string() + " -o " + out.string(),
+                         "past.xml: line " + std::to_string(line) + ": '" + s.xml_name +
+                             "' must be " + words + suffix,
+                         out);
+
+    write_file(dir / "bound.json", json_scene(s.json_key, s.bound));
+    write_file(dir / "bound.xml", xml_scene(s.xml_name, s.bound));
+    for (const char* scene : {"bound.json", "bound.xml"}) {
+      std::string text;
+      EXPECT_EQ(test::run_command(emlt_cmd("info " + (dir / scene).string()), &text), 0)
+          << scene << " " << s.xml_name << " = " << s.bound << ": " << text;
+    }
+  }
+}
+
 TEST(ResourceLimits, AbsurdSizesAreRefusedBeforeAnythingIsAllocated) {
   const fs::path dir = test::scratch_dir("limits");
   const fs::path out = dir / "o.exr";
@@ -246,8 +327,8 @@ TEST(ResourceLimits, AbsurdSizesAreRefusedBeforeAnythingIsAllocated) {
   write_file(dir / "film.json", R"({"camera": {"width": 1000000, "height": 1000000},
     "shapes": [{"type": "rectangle", "emission": [1,1,1]}]})");
   expect_clean_failure("render " + (dir / "film.json").string() + " -o " + out.string(),
-                       "film.json: unusable image resolution 1000000x1000000 (each side must be 1 "
-                       "to 16384 pixels)", out);
+                       "film.json: camera.width: must be a whole number of pixels from 1 to 16384 "
+                       "(got 1000000)", out);
   write_file(dir / "wide.json", R"({"camera": {"width": 1000000000000, "height": 8},
     "shapes": [{"type": "rectangle", "emission": [1,1,1]}]})");
   expect_clean_failure("render " + (dir / "wide.json").string() + " -o " + out.string(),

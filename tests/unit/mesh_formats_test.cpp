@@ -413,7 +413,7 @@ TEST(MeshFormatsCylinder, DegenerateParametersAreErrors) {
   EXPECT_NE(error_of([&] {
               load_xml(dir,
                        "<shape type=\"cylinder\"><float name=\"radius\" value=\"0\"/></shape>");
-            }).find("radius must be positive"),
+            }).find("'radius' must be a positive number (got 0)"),
             std::string::npos);
   EXPECT_NE(error_of([&] {
               load_xml(dir,
