@@ -15,6 +15,10 @@ struct RenderOptions {
               aniso_fallback = "vmf";
   std::vector<std::string> defines;
   std::string reference, log;
+  // --checkpoint FILE, written every checkpoint_interval seconds and on a stop signal;
+  // --resume FILE continues from one (and keeps checkpointing into it).
+  std::string checkpoint, resume;
+  double checkpoint_interval = 600.0;
   bool quiet = false;
   bool strict = false;  // refuse a scene emlt would approximate or partly ignore
 };

@@ -1,17 +1,24 @@
 #include <cmath>
+#include <cstdlib>
+#include <optional>
 #include <cstdint>
 #include <filesystem>
 #include <fmt/core.h>
 
+#include "cli/checkpoint_header.h"
 #include "cli/commands.h"
 #include "cli/fidelity.h"
 #include "cli/mlt_report.h"
 #include "cli/readable_range.h"
+#include "cli/signals.h"
 #include "emlt/mcmc/mlt_integrator.h"
 #include "emlt/render/convergence_log.h"
 #include "emlt/render/image_metrics.h"
 #include "emlt/core/error.h"
+#include "emlt/render/checkpoint_file.h"
 #include "emlt/render/integrator.h"
+#include "emlt/render/interruption.h"
+#include "emlt/render/render_control.h"
 #include "emlt/scene/loader.h"
 
 namespace emlt::cli {
@@ -124,6 +131,16 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
   command.add_option("--reference", o.reference, "Reference image for error metrics");
   command.add_option("--log", o.log,
                      "Convergence log (CSV) at power-of-two samples/mutations per pixel; needs --reference");
+  command.add_option("--checkpoint", o.checkpoint,
+                     "Save the render's whole state to this file every --checkpoint-interval "
+                     "seconds, on Ctrl-C or SIGTERM, and when it finishes");
+  command.add_option("--checkpoint-interval", o.checkpoint_interval,
+                     "Seconds between checkpoints (default 600)")
+      ->check(real_number(0.0, true, kMaxTimeSeconds,
+                          "a positive number of seconds, at most 30 days"));
+  command.add_option("--resume", o.resume,
+                     "Continue the render saved in this checkpoint (same scene and settings; the "
+                     "budget may grow); checkpoints go on into it unless --checkpoint says otherwise");
   command.add_option("-D", o.defines, "Scene parameter, name=value (repeatable)");
   command.add_flag("-q,--quiet", o.quiet, "No progress bar");
   command.add_flag("--strict", o.strict,
@@ -198,6 +215,28 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   }
   const Image reference = o.reference.empty() ? Image() : read_image(o.reference);
 
+  // Checkpoints: what this run is, checked against a checkpoint to resume before anything
+  // is rendered or written.
+  const std::string checkpoint_path = o.checkpoint.empty() ? o.resume : o.checkpoint;
+  if (!checkpoint_path.empty()) {
+    const auto parent = std::filesystem::path(checkpoint_path).parent_path();
+    if (!parent.empty() && !std::filesystem::is_directory(parent))
+      throw file_error(checkpoint_path, "checkpoint directory does not exist");
+    if (std::filesystem::path(checkpoint_path) == std::filesystem::path(o.output))
+      throw file_error(checkpoint_path, "the checkpoint and the output image are the same file");
+  }
+  if (given("--checkpoint-interval") && checkpoint_path.empty())
+    throw Error("--checkpoint-interval needs --checkpoint FILE (or --resume FILE)");
+  const CheckpointHeader header_now = CheckpointHeader::describe(desc, settings, o.defines);
+  std::optional<CheckpointHeader> resumed_header;
+  std::string resume_state;
+  if (!o.resume.empty()) {
+    checkpoint_file::Contents contents = checkpoint_file::read(o.resume);
+    resumed_header = CheckpointHeader::decode(contents.header, o.resume);
+    resumed_header->check_matches(header_now, o.resume);
+    resume_state = std::move(contents.state);
+  }
+
   const auto scene = Scene::build(std::move(desc));
   for (const auto& w : scene->warnings()) std::fprintf(stderr, "emlt: warning: %s\n", w.c_str());
   if (const std::string summary = divergence_summary(scene->description()); !summary.empty())
@@ -216,10 +255,31 @@ int run_render(const CLI::App& command, RenderOptions& o) {
     log = std::make_unique<ConvergenceLog>(o.log, reference, sees_emitter, scene->camera().width(),
                                            scene->camera().height());
     settings.snapshots = log.get();
+    if (resumed_header) log->restore(resumed_header->log_header, resumed_header->log_rows);
   }
 
+  RenderControl control(checkpoint_path, o.checkpoint_interval, [&] {
+    CheckpointHeader header = header_now;
+    if (log) {
+      header.log_header = log->header();
+      header.log_rows = log->row_texts();
+    }
+    return header.encode();
+  });
+  control.set_resume_state(std::move(resume_state));
+  settings.control = &control;
+  // Test hook: stop as if by Ctrl-C after this many samples or mutations (tests/e2e).
+  if (const char* units = std::getenv("EMLT_STOP_AFTER"))
+    interruption::stop_after(std::strtoull(units, nullptr, 10));
+  handle_stop_signals();
+
   ProgressReporter progress(settings.progress);
-  const RenderResult result = integrator->render(*scene, settings, progress);
+  RenderResult result;
+  try {
+    result = integrator->render(*scene, settings, progress);
+  } catch (const StateError& e) {
+    throw file_error(o.resume, std::string("cannot resume: ") + e.what());
+  }
 
   write_image(o.output, result.image);
   if (const auto* mlt = dynamic_cast<const MltIntegrator*>(integrator.get()))
@@ -239,6 +299,18 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   if (result.invalid_samples > 0)
     std::fprintf(stderr, "emlt: warning: %llu NaN/Inf samples were dropped\n",
                  static_cast<unsigned long long>(result.invalid_samples));
+  if (result.interrupted) {
+    const char* unit = mcmc ? "mutations" : "samples";
+    std::string done = fmt::format("{:.4g} {} per pixel", result.per_pixel, unit);
+    if (!result.stopped_in.empty()) done = "in " + result.stopped_in + ", before the chains began";
+    std::string saved;
+    if (control.checkpoints_written() > 0)
+      saved = fmt::format("; state saved in {} (continue with --resume {})", checkpoint_path,
+                          checkpoint_path);
+    fmt::print("{}: stopped by {} after {:.2f} s, {} -> {}{}\n", integrator->name(),
+               stop_signal_name(), result.seconds, done, outputs, saved);
+    return exit_status_for_stop();
+  }
   const double rate = result.seconds > 0.0 ? double(result.samples) / result.seconds : 0.0;
   fmt::print("{}: {}x{}, {} spp, {:.2f} s, {:.3f} M samples/s -> {}\n", integrator->name(),
              result.image.width, result.image.height, result.samples_per_pixel, result.seconds,

@@ -4,10 +4,12 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <functional>
 
 #include "emlt/path/connection.h"
 #include "emlt/path/random_walk.h"
+#include "emlt/render/interruption.h"
 
 namespace emlt {
 
@@ -94,6 +96,7 @@ Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& p) {
     double sum = 0.0, sum_squares = 0.0;
   };
   std::vector<Block> results(blocks);
+  std::atomic<bool> interrupted{false};
   const int threads = p.threads > 0 ? p.threads : tbb::this_task_arena::max_concurrency();
   tbb::task_arena arena(threads);
   arena.execute([&] {
@@ -103,6 +106,12 @@ Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& p) {
       const uint32_t first = uint32_t(int64_t(p.samples) * block / blocks);
       const uint32_t last = uint32_t(int64_t(p.samples) * (block + 1) / blocks);
       for (uint32_t sample = first; sample < last; ++sample) {
+        // A stop signal abandons the bootstrap (it is rerun on resume); a checkpoint falling
+        // due waits for it, as it takes seconds at most.
+        if (interruption::stop_requested()) {
+          interrupted = true;
+          break;
+        }
         double total = 0.0;
         enumerate_sample(scene, p, sample, scratch,
                          [&](int s, int t, const Rgb& c, auto, auto) {
@@ -120,6 +129,7 @@ Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& p) {
   });
 
   Bootstrap result;
+  result.interrupted = interrupted.load();
   result.samples = uint64_t(std::max(p.samples, 0));
   double sum = 0.0, sum_squares = 0.0;
   for (Block& block : results) {  // block order: the same pool at any thread count

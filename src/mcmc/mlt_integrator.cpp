@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <optional>
 
 #include "emlt/core/error.h"
 #include "emlt/mcmc/bootstrap.h"
@@ -13,6 +14,10 @@
 #include "emlt/render/bdpt.h"
 #include "emlt/render/direct_integrator.h"
 #include "emlt/render/image.h"
+#include "emlt/path/path_state.h"
+#include "emlt/render/interruption.h"
+#include "emlt/render/pixel_renderer.h"
+#include "emlt/render/render_control.h"
 #include "emlt/render/snapshot.h"
 
 namespace emlt {
@@ -23,6 +28,8 @@ constexpr uint64_t kChainStream = 0xc4a1ull << 40;
 constexpr uint64_t kSeedStream = 0x5eedull << 40;
 constexpr int kMaxBlocks = 64;
 constexpr int kMaxFilms = 16;
+// The phase a checkpoint falls in.
+constexpr uint8_t kPhaseDirect = 0, kPhaseChains = 1;
 
 double luminance(const DVec3& c) {
   return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
@@ -36,6 +43,7 @@ struct Chain {
   StrategyMask applicable = 0;  // which strategies apply to `current`
   Rng rng;
   uint64_t steps_taken = 0;  // keys EMLT's choice of guides (ensemble_guides.h)
+  uint64_t sweep_left = 0;   // steps still to take in the sweep under way
 };
 
 // What one block of chains counts: its strategies' statistics. Blocks are a fixed partition
@@ -99,9 +107,11 @@ struct FilmSlot {
   }
 };
 
-void run_chain(Chain& chain, uint64_t chain_index, uint64_t steps, const StrategyMix& mix,
-               MutationContext ctx, bool ignore_selection, BlockOutput& out, const FilmSlot& film,
-               int width, int height) {
+// Takes the chain's remaining steps of the sweep (chain.sweep_left), or returns early, with
+// every step it took complete, when an interruption is requested; returns the steps taken.
+uint64_t run_chain(Chain& chain, uint64_t chain_index, const StrategyMix& mix,
+                   MutationContext ctx, bool ignore_selection, BlockOutput& out,
+                   const FilmSlot& film, int width, int height) {
   ctx.chain = chain_index;
   // Steps taken with the current applicability, credited to the strategies that did not
   // apply whenever it changes (one loop per accepted move instead of one per step).
@@ -111,7 +121,11 @@ void run_chain(Chain& chain, uint64_t chain_index, uint64_t steps, const Strateg
       if (!((chain.applicable >> i) & 1u)) out.stats[i].not_applicable += steps_with_mask;
     steps_with_mask = 0;
   };
-  for (uint64_t step = 0; step < steps; ++step) {
+  uint64_t step = 0;
+  for (; chain.sweep_left > 0; ++step) {
+    // Every 1024 steps (about a millisecond): a stop is seen well within a second.
+    if ((step & 1023) == 1023 && interruption::requested()) break;
+    --chain.sweep_left;
     ctx.step = chain.steps_taken++;
     double p_forward = 0.0;
     const int chosen = mix.choose(chain.applicable, chain.rng.uniform(), &p_forward);
@@ -170,6 +184,7 @@ void run_chain(Chain& chain, uint64_t chain_index, uint64_t steps, const Strateg
     }
   }
   count_not_applicable();
+  return step;
 }
 
 // The EMLT paper's Figure 12: the predominant image-plane direction of the proposals made
@@ -209,8 +224,10 @@ int MltIntegrator::default_chain_count(uint64_t mutations) {
 RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& settings,
                                    ProgressReporter& progress) const {
   const auto start = std::chrono::steady_clock::now();
+  double earlier_seconds = 0.0;  // of the runs before a resume
   const auto elapsed = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return earlier_seconds +
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
   const Camera& camera = scene.camera();
   const int width = camera.width(), height = camera.height();
@@ -230,6 +247,38 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
                                          : std::min(settings.max_depth, kMaxPathVertices - 1);
   ctx.lens_max_radius = std::sqrt(0.05f * float(pixels) / kPi);
 
+  // Checkpoints (render_control.h). The state: the phase (direct light, or the chains),
+  // the time so far, the direct image's pass state and then the chains' section.
+  RenderControl* control = settings.control;
+  double snapshot_seconds = 0.0;
+  PixelRenderState direct_state;
+  uint8_t resumed_phase = kPhaseDirect;
+  std::string chain_section;  // a resumed chains section, until it is loaded
+  if (control && !control->resume_state().empty()) {
+    StateReader in(control->resume_state());
+    resumed_phase = in.get<uint8_t>();
+    if (resumed_phase != kPhaseDirect && resumed_phase != kPhaseChains)
+      throw StateError("the saved render is in no known phase");
+    earlier_seconds = in.get<double>();
+    if (settings.direct_separate) direct_state.load(in, pixels);
+    if (resumed_phase == kPhaseChains) chain_section = std::string(in.get_block());
+    in.expect_end();
+  }
+  // `chains` writes the chains' section (null: the chains have not started).
+  const auto save_state = [&](StateWriter& out, const std::function<void(StateWriter&)>& chains) {
+    out.put<uint8_t>(chains || !chain_section.empty() ? kPhaseChains : kPhaseDirect);
+    out.put<double>(elapsed() - snapshot_seconds);
+    if (settings.direct_separate) direct_state.save(out);
+    if (chains) {
+      StateWriter section;
+      chains(section);
+      out.put_block(section.data());
+    } else if (!chain_section.empty()) {
+      out.put_block(chain_section);
+    }
+  };
+  const auto save_before_chains = [&](StateWriter& out) { save_state(out, nullptr); };
+
   RenderResult result;
   result.image = Image(width, height);
   // Paths of one and two segments (emitters seen directly, direct light) from the direct
@@ -248,14 +297,26 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     direct.time_limit_s =
         time_only && settings.direct_spp <= 0 ? kDirectTimeShare * settings.time_limit_s : 0.0;
     direct.snapshots = nullptr;  // the log follows the chains, not this pass
+    direct.control = nullptr;    // its state is part of this render's
     ProgressReporter quiet(false);
-    const RenderResult direct_result = DirectIntegrator().render(scene, direct, quiet);
+    const RenderResult direct_result = render_pixels(
+        scene, direct, quiet,
+        [&](const Ray& ray, Rng& rng) { return DirectIntegrator::radiance(scene, direct, ray, rng); },
+        direct_state, [&] { return RenderControl::pause(control, save_before_chains); });
     result.image = direct_result.image;
     result.invalid_samples = 0;
     stats_.direct_spp = direct_result.samples_per_pixel;
-    stats_.direct_seconds = elapsed();
+    stats_.direct_seconds = direct_result.seconds;
+    if (direct_result.interrupted) {
+      result.interrupted = true;
+      result.stopped_in = "the direct-light pass";
+      result.per_pixel = 0.0;
+      result.seconds = stats_.seconds = elapsed();
+      return result;
+    }
   }
   if (ctx.min_edges > ctx.max_edges) {
+    RenderControl::finish(control, save_before_chains);
     result.seconds = elapsed();
     return result;
   }
@@ -270,20 +331,6 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   bp.rr_depth = settings.rr_depth;
   bp.mis = settings.mis;
   bp.threads = threads;
-  const Bootstrap bootstrap = run_bootstrap(scene, bp);
-  stats_.b = bootstrap.b;
-  stats_.b_standard_error = bootstrap.standard_error;
-  stats_.bootstrap_samples = bootstrap.samples;
-  const auto bootstrap_done = [&] { stats_.bootstrap_seconds = elapsed() - stats_.direct_seconds; };
-  if (bootstrap.empty()) {
-    bootstrap_done();
-    std::fprintf(
-        stderr,
-        "emlt: warning: no bootstrap path carries light; the MLT part of the image is black\n");
-    result.seconds = elapsed();
-    return result;
-  }
-
   const bool timed = settings.time_limit_s > 0.0;
   const uint64_t budget =
       uint64_t(std::llround(std::max(settings.mutations_per_pixel, 0.0) * double(pixels)));
@@ -301,29 +348,89 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
                               : settings.ensemble_iterations > 0
                                   ? uint64_t(settings.ensemble_iterations)
                                   : std::max<uint64_t>(1, pixels / (2 * ensemble_size));
-  const int chain_count = ensemble              ? int(2 * ensemble_size)
-                          : settings.chains > 0 ? settings.chains
-                                                : default_chain_count(timed ? pixels * 16 : budget);
+  int chain_count = ensemble              ? int(2 * ensemble_size)
+                    : settings.chains > 0 ? settings.chains
+                                          : default_chain_count(timed ? pixels * 16 : budget);
 
-  // Seeds: each chain resamples the bootstrap pool from its own stream (in EMLT, both
-  // ensembles come from the one pool, §3.4).
+  const PathCodec codec(scene);
+  std::optional<StateReader> chain_in;
+  double b = 0.0;
   std::vector<Chain> chains;
-  chains.resize(size_t(chain_count));
-  for (int c = 0; c < chain_count; ++c) {
-    Chain& chain = chains[size_t(c)];
-    Rng seed_rng = Rng::for_item(derive_stream_seed(settings.seed, kSeedStream), uint64_t(c));
-    for (int attempt = 0; attempt < 16 && !(chain.target > 0.0); ++attempt) {
-      const auto path = rebuild_candidate(
-          scene, bp, bootstrap.candidates[bootstrap.choose(seed_rng.uniform_double())]);
-      if (!path) continue;
-      chain.current = *path;
-      chain.contribution = path_contribution(scene, chain.current);
-      chain.target = luminance(chain.contribution);
+  if (!chain_section.empty()) {
+    // Resumed: the bootstrap's results and the chains as they were. The chain count is the
+    // checkpoint's (the default depends on the budget, which a resumed run may extend).
+    chain_in.emplace(chain_section);
+    StateReader& in = *chain_in;
+    stats_.b = in.get<double>();
+    b = stats_.b;
+    stats_.b_standard_error = in.get<double>();
+    stats_.bootstrap_samples = in.get<uint64_t>();
+    stats_.bootstrap_seconds = in.get<double>();
+    const uint64_t saved_count = in.get<uint64_t>();
+    if (saved_count == 0 || saved_count > (uint64_t(1) << 20) ||
+        (ensemble && saved_count != uint64_t(chain_count)))
+      throw StateError("the saved chains do not fit this render (" + std::to_string(saved_count) +
+                       " chains)");
+    chain_count = int(saved_count);
+    chains.resize(size_t(chain_count));
+    for (Chain& chain : chains) {
+      chain.current = codec.load(in);
+      chain.contribution = in.get<DVec3>();
+      chain.target = in.get<double>();
+      chain.carried = in.get<double>();
+      chain.rng = Rng::restore(in.get<Rng::State>());
+      chain.steps_taken = in.get<uint64_t>();
+      chain.sweep_left = in.get<uint64_t>();
+      if (!std::isfinite(chain.target) || chain.target < 0.0 || !std::isfinite(chain.carried) ||
+          chain.carried < 0.0 || !(std::isfinite(chain.contribution.x) && std::isfinite(chain.contribution.y) &&
+            std::isfinite(chain.contribution.z)) ||
+          (chain.target > 0.0 && chain.current.vertices.empty()))
+        throw StateError("a saved chain is inconsistent");
+      // Which strategies apply follows from the path (and is checked that way).
+      chain.applicable = mix.applicable(chain.current, ctx);
     }
-    chain.rng = Rng::for_item(derive_stream_seed(settings.seed, kChainStream), uint64_t(c));
-    chain.applicable = mix.applicable(chain.current, ctx);
+  } else {
+    const double bootstrap_start = elapsed();
+    const Bootstrap bootstrap = run_bootstrap(scene, bp);
+    if (bootstrap.interrupted) {
+      // Nothing of the bootstrap is kept: a resumed render runs it again, to the same bits.
+      RenderControl::pause(control, save_before_chains);
+      result.interrupted = true;
+      result.stopped_in = "the bootstrap";
+      result.seconds = stats_.seconds = elapsed();
+      return result;
+    }
+    b = stats_.b = bootstrap.b;
+    stats_.b_standard_error = bootstrap.standard_error;
+    stats_.bootstrap_samples = bootstrap.samples;
+    if (bootstrap.empty()) {
+      stats_.bootstrap_seconds = elapsed() - bootstrap_start;
+      std::fprintf(
+          stderr,
+          "emlt: warning: no bootstrap path carries light; the MLT part of the image is black\n");
+      RenderControl::finish(control, save_before_chains);
+      result.seconds = elapsed();
+      return result;
+    }
+    // Seeds: each chain resamples the bootstrap pool from its own stream (in EMLT, both
+    // ensembles come from the one pool, §3.4).
+    chains.resize(size_t(chain_count));
+    for (int c = 0; c < chain_count; ++c) {
+      Chain& chain = chains[size_t(c)];
+      Rng seed_rng = Rng::for_item(derive_stream_seed(settings.seed, kSeedStream), uint64_t(c));
+      for (int attempt = 0; attempt < 16 && !(chain.target > 0.0); ++attempt) {
+        const auto path = rebuild_candidate(
+            scene, bp, bootstrap.candidates[bootstrap.choose(seed_rng.uniform_double())]);
+        if (!path) continue;
+        chain.current = *path;
+        chain.contribution = path_contribution(scene, chain.current);
+        chain.target = luminance(chain.contribution);
+      }
+      chain.rng = Rng::for_item(derive_stream_seed(settings.seed, kChainStream), uint64_t(c));
+      chain.applicable = mix.applicable(chain.current, ctx);
+    }
+    stats_.bootstrap_seconds = elapsed() - bootstrap_start;
   }
-  bootstrap_done();
 
   const bool record_moves = !settings.aniso_map_path.empty();
   std::vector<BlockOutput> blocks(
@@ -336,6 +443,103 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   std::vector<FixedPointFilm> move_films(record_moves ? films.size() : 0,
                                          FixedPointFilm(pixels, 256.0));
   for (BlockOutput& block : blocks) block.stats.assign(mix.size(), BlockOutput::Counters{});
+
+  // The sweep under way: chains [first, first + count) take `size` steps between them
+  // (chain.sweep_left each), `done_before` counting the mutations before it.
+  struct Sweep {
+    uint8_t active = 0;
+    uint64_t first = 0, count = 0, size = 0, done_before = 0;
+  } sweep;
+  uint64_t done = 0, next_checkpoint = 1, half = 0, timed_rounds = 1;
+  double alpha_sum = 0.0;
+  if (chain_in) {
+    StateReader& in = *chain_in;
+    for (BlockOutput& block : blocks)
+      for (StrategyStats& stats : block.stats) stats = in.get<StrategyStats>();
+    const std::vector<int64_t> units = in.get_vector<int64_t>(3 * pixels);
+    FixedPointFilm::load_units(films, units);
+    const std::vector<int64_t> move_units = in.get_vector<int64_t>(record_moves ? 3 * pixels : 0);
+    if (record_moves) FixedPointFilm::load_units(move_films, move_units);
+    sweep.active = in.get<uint8_t>();
+    sweep.first = in.get<uint64_t>();
+    sweep.count = in.get<uint64_t>();
+    sweep.size = in.get<uint64_t>();
+    sweep.done_before = in.get<uint64_t>();
+    done = in.get<uint64_t>();
+    next_checkpoint = in.get<uint64_t>();
+    half = in.get<uint64_t>();
+    timed_rounds = in.get<uint64_t>();
+    alpha_sum = in.get<double>();
+    stats_.swaps = in.get<uint64_t>();
+    stats_.tree_seconds = in.get<double>();
+    in.expect_end();
+    // Every count that steers the loop is checked, so that a damaged state can neither
+    // loop forever nor index past the chains.
+    uint64_t left = 0;
+    bool consistent = half <= 1 && is_checkpoint(next_checkpoint) && next_checkpoint <= (1ull << 40) &&
+                      is_checkpoint(timed_rounds) && timed_rounds <= (1ull << 40) &&
+                      std::isfinite(stats_.b) && stats_.b > 0.0 && std::isfinite(alpha_sum);
+    for (const int64_t u : units) consistent &= u >= 0;
+    if (consistent && sweep.active) {
+      consistent = sweep.count > 0 && sweep.first + sweep.count <= uint64_t(chain_count) &&
+                   (!ensemble || (sweep.first == half * ensemble_size && sweep.count == ensemble_size));
+    }
+    for (uint64_t c = 0; consistent && c < uint64_t(chain_count); ++c) {
+      const uint64_t chain_left = chains[size_t(c)].sweep_left;
+      const bool in_sweep = sweep.active && c >= sweep.first && c < sweep.first + sweep.count;
+      consistent = in_sweep ? chain_left <= sweep.size : chain_left == 0;
+      left += chain_left;
+    }
+    if (consistent && sweep.active)
+      consistent = left <= sweep.size && done == sweep.done_before + sweep.size - left;
+    if (!consistent) throw StateError("the saved chains' schedule is inconsistent");
+    if (!timed && done > planned)
+      throw StateError("the checkpoint has " + std::to_string(done / pixels) +
+                       " mutations per pixel done, more than this run's budget of " +
+                       std::to_string(planned / pixels) +
+                       " (a resumed render may extend the budget, not cut it)");
+    chain_in.reset();
+    chain_section.clear();
+  }
+  const auto save_chains = [&](StateWriter& out) {
+    out.put<double>(stats_.b);
+    out.put<double>(stats_.b_standard_error);
+    out.put<uint64_t>(stats_.bootstrap_samples);
+    out.put<double>(stats_.bootstrap_seconds);
+    out.put<uint64_t>(chains.size());
+    for (const Chain& chain : chains) {
+      codec.save(chain.current, out);
+      out.put(chain.contribution);
+      out.put(chain.target);
+      out.put(chain.carried);
+      out.put(chain.rng.save());
+      out.put(chain.steps_taken);
+      out.put(chain.sweep_left);
+    }
+    for (const BlockOutput& block : blocks)
+      for (const StrategyStats& stats : block.stats) out.put<StrategyStats>(stats);
+    std::vector<int64_t> units;
+    if (!FixedPointFilm::total_units(films, units))
+      throw Error("the MCMC film overflowed: too many mutations' worth of weight in one pixel");
+    out.put_vector(units);
+    units.clear();
+    if (record_moves && !FixedPointFilm::total_units(move_films, units))
+      throw Error("the --aniso-map tallies overflowed: too many proposals per pixel");
+    out.put_vector(units);
+    out.put(sweep.active);
+    out.put(sweep.first);
+    out.put(sweep.count);
+    out.put(sweep.size);
+    out.put(sweep.done_before);
+    out.put(done);
+    out.put(next_checkpoint);
+    out.put(half);
+    out.put(timed_rounds);
+    out.put(alpha_sum);
+    out.put(stats_.swaps);
+    out.put(stats_.tree_seconds);
+  };
+  const auto save_all = [&](StateWriter& out) { save_state(out, save_chains); };
 
   // The image after `mutations` steps: the direct part, plus the films' sum and each chain's
   // weight not yet splatted (added to a copy: the chains go on untouched), scaled so the
@@ -357,7 +561,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
       splat(total, width, height, scene.camera().filter(), chain.current, chain.contribution,
             chain.target, chain.carried);
     const double splatted = double(mutations_done) * double(live) / double(chain_count);
-    const double scale = splatted > 0.0 ? double(pixels) * bootstrap.b / splatted : 0.0;
+    const double scale = splatted > 0.0 ? double(pixels) * b / splatted : 0.0;
     Image image = direct_image;
     for (uint64_t p = 0; p < pixels; ++p) image.pixels[p] += Rgb(total[p] * scale);
     return image;
@@ -371,7 +575,6 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     }
     return out;
   };
-  double snapshot_seconds = 0.0;
   const auto take_snapshot = [&](uint64_t mutations_done) {
     const auto begin = std::chrono::steady_clock::now();
     settings.snapshots->snapshot(double(mutations_done) / double(pixels),
@@ -393,41 +596,69 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     ensemble_params.alpha_fixed = settings.ensemble_alpha;
   }
   std::vector<const Path*> frozen(ensemble_size);
-  double alpha_sum = 0.0;
+  bool guides_ready = false;
   if (ensemble) ctx.ensemble = &guides;
+  // Y's tree and α from the frozen half (the other one than the sweep's), which nothing
+  // changes during the sweep: rebuilding it on resume gives the same guides.
+  const auto build_guides = [&] {
+    const auto tree_start = std::chrono::steady_clock::now();
+    const uint64_t other = (1 - half) * ensemble_size;
+    for (uint64_t i = 0; i < ensemble_size; ++i) {
+      const Chain& y = chains[size_t(other + i)];
+      frozen[i] = y.target > 0.0 ? &y.current : nullptr;
+    }
+    guides.build(frozen, width, height, settings.seed, ensemble_params);
+    stats_.tree_seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - tree_start).count();
+    guides_ready = true;
+  };
 
   tbb::task_arena arena(threads);
   progress.start(options_.name.c_str(), timed ? 0 : planned, settings.time_limit_s);
+  progress.advance(done);
   // Sweeps: for MLT, every chain takes its share of the steps up to the next checkpoint (a
   // power of two in mutations per pixel) in one visit, so that its path stays in cache
   // (one round of a mutation per pixel at a time ran 10 % slower with 16384 chains); a
   // timed render starts with one round and doubles the sweep while sweeps are short, since
   // the time budget is checked between sweeps. For EMLT, half-sweeps of `it` steps for
-  // each path of X. No sweep crosses a checkpoint, so snapshots fall on them exactly.
+  // each path of X. No sweep crosses a checkpoint, so snapshots fall on them exactly. A
+  // pause (a checkpoint falling due, a stop) cuts a sweep short with every chain's steps
+  // left recorded; the sweep then goes on from there, in this process or a resumed one.
   const uint64_t round_size = std::max<uint64_t>(pixels, uint64_t(chain_count));
-  uint64_t timed_rounds = 1;
-  uint64_t done = 0, next_checkpoint = 1, half = 0;
-  while (done < planned) {
-    uint64_t first = 0, count = uint64_t(chain_count);
-    uint64_t sweep = timed ? timed_rounds * round_size : planned - done;
-    if (ensemble) {
-      first = half * ensemble_size;
-      count = ensemble_size;
-      sweep = ensemble_size * iterations;
-      const auto tree_start = std::chrono::steady_clock::now();
-      const uint64_t other = (1 - half) * ensemble_size;
-      for (uint64_t i = 0; i < ensemble_size; ++i) {
-        const Chain& y = chains[size_t(other + i)];
-        frozen[i] = y.target > 0.0 ? &y.current : nullptr;
-      }
-      guides.build(frozen, width, height, settings.seed, ensemble_params);
-      alpha_sum += guides.alpha();
-      stats_.tree_seconds +=
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - tree_start).count();
+  bool stopped = false;
+  while (true) {
+    if (interruption::requested() && RenderControl::pause(control, save_all)) {
+      stopped = true;
+      break;
     }
-    sweep = std::min(sweep, planned - done);
-    if (done < next_checkpoint * pixels) sweep = std::min(sweep, next_checkpoint * pixels - done);
+    if (!sweep.active) {
+      if (done >= planned) break;
+      if (timed && elapsed() - snapshot_seconds >= settings.time_limit_s) break;
+      sweep.first = 0;
+      sweep.count = uint64_t(chain_count);
+      sweep.size = timed ? timed_rounds * round_size : planned - done;
+      if (ensemble) {
+        sweep.first = half * ensemble_size;
+        sweep.count = ensemble_size;
+        sweep.size = ensemble_size * iterations;
+        build_guides();
+        alpha_sum += guides.alpha();
+      }
+      sweep.size = std::min(sweep.size, planned - done);
+      if (done < next_checkpoint * pixels)
+        sweep.size = std::min(sweep.size, next_checkpoint * pixels - done);
+      for (uint64_t j = 0; j < sweep.count; ++j) {
+        Chain& chain = chains[size_t(sweep.first + j)];
+        chain.sweep_left = !(chain.target > 0.0) ? 0
+                           : sweep.size / sweep.count + (j < sweep.size % sweep.count ? 1 : 0);
+      }
+      sweep.done_before = done;
+      sweep.active = 1;
+    } else if (ensemble && !guides_ready) {
+      build_guides();
+    }
     const double sweep_start = elapsed();
+    const uint64_t first = sweep.first, count = sweep.count;
     const int block_count = int(std::min<uint64_t>(count, blocks.size()));
     arena.execute([&] {
       tbb::parallel_for(0, block_count, [&](int block) {
@@ -443,32 +674,40 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
         for (uint64_t j = begin; j < end; ++j) {
           Chain& chain = chains[size_t(first + j)];
           if (j + 1 < end) prefetch_path(chains[size_t(first + j + 1)].current);
-          if (!(chain.target > 0.0)) continue;
-          const uint64_t steps = sweep / count + (j < sweep % count ? 1 : 0);
-          run_chain(chain, first + j, steps, mix, ctx, options_.ignore_selection_probability,
-                    blocks[size_t(block)], film, width, height);
+          if (chain.sweep_left == 0) continue;
+          if (interruption::requested()) break;
+          const uint64_t steps = run_chain(chain, first + j, mix, ctx,
+                                           options_.ignore_selection_probability,
+                                           blocks[size_t(block)], film, width, height);
+          interruption::poll(steps);
           block_steps += steps;
         }
         progress.advance(block_steps);
       });
     });
-    done += sweep;
+    uint64_t left = 0;
+    for (uint64_t j = 0; j < count; ++j) left += chains[size_t(first + j)].sweep_left;
+    done = sweep.done_before + sweep.size - left;
+    if (left > 0) continue;  // paused: handled at the top of the loop
+    sweep.active = 0;
     if (timed && !ensemble &&
         elapsed() - sweep_start < std::min(0.05, settings.time_limit_s / 50.0))
       timed_rounds *= 2;
     if (ensemble) {
       half = 1 - half;
       ++stats_.swaps;
+      guides_ready = false;
     }
     for (; done >= next_checkpoint * pixels; next_checkpoint *= 2)
       if (settings.snapshots && done == next_checkpoint * pixels) take_snapshot(done);
-    if (timed && elapsed() - snapshot_seconds >= settings.time_limit_s) break;
   }
   if (settings.snapshots && !(done % pixels == 0 && is_checkpoint(done / pixels)))
     take_snapshot(done);
+  if (!stopped) RenderControl::finish(control, save_all);
   progress.finish();
 
   result.image = compose(done);
+  result.interrupted = stopped;
   if (record_moves) write_move_map(settings.aniso_map_path, move_films, width, height);
   for (const BlockOutput& block : blocks)
     for (size_t i = 0; i < mix.size(); ++i) stats_.strategies[i].merge(block.stats[i]);
@@ -484,6 +723,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   result.seconds = stats_.seconds;
   result.samples = done;
   result.samples_per_pixel = int(std::llround(double(done) / double(pixels)));
+  result.per_pixel = double(done) / double(pixels);
   return result;
 }
 

@@ -15,6 +15,10 @@
 #include "emlt/path/connection.h"
 #include "emlt/path/path_density.h"
 #include "emlt/path/random_walk.h"
+#include "emlt/render/interruption.h"
+#include "emlt/render/pixel_renderer.h"
+#include "emlt/render/render_control.h"
+#include "emlt/render/snapshot.h"
 #include "emlt/render/splat_film.h"
 
 namespace emlt {
@@ -160,16 +164,18 @@ class BdptSampler {
 
 void write_strategy_images(const std::string& directory, int width, int height,
                            const std::vector<DVec3>& camera_sums, const SplatFilm& film,
-                           double camera_scale, double splat_scale) {
+                           const std::vector<int32_t>& counts, double splat_scale) {
   std::filesystem::create_directories(directory);
   const size_t pixels = size_t(width) * size_t(height);
   for (int n = 2; n <= BidirectionalPathTracer::kMaxStrategyImageDepth + 1; ++n) {
     for (int s = 0; s < n; ++s) {
       const int index = strategy_image_index(s, n - s);
       Image image(width, height);
-      for (size_t p = 0; p < pixels; ++p)
+      for (size_t p = 0; p < pixels; ++p) {
+        const double camera_scale = counts[p] > 0 ? 1.0 / counts[p] : 0.0;
         image.pixels[p] = Rgb(camera_sums[size_t(index) * pixels + p] * camera_scale +
                               film.layer(index)[p] * splat_scale);
+      }
       const std::string name = fmt::format("s{}_t{}.exr", s, n - s);
       write_image((std::filesystem::path(directory) / name).string(), image);
     }
@@ -187,35 +193,83 @@ RenderResult BidirectionalPathTracer::render(const Scene& scene, const RenderSet
   const int strategies = strategy_images ? strategy_image_count() : 0;
 
   const std::vector<Tile> tiles = make_tiles(width, height);
-  std::vector<DVec3> camera_sums(pixels, DVec3(0.0));
+  // Camera-side sums and sample counts per pixel, as the pixel driver keeps them.
+  PixelRenderState state;
   std::vector<DVec3> strategy_sums(size_t(strategies) * pixels, DVec3(0.0));
   SplatFilm film(width, height, strategies);
+  // The splats of the pass under way, added to the film in tile order when it completes.
   std::vector<TileOutput> outputs(tiles.size());
   const BdptSampler sampler(scene, settings, options_, strategy_images);
+
+  RenderControl* control = settings.control;
+  const auto save = [&](StateWriter& out) {
+    state.save(out);
+    out.put_vector(strategy_sums);
+    film.save(out);
+    for (const TileOutput& tile : outputs) {
+      out.put_vector(tile.splats.records);
+      out.put(tile.invalid.count);
+    }
+  };
+  if (control && !control->resume_state().empty()) {
+    StateReader in(control->resume_state());
+    state.load(in, pixels);
+    strategy_sums = in.get_vector<DVec3>(size_t(strategies) * pixels);
+    film.load(in);
+    for (TileOutput& tile : outputs) {
+      // A tile makes a few splats per sample; kSamplesPerPass bounds a pass's samples.
+      tile.splats.records = in.get_vector_up_to<SplatRecord>(64 * kSamplesPerPass);
+      for (const SplatRecord& r : tile.splats.records)
+        if (r.pixel >= pixels || r.layer >= strategies)
+          throw StateError("a saved splat lies outside the image");
+      tile.invalid.count = in.get<uint64_t>();
+    }
+    in.expect_end();
+  } else {
+    state.sums.assign(pixels, DVec3(0.0));
+    state.counts.assign(pixels, 0);
+  }
+  const auto light_paths = [&] {
+    uint64_t total = 0;
+    for (const int32_t c : state.counts) total += uint64_t(c);
+    return total;
+  };
 
   // Camera-side estimates average over the pixel's samples. A splat carries W_e of the
   // whole film (camera.h), so the light-tracing image is scaled by pixels / light paths;
   // there is one light path per pixel sample.
-  const auto average = [&](int samples) {
+  const auto image_now = [&] {
     Image image(width, height);
-    const double camera_scale = samples > 0 ? 1.0 / samples : 0.0;
-    const double light_paths = double(pixels) * double(samples);
-    const double splat_scale = light_paths > 0.0 ? double(pixels) / light_paths : 0.0;
-    for (uint64_t i = 0; i < pixels; ++i)
-      image.pixels[i] = Rgb(camera_sums[i] * camera_scale + film.sums()[i] * splat_scale);
+    const double paths = double(light_paths());
+    const double splat_scale = paths > 0.0 ? double(pixels) / paths : 0.0;
+    for (uint64_t i = 0; i < pixels; ++i) {
+      const double camera_scale = state.counts[i] > 0 ? 1.0 / state.counts[i] : 0.0;
+      image.pixels[i] = Rgb(state.sums[i] * camera_scale + film.sums()[i] * splat_scale);
+    }
     return image;
   };
+  const auto average = [&](int) { return image_now(); };
 
   const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
   tbb::task_arena arena(threads);
   // Passes are bounded so the splat lists stay small.
   const int bounded_pass = int(std::max<uint64_t>(1, kSamplesPerPass / std::max<uint64_t>(pixels, 1)));
   PassSchedule schedule(settings, bounded_pass);
+  if (state.resumed) schedule.restore(state.schedule);
   const bool timed = settings.time_limit_s > 0.0;
   progress.start("rendering", timed ? 0 : pixels * uint64_t(schedule.max_samples()), settings.time_limit_s);
+  progress.advance(pixels * uint64_t(schedule.samples()));
 
   RenderResult result;
+  bool mid_pass = state.schedule.pass_end > 0 && state.resumed;
   while (schedule.more()) {
+    if (interruption::requested()) {
+      state.schedule = schedule.save(mid_pass);
+      if (RenderControl::pause(control, save)) {
+        result.interrupted = true;
+        break;
+      }
+    }
     const int first = schedule.pass_begin(), last = schedule.pass_end();
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
@@ -224,13 +278,19 @@ RenderResult BidirectionalPathTracer::render(const Scene& scene, const RenderSet
         for (size_t index = range.begin(); index < range.end(); ++index) {
           const Tile& tile = tiles[index];
           TileOutput& out = outputs[index];
+          uint64_t tile_samples = 0;
           for (int y = tile.y0; y < tile.y1; ++y) {
             for (int x = tile.x0; x < tile.x1; ++x) {
               const uint64_t pixel = uint64_t(y) * uint64_t(width) + uint64_t(x);
+              int k = std::max(first, int(state.counts[pixel]));
+              if (k >= last || interruption::requested()) continue;
               const uint64_t pixel_stream = derive_stream_seed(settings.seed, pixel);
-              DVec3 sum(0.0);
-              std::fill(strategy_pixel.begin(), strategy_pixel.end(), DVec3(0.0));
-              for (int k = first; k < last; ++k) {
+              // Each sample adds to the pixel's sums in sample order, whatever the passes.
+              DVec3 sum = state.sums[pixel];
+              for (int i = 0; i < strategies; ++i)
+                strategy_pixel[size_t(i)] = strategy_sums[size_t(i) * pixels + pixel];
+              const int begin = k;
+              for (; k < last && !interruption::requested(); ++k) {
                 // Same stream and first draws as the path tracer's pixel driver.
                 Rng rng(pixel_stream, uint64_t(k));
                 const Vec2 jitter = rng.uniform2();
@@ -238,39 +298,58 @@ RenderResult BidirectionalPathTracer::render(const Scene& scene, const RenderSet
                 sampler.sample(rng, camera.filter().sample(x, y, jitter), u_lens, scratch, sum,
                                strategy_pixel.data(), out);
               }
-              camera_sums[pixel] += sum;
+              state.sums[pixel] = sum;
+              state.counts[pixel] = k;
               for (int i = 0; i < strategies; ++i)
-                strategy_sums[size_t(i) * pixels + pixel] += strategy_pixel[size_t(i)];
+                strategy_sums[size_t(i) * pixels + pixel] = strategy_pixel[size_t(i)];
+              tile_samples += uint64_t(k - begin);
+              interruption::poll(uint64_t(k - begin));
             }
           }
-          progress.advance(uint64_t(tile.y1 - tile.y0) * uint64_t(tile.x1 - tile.x0) *
-                           uint64_t(last - first));
+          progress.advance(tile_samples);
         }
       });
     });
+    mid_pass = std::any_of(state.counts.begin(), state.counts.end(),
+                           [&](int32_t c) { return c < last; });
+    if (mid_pass) continue;
     // Splats are added in tile order: the same bits at any thread count.
     std::vector<SplatList> lists(outputs.size());
     for (size_t i = 0; i < outputs.size(); ++i) {
       lists[i].records.swap(outputs[i].splats.records);
-      result.invalid_samples += outputs[i].invalid.count;
+      state.invalid += outputs[i].invalid.count;
       outputs[i].invalid.count = 0;
     }
     film.add_in_order(lists);
     schedule.complete_pass(average);
   }
-  schedule.finish(average);
+  state.schedule = schedule.save(mid_pass);
+  if (!result.interrupted) {
+    schedule.finish(average);
+    RenderControl::finish(control, save);
+  } else {
+    // The image of a stop inside a pass includes that pass's splats so far.
+    std::vector<SplatList> lists(outputs.size());
+    for (size_t i = 0; i < outputs.size(); ++i) {
+      lists[i].records.swap(outputs[i].splats.records);
+      state.invalid += outputs[i].invalid.count;
+    }
+    film.add_in_order(lists);
+  }
   progress.finish();
 
-  const int done = schedule.samples();
+  const uint64_t done = light_paths();
   result.seconds = schedule.seconds();
-  result.samples_per_pixel = done;
-  result.samples = pixels * uint64_t(done);
-  result.image = average(done);
-  const double camera_scale = done > 0 ? 1.0 / done : 0.0;
-  const double splat_scale = done > 0 ? 1.0 / double(done) : 0.0;
+  result.samples_per_pixel = schedule.samples();
+  result.samples = done;
+  result.per_pixel = pixels > 0 ? double(done) / double(pixels) : 0.0;
+  result.invalid_samples = state.invalid;
+  result.image = image_now();
+  if (result.interrupted && settings.snapshots)
+    settings.snapshots->snapshot(result.per_pixel, result.seconds, result.image, {});
   if (strategy_images)
     write_strategy_images(settings.bdpt_strategies_dir, width, height, strategy_sums, film,
-                          camera_scale, splat_scale);
+                          state.counts, done > 0 ? double(pixels) / double(done) : 0.0);
   return result;
 }
 

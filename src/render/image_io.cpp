@@ -25,6 +25,7 @@
 #include <stb/stb_image_write.h>
 
 #include "emlt/core/error.h"
+#include "emlt/render/interruption.h"
 #include "emlt/render/image.h"
 
 namespace emlt {
@@ -409,15 +410,19 @@ void write_png(const std::string& path, const Image& image) {
 void write_atomically(const std::string& path,
                       const std::function<void(const std::string&)>& write_to) {
   const std::string temporary = path + ".tmp-" + std::to_string(::getpid());
+  // A second Ctrl-C while this is written removes the temporary (interruption.h).
+  interruption::register_temporary(temporary);
   try {
     write_to(temporary);
   } catch (const std::exception& e) {  // WriteFailure, OpenEXR (Iex), allocation
+    interruption::register_temporary("");
     std::error_code ignored;
     fs::remove(temporary, ignored);
     throw file_error(path, std::string("cannot write image: ") + e.what());
   }
   std::error_code error;
   fs::rename(temporary, path, error);
+  interruption::register_temporary("");
   if (error) {
     std::error_code ignored;
     fs::remove(temporary, ignored);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "emlt/core/state_io.h"
 #include "emlt/render/snapshot.h"
 
 namespace emlt {
@@ -24,11 +25,37 @@ PassSchedule::PassSchedule(const RenderSettings& settings, int max_pass)
       start_(std::chrono::steady_clock::now()) {}
 
 int PassSchedule::pass_end() const {
+  if (resumed_pass_end_ > 0) return resumed_pass_end_;
   const uint64_t wanted = uint64_t(done_) + uint64_t(std::min(pass_samples_, max_samples_ - done_));
   return int(std::min(wanted, next_checkpoint(uint64_t(done_))));
 }
 
-double PassSchedule::seconds() const { return since(start_) - snapshot_seconds_; }
+double PassSchedule::seconds() const {
+  return earlier_seconds_ + since(start_) - snapshot_seconds_;
+}
+
+PassSchedule::Saved PassSchedule::save(bool mid_pass) const {
+  return {done_, mid_pass ? pass_end() : 0, pass_samples_, seconds()};
+}
+
+void PassSchedule::restore(const Saved& saved) {
+  if (saved.done < 0 || saved.pass_end < 0 || saved.pass_samples < 1 ||
+      (saved.pass_end > 0 && saved.pass_end <= saved.done) || !(saved.seconds >= 0.0))
+    throw StateError("the saved pass schedule is inconsistent");
+  if (saved.done > max_samples_ || saved.pass_end > max_samples_)
+    throw StateError("the checkpoint has " + std::to_string(std::max(saved.done, saved.pass_end)) +
+                     " samples per pixel done or under way, more than this run's budget of " +
+                     std::to_string(max_samples_) +
+                     " (a resumed render may extend the budget, not cut it)");
+  done_ = saved.done;
+  resumed_pass_end_ = saved.pass_end;
+  pass_samples_ = std::min(saved.pass_samples, max_pass_);
+  earlier_seconds_ = saved.seconds;
+  start_ = std::chrono::steady_clock::now();
+  snapshot_seconds_ = 0.0;
+  // A time budget already spent (the same --time given again) renders nothing more.
+  stopped_ = timed_ && resumed_pass_end_ == 0 && seconds() >= settings_.time_limit_s;
+}
 
 void PassSchedule::snapshot(const ImageAt& image_at) {
   const auto begin = std::chrono::steady_clock::now();
@@ -38,6 +65,7 @@ void PassSchedule::snapshot(const ImageAt& image_at) {
 
 void PassSchedule::complete_pass(const ImageAt& image_at) {
   done_ = pass_end();
+  resumed_pass_end_ = 0;
   if (settings_.snapshots && is_checkpoint(uint64_t(done_))) snapshot(image_at);
   if (!timed_) return;
   const double used = seconds(), left = settings_.time_limit_s - used;

@@ -1,7 +1,5 @@
 #include "emlt/render/pixel_renderer.h"
 
-#include "emlt/render/pass_schedule.h"
-
 #include <tbb/blocked_range2d.h>
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
@@ -9,16 +7,22 @@
 
 #include <algorithm>
 
+#include "emlt/core/error.h"
+#include "emlt/render/interruption.h"
+#include "emlt/render/render_control.h"
+#include "emlt/render/snapshot.h"
+
 namespace emlt {
 
 namespace {
 
 constexpr int kTileSize = 16;
 
-// Samples [first, last) of every pixel, added into `sums`.
+// Samples from each pixel's count up to `last`, added to its sum in sample order. Returns
+// early (every pixel's count saying how far it got) when an interruption is requested.
 uint64_t render_pass(const Scene& scene, const RenderSettings& settings,
-                     ProgressReporter& progress, const RadianceEstimator& radiance,
-                     int first, int last, std::vector<DVec3>& sums) {
+                     ProgressReporter& progress, const RadianceEstimator& radiance, int first,
+                     int last, PixelRenderState& state) {
   const Camera& camera = scene.camera();
   const int width = camera.width(), height = camera.height();
   tbb::combinable<uint64_t> invalid([] { return uint64_t(0); });
@@ -26,12 +30,16 @@ uint64_t render_pass(const Scene& scene, const RenderSettings& settings,
       tbb::blocked_range2d<int>(0, height, kTileSize, 0, width, kTileSize),
       [&](const tbb::blocked_range2d<int>& tile) {
         uint64_t& tile_invalid = invalid.local();
+        uint64_t tile_samples = 0;
         for (int y = tile.rows().begin(); y < tile.rows().end(); ++y) {
           for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
             const uint64_t pixel = uint64_t(y) * uint64_t(width) + uint64_t(x);
+            int k = std::max(first, int(state.counts[pixel]));
+            if (k >= last || interruption::requested()) continue;
             const uint64_t pixel_stream = derive_stream_seed(settings.seed, pixel);
-            DVec3 sum(0.0);
-            for (int k = first; k < last; ++k) {
+            DVec3 sum = state.sums[pixel];
+            const int begin = k;
+            for (; k < last && !interruption::requested(); ++k) {
               Rng rng(pixel_stream, uint64_t(k));
               const Vec2 jitter = rng.uniform2();
               const Vec2 u_lens = rng.uniform2();
@@ -42,50 +50,121 @@ uint64_t render_pass(const Scene& scene, const RenderSettings& settings,
               else
                 ++tile_invalid;
             }
-            sums[pixel] += sum;
+            state.sums[pixel] = sum;
+            state.counts[pixel] = k;
+            tile_samples += uint64_t(k - begin);
+            interruption::poll(uint64_t(k - begin));
           }
         }
-        progress.advance(uint64_t(tile.rows().size()) * tile.cols().size() * uint64_t(last - first));
+        progress.advance(tile_samples);
       });
   return invalid.combine(std::plus<uint64_t>());
 }
 
 }  // namespace
 
+void PixelRenderState::save(StateWriter& out) const {
+  out.put_vector(sums);
+  out.put_vector(counts);
+  out.put(schedule);
+  out.put(invalid);
+}
+
+void PixelRenderState::load(StateReader& in, uint64_t pixels) {
+  sums = in.get_vector<DVec3>(pixels);
+  counts = in.get_vector<int32_t>(pixels);
+  schedule = in.get<PassSchedule::Saved>();
+  invalid = in.get<uint64_t>();
+  for (const int32_t c : counts)
+    if (c < schedule.done || c > std::max(schedule.done, schedule.pass_end))
+      throw StateError("a pixel's sample count lies outside the pass under way");
+  resumed = true;
+}
+
+Image PixelRenderState::image(int width, int height) const {
+  Image image(width, height);
+  for (size_t i = 0; i < image.pixels.size(); ++i)
+    image.pixels[i] = counts[i] > 0 ? Rgb(sums[i] / double(counts[i])) : Rgb(0.0f);
+  return image;
+}
+
 RenderResult render_pixels(const Scene& scene, const RenderSettings& settings,
-                           ProgressReporter& progress, const RadianceEstimator& radiance) {
+                           ProgressReporter& progress, const RadianceEstimator& radiance,
+                           PixelRenderState& state, const std::function<bool()>& on_pause) {
   const Camera& camera = scene.camera();
   const int width = camera.width(), height = camera.height();
   const uint64_t pixels = uint64_t(width) * uint64_t(height);
-  std::vector<DVec3> sums(pixels, DVec3(0.0));
+  if (!state.resumed) {
+    state.sums.assign(pixels, DVec3(0.0));
+    state.counts.assign(pixels, 0);
+    state.invalid = 0;
+  }
+  // Between passes every pixel has `samples` samples.
   const auto average = [&](int samples) {
     Image image(width, height);
     const double scale = samples > 0 ? 1.0 / samples : 0.0;
-    for (uint64_t i = 0; i < pixels; ++i) image.pixels[i] = Rgb(sums[i] * scale);
+    for (uint64_t i = 0; i < pixels; ++i) image.pixels[i] = Rgb(state.sums[i] * scale);
     return image;
   };
 
   const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
   tbb::task_arena arena(threads);
   PassSchedule schedule(settings, std::numeric_limits<int>::max());
+  if (state.resumed) schedule.restore(state.schedule);
   const bool timed = settings.time_limit_s > 0.0;
   progress.start("rendering", timed ? 0 : pixels * uint64_t(schedule.max_samples()), settings.time_limit_s);
+  progress.advance(pixels * uint64_t(schedule.samples()));
 
   RenderResult result;
+  bool mid_pass = false;
   while (schedule.more()) {
+    if (interruption::requested()) {
+      state.schedule = schedule.save(mid_pass);
+      if (on_pause()) {
+        result.interrupted = true;
+        break;
+      }
+    }
     const int first = schedule.pass_begin(), last = schedule.pass_end();
     arena.execute([&] {
-      result.invalid_samples += render_pass(scene, settings, progress, radiance, first, last, sums);
+      state.invalid += render_pass(scene, settings, progress, radiance, first, last, state);
     });
-    schedule.complete_pass(average);
+    mid_pass = std::any_of(state.counts.begin(), state.counts.end(),
+                           [&](int32_t c) { return c < last; });
+    if (!mid_pass) schedule.complete_pass(average);
   }
-  schedule.finish(average);
+  if (!result.interrupted) schedule.finish(average);
   progress.finish();
+  state.schedule = schedule.save(mid_pass);
 
+  uint64_t total = 0;
+  for (const int32_t c : state.counts) total += uint64_t(c);
   result.seconds = schedule.seconds();
   result.samples_per_pixel = schedule.samples();
-  result.samples = pixels * uint64_t(schedule.samples());
-  result.image = average(schedule.samples());
+  result.samples = total;
+  result.per_pixel = pixels > 0 ? double(total) / double(pixels) : 0.0;
+  result.invalid_samples = state.invalid;
+  result.image = state.image(width, height);
+  // A stopped render's log ends with the image it writes.
+  if (result.interrupted && settings.snapshots)
+    settings.snapshots->snapshot(result.per_pixel, result.seconds, result.image, {});
+  return result;
+}
+
+RenderResult render_pixels(const Scene& scene, const RenderSettings& settings,
+                           ProgressReporter& progress, const RadianceEstimator& radiance) {
+  const uint64_t pixels = uint64_t(scene.camera().width()) * uint64_t(scene.camera().height());
+  PixelRenderState state;
+  RenderControl* control = settings.control;
+  if (control && !control->resume_state().empty()) {
+    StateReader in(control->resume_state());
+    state.load(in, pixels);
+    in.expect_end();
+  }
+  const auto save = [&](StateWriter& out) { state.save(out); };
+  RenderResult result = render_pixels(scene, settings, progress, radiance, state,
+                                      [&] { return RenderControl::pause(control, save); });
+  if (!result.interrupted) RenderControl::finish(control, save);
   return result;
 }
 

@@ -15,4 +15,14 @@ void SplatFilm::add_in_order(std::span<const SplatList> lists) {
   }
 }
 
+void SplatFilm::save(StateWriter& out) const {
+  out.put_vector(sums_);
+  for (const auto& layer : layers_) out.put_vector(layer);
+}
+
+void SplatFilm::load(StateReader& in) {
+  sums_ = in.get_vector<DVec3>(sums_.size());
+  for (auto& layer : layers_) layer = in.get_vector<DVec3>(sums_.size());
+}
+
 }  // namespace emlt

@@ -13,13 +13,26 @@
 
 namespace emlt {
 
+namespace {
+// The files the loader on this thread resolves while it loads a scene (null when none).
+thread_local std::vector<std::string>* t_input_files = nullptr;
+}  // namespace
+
 SceneDescription load_scene_description(const std::string& path, const SceneDefines& defines) {
   std::string extension = std::filesystem::path(path).extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return char(std::tolower(c)); });
-  if (extension == ".json") return load_json_scene(path, defines);
-  if (extension == ".xml") return load_mitsuba_scene(path, defines);
-  throw file_error(path, "unknown scene format (expected .json or Mitsuba .xml)");
+  if (extension != ".json" && extension != ".xml")
+    throw file_error(path, "unknown scene format (expected .json or Mitsuba .xml)");
+  std::vector<std::string> inputs{path};
+  t_input_files = &inputs;
+  struct Forget {
+    ~Forget() { t_input_files = nullptr; }
+  } forget;
+  SceneDescription desc =
+      extension == ".json" ? load_json_scene(path, defines) : load_mitsuba_scene(path, defines);
+  desc.input_files = std::move(inputs);
+  return desc;
 }
 
 namespace loader {
@@ -36,8 +49,11 @@ std::string read_text_file(const std::string& path) {
 
 std::string resolve_path(const std::string& scene_file, const std::string& relative) {
   const std::filesystem::path p(relative);
-  if (p.is_absolute()) return p.lexically_normal().string();
-  return (std::filesystem::path(scene_file).parent_path() / p).lexically_normal().string();
+  std::string resolved = p.is_absolute()
+                             ? p.lexically_normal().string()
+                             : (std::filesystem::path(scene_file).parent_path() / p).lexically_normal().string();
+  if (t_input_files) t_input_files->push_back(resolved);
+  return resolved;
 }
 
 std::optional<float> named_ior(const std::string& name) {

@@ -11,7 +11,8 @@ namespace emlt::loader {
 // Whole file as text; throws "<path>: cannot read file" when it cannot be opened.
 std::string read_text_file(const std::string& path);
 
-// `relative` interpreted against the scene file's directory (absolute paths unchanged).
+// `relative` interpreted against the scene file's directory (absolute paths unchanged);
+// noted among the scene's input files (SceneDescription::input_files).
 std::string resolve_path(const std::string& scene_file, const std::string& relative);
 
 // Index of refraction for Mitsuba's named materials ("bk7", "water", "air", ...).

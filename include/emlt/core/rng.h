@@ -37,6 +37,19 @@ class Rng {
     return Rng(derive_stream_seed(seed, index), index);
   }
 
+  // The exact position in the stream, for checkpoints: restore(save()) continues the very
+  // same sequence.
+  struct State {
+    uint64_t state, increment;
+  };
+  State save() const { return {state_, increment_}; }
+  static Rng restore(const State& s) {
+    Rng rng;
+    rng.state_ = s.state;
+    rng.increment_ = s.increment | 1u;  // PCG's increment is odd
+    return rng;
+  }
+
   uint32_t next_u32() {
     const uint64_t old = state_;
     state_ = old * 6364136223846793005ull + increment_;

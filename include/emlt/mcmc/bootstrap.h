@@ -36,6 +36,7 @@ struct Bootstrap {
   uint64_t samples = 0;
   std::vector<BootstrapCandidate> candidates;
   std::vector<double> cumulative;  // running sum of candidate weights
+  bool interrupted = false;        // a stop signal cut it short: not to be used
 
   bool empty() const { return candidates.empty() || !(b > 0.0); }
   // Candidate index for u in [0, 1), chosen in proportion to weight.

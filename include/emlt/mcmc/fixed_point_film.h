@@ -13,6 +13,7 @@
 // written. Rounding changes a splat by at most 3e-8, far below any
 // pixel's Monte Carlo error, and the errors of many splats average out.
 #include <atomic>
+#include <algorithm>
 #include <climits>
 #include <cstddef>
 #include <cstdint>
@@ -51,6 +52,27 @@ class FixedPointFilm {
       overflows_ += overflow;
     }
   }
+
+  // Checkpoints: every film's sums added into one exact integer array (the films a chain
+  // splats into depend on the threads; their sum does not), and its reload into `films`,
+  // all into the first. False when the sum leaves the range.
+  static bool total_units(std::span<const FixedPointFilm> films, std::vector<int64_t>& out) {
+    out.assign(films.empty() ? 0 : films[0].sums_.size(), 0);
+    for (const FixedPointFilm& film : films) {
+      if (film.overflowed()) return false;
+      for (size_t i = 0; i < out.size(); ++i)
+        if (__builtin_add_overflow(out[i], film.sums_[i], &out[i])) return false;
+    }
+    return true;
+  }
+  static void load_units(std::span<FixedPointFilm> films, const std::vector<int64_t>& units) {
+    for (FixedPointFilm& film : films) {
+      std::fill(film.sums_.begin(), film.sums_.end(), 0);
+      film.overflows_ = 0;
+    }
+    if (!films.empty()) films[0].sums_ = units;
+  }
+  size_t units_size() const { return sums_.size(); }
 
   void prefetch(size_t pixel) const { __builtin_prefetch(&sums_[3 * pixel], 1); }
 

@@ -20,6 +20,14 @@ class ConvergenceLog final : public SnapshotSink {
                 const std::vector<StrategyAcceptance>& strategies) override;
   size_t rows() const { return rows_.size(); }
 
+  // Checkpoints keep the rows so far, so a resumed render's log holds the whole run.
+  const std::string& header() const { return header_; }
+  const std::vector<std::string>& row_texts() const { return rows_; }
+  void restore(std::string header, std::vector<std::string> rows) {
+    header_ = std::move(header);
+    rows_ = std::move(rows);
+  }
+
  private:
   void write() const;
 

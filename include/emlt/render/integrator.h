@@ -18,6 +18,12 @@ struct RenderResult {
   uint64_t samples = 0;         // camera samples (paths) traced
   int samples_per_pixel = 0;
   uint64_t invalid_samples = 0; // NaN/Inf estimates dropped (should stay 0)
+  // Stopped by a signal before its budget was done; the image is normalised for the work
+  // done, which per_pixel gives (samples or mutations per pixel, a fraction when the stop
+  // fell inside a pass).
+  bool interrupted = false;
+  double per_pixel = 0.0;
+  std::string stopped_in;  // the phase the stop fell in, when not the main one ("direct light")
 };
 
 class Integrator {

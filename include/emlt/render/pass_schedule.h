@@ -20,6 +20,18 @@ class PassSchedule {
 
   PassSchedule(const RenderSettings& settings, int max_pass);
 
+  // What a checkpoint keeps of the schedule. `pass_end` is the end of the pass that was
+  // under way (0 when the pause fell between passes): a resumed render finishes that pass
+  // first, as the uninterrupted one would have. `seconds`: rendering time so far.
+  struct Saved {
+    int32_t done = 0, pass_end = 0, pass_samples = 0;
+    double seconds = 0.0;
+  };
+  Saved save(bool mid_pass) const;
+  // Continues from a saved schedule (the budget may have grown since). Throws StateError
+  // when the settings' budget is smaller than the work already done.
+  void restore(const Saved& saved);
+
   int max_samples() const { return max_samples_; }
   bool more() const { return !stopped_ && done_ < max_samples_; }
   int pass_begin() const { return done_; }
@@ -39,9 +51,11 @@ class PassSchedule {
   bool timed_;
   int max_pass_, max_samples_, pass_samples_;
   int done_ = 0;
+  int resumed_pass_end_ = 0;  // a restored pass under way, until it completes
   bool stopped_ = false;
   std::chrono::steady_clock::time_point start_;
   double snapshot_seconds_ = 0.0;
+  double earlier_seconds_ = 0.0;  // of the runs before a resume
 };
 
 }  // namespace emlt

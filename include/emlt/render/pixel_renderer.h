@@ -1,19 +1,48 @@
 #pragma once
 // Drives integrators that estimate each pixel independently (direct, pt). Sample k of
 // pixel i draws its random numbers from the stream (seed, i, k), and each pixel is summed
-// by exactly one task, so the image is bit-identical for a seed at any thread count and
-// whether the samples came in one pass or many (time-limited renders use passes).
+// by exactly one task, in sample order, so the image is bit-identical for a seed at any
+// thread count and whether the samples came in one pass or many, in one run or in a run
+// resumed from a checkpoint (time-limited renders use passes).
 #include <functional>
 
 #include "emlt/core/rng.h"
+#include "emlt/core/state_io.h"
 #include "emlt/render/integrator.h"
+#include "emlt/render/pass_schedule.h"
 
 namespace emlt {
 
 // Radiance arriving along a camera ray; may use `rng` freely.
 using RadianceEstimator = std::function<Rgb(const Ray& ray, Rng& rng)>;
 
+// Everything a pass-based render has done: per pixel the sum of its samples and how many
+// there were (all equal between passes; a stop inside a pass leaves some pixels a few
+// samples ahead, and the image divides each by its own count), and the schedule.
+struct PixelRenderState {
+  std::vector<DVec3> sums;
+  std::vector<int32_t> counts;
+  PassSchedule::Saved schedule;
+  bool resumed = false;  // loaded from a checkpoint: the render continues from it
+  uint64_t invalid = 0;
+
+  void save(StateWriter& out) const;
+  // Throws StateError when the state does not fit an image of `pixels` pixels.
+  void load(StateReader& in, uint64_t pixels);
+  // The mean of each pixel's samples.
+  Image image(int width, int height) const;
+};
+
+// The whole render of one integrator: resumes from and checkpoints through
+// settings.control.
 RenderResult render_pixels(const Scene& scene, const RenderSettings& settings,
                            ProgressReporter& progress, const RadianceEstimator& radiance);
+
+// A pass-based render inside another (MLT's direct-light image): continues from `state`
+// when state.resumed, leaves its final state there, and at a pause calls `on_pause`, which
+// saves whatever the outer render needs and returns whether to stop.
+RenderResult render_pixels(const Scene& scene, const RenderSettings& settings,
+                           ProgressReporter& progress, const RadianceEstimator& radiance,
+                           PixelRenderState& state, const std::function<bool()>& on_pause);
 
 }  // namespace emlt

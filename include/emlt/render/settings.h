@@ -6,6 +6,7 @@
 namespace emlt {
 
 class SnapshotSink;
+class RenderControl;
 
 // Limits the command line and the scene files share. Beyond them a render could not
 // finish in any useful time, or its counters (samples x pixels in 64 bits) and buffers
@@ -63,6 +64,9 @@ struct RenderSettings {
   // Receives images at power-of-two samples (mutations) per pixel; not owned. Null: none.
   SnapshotSink* snapshots = nullptr;
   std::string bdpt_strategies_dir;  // non-empty: bdpt also writes per-strategy images here
+  // Checkpoints, stop signals and the state to resume from (render_control.h); not owned.
+  // Null: the render runs to its budget unless interruption::request_stop() is called.
+  RenderControl* control = nullptr;
 };
 
 inline const char* to_string(MisHeuristic h) { return h == MisHeuristic::Balance ? "balance" : "power"; }

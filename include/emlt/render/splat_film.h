@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "emlt/core/math.h"
+#include "emlt/core/state_io.h"
 
 namespace emlt {
 
@@ -35,6 +36,10 @@ class SplatFilm {
   const std::vector<DVec3>& sums() const { return sums_; }
   const std::vector<DVec3>& layer(int i) const { return layers_[size_t(i)]; }
   int layer_count() const { return int(layers_.size()); }
+
+  // Checkpoints: the sums of every layer, exactly.
+  void save(StateWriter& out) const;
+  void load(StateReader& in);  // throws StateError for a film of another size
 
  private:
   std::vector<DVec3> sums_;

@@ -101,6 +101,9 @@ struct SceneDescription {
   // Shapes a loader could not read ("<shape type=\"heightfield\"> at line 12"), named in
   // the error when no geometry is left.
   std::vector<std::string> skipped_shapes;
+  // Every file the scene was made from: the scene file, its includes, meshes, textures,
+  // maps and spectra, in the order read (a checkpoint fingerprints their contents).
+  std::vector<std::string> input_files;
 
   // "exact", or "approximated: N items, unsupported: M items" (either part alone when
   // the other count is zero).

@@ -1,0 +1,29 @@
+#pragma once
+// A path written to and read back from a checkpoint bit for bit. Vertices refer to the
+// scene's BSDFs and lights by pointer; in the checkpoint those become indices (of the
+// scene's materials and of its light set), which a scene built from the same files maps
+// back to the same objects.
+#include <unordered_map>
+
+#include "emlt/core/state_io.h"
+#include "emlt/path/path.h"
+
+namespace emlt {
+
+class PathCodec {
+ public:
+  explicit PathCodec(const Scene& scene);
+
+  void save(const Path& path, StateWriter& out) const;
+  // Throws StateError for a path this scene cannot hold (an index out of range, too many
+  // vertices).
+  Path load(StateReader& in) const;
+
+ private:
+  const Scene& scene_;
+  std::vector<const Bsdf*> bsdfs_;
+  std::unordered_map<const Bsdf*, int32_t> bsdf_index_;
+  std::unordered_map<const Light*, int32_t> light_index_;
+};
+
+}  // namespace emlt

@@ -1,0 +1,29 @@
+#pragma once
+// The checkpoint file: "EMLTCKPT", the format version, the payload's length, the payload and
+// its checksum. The payload holds two sections: the header (what the render was made of,
+// written and checked by the command line: the scene's fingerprint, every argument that
+// affects the image, the log rows) and the integrator's state (render_control.h). Written to
+// a temporary name beside the target, flushed to disk with fsync and renamed over it, so a
+// crash or a signal while writing leaves the previous checkpoint whole.
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace emlt::checkpoint_file {
+
+// Raised whenever the layout of any integrator's state or of the header changes.
+inline constexpr uint32_t kVersion = 1;
+
+struct Contents {
+  std::string header;
+  std::string state;
+};
+
+// Throws emlt::Error naming the path on any I/O failure; never leaves a partial file.
+void write(const std::string& path, std::string_view header, std::string_view state);
+
+// Throws emlt::Error "<path>: <problem>" for a missing, truncated, corrupted (checksum) or
+// foreign file, or one of another format version.
+Contents read(const std::string& path);
+
+}  // namespace emlt::checkpoint_file

@@ -1,0 +1,42 @@
+#pragma once
+// Asking a render to pause: a stop signal (SIGINT, SIGTERM) or a checkpoint falling due.
+// Workers poll between paths (pixel samples) and between chain steps, and return as soon as
+// the path in hand is done; the integrator then saves or writes what it has
+// (render_control.h). The state is process-wide because a signal handler must reach it.
+#include <cstdint>
+#include <string>
+
+namespace emlt::interruption {
+
+// Whether workers must return now: a stop or a checkpoint was asked for. One relaxed load.
+bool requested();
+
+// Called by workers after finishing `units` of work (samples or mutations); returns
+// requested(). Counts the units only when a test armed stop_after().
+bool poll(uint64_t units);
+
+// From a signal handler (async-signal-safe): the render stops and writes what it has.
+void request_stop(int signal);
+bool stop_requested();
+int stop_signal();  // the first stop signal, 0 if none
+
+// The checkpoint timer's request; cleared once the checkpoint is written.
+void request_checkpoint();
+bool checkpoint_due();
+void clear_checkpoint();
+
+// Test hook (EMLT_STOP_AFTER in the command line): stop as if by SIGINT once workers have
+// reported this many units of work. 0 disarms it.
+void stop_after(uint64_t units);
+
+// The temporary file being written right now (renamed over an output or a checkpoint when
+// complete), "" when none. A second signal removes it before the process exits, so the
+// previous file stays untouched and no stray temporary is left behind.
+void register_temporary(const std::string& path);
+// For the signal handler: unlinks the registered temporary, if any (async-signal-safe).
+void remove_temporary();
+
+// Forgets every request (tests that render several times in one process).
+void reset();
+
+}  // namespace emlt::interruption

@@ -1,0 +1,118 @@
+#include "emlt/path/path_state.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "emlt/core/error.h"
+
+namespace emlt {
+
+namespace {
+bool is_finite(const Vec2& v) { return std::isfinite(v.x) && std::isfinite(v.y); }
+}  // namespace
+using emlt::is_finite;
+
+PathCodec::PathCodec(const Scene& scene) : scene_(scene) {
+  for (const MaterialDesc& m : scene.description().materials) {
+    const Bsdf* bsdf = m.bsdf.get();
+    if (bsdf && !bsdf_index_.contains(bsdf)) {
+      bsdf_index_[bsdf] = int32_t(bsdfs_.size());
+      bsdfs_.push_back(bsdf);
+    }
+  }
+  for (size_t i = 0; i < scene.lights().size(); ++i)
+    light_index_[&scene.lights().light(i)] = int32_t(i);
+}
+
+void PathCodec::save(const Path& path, StateWriter& out) const {
+  out.put<uint64_t>(path.type.specular_mask);
+  out.put<uint8_t>(path.type.vertices);
+  out.put<uint64_t>(path.vertices.size());
+  for (const PathVertex& v : path.vertices) {
+    int32_t bsdf = -1, light = -1;
+    if (v.bsdf) {
+      const auto it = bsdf_index_.find(v.bsdf);
+      if (it == bsdf_index_.end()) throw Error("a path vertex's BSDF is not one of the scene's");
+      bsdf = it->second;
+    }
+    if (v.light) {
+      const auto it = light_index_.find(v.light);
+      if (it == light_index_.end()) throw Error("a path vertex's light is not one of the scene's");
+      light = it->second;
+    }
+    out.put<uint8_t>(uint8_t(v.kind));
+    out.put<uint8_t>(v.delta);
+    out.put(v.position);
+    out.put(v.normal);
+    out.put(v.shading.s);
+    out.put(v.shading.t);
+    out.put(v.shading.n);
+    out.put(v.uv);
+    out.put(v.sky_direction);
+    out.put(bsdf);
+    out.put(light);
+    out.put(v.throughput);
+    out.put(v.pdf_from_light);
+    out.put(v.pdf_from_eye);
+    out.put(v.delta_probability);
+    out.put(v.delta_value);
+    out.put(v.delta_ior_ratio);
+    out.put(v.raster);
+  }
+}
+
+Path PathCodec::load(StateReader& in) const {
+  Path path;
+  path.type.specular_mask = in.get<uint64_t>();
+  path.type.vertices = in.get<uint8_t>();
+  const uint64_t count = in.get<uint64_t>();
+  if (count > uint64_t(kMaxPathVertices)) throw StateError("a saved path is longer than possible");
+  path.vertices.resize(count);
+  for (PathVertex& v : path.vertices) {
+    const uint8_t kind = in.get<uint8_t>();
+    if (kind > uint8_t(VertexKind::Camera)) throw StateError("a saved path vertex has no known kind");
+    v.kind = VertexKind(kind);
+    v.delta = in.get<uint8_t>() != 0;
+    v.position = in.get<Vec3>();
+    v.normal = in.get<Vec3>();
+    v.shading.s = in.get<Vec3>();
+    v.shading.t = in.get<Vec3>();
+    v.shading.n = in.get<Vec3>();
+    v.uv = in.get<Vec2>();
+    v.sky_direction = in.get<Vec3>();
+    const int32_t bsdf = in.get<int32_t>(), light = in.get<int32_t>();
+    if (bsdf < -1 || bsdf >= int32_t(bsdfs_.size()))
+      throw StateError("a saved path vertex names a material this scene does not have");
+    if (light < -1 || light >= int32_t(scene_.lights().size()))
+      throw StateError("a saved path vertex names a light this scene does not have");
+    v.bsdf = bsdf >= 0 ? bsdfs_[size_t(bsdf)] : nullptr;
+    v.light = light >= 0 ? &scene_.lights().light(size_t(light)) : nullptr;
+    v.throughput = in.get<Rgb>();
+    v.pdf_from_light = in.get<float>();
+    v.pdf_from_eye = in.get<float>();
+    v.delta_probability = in.get<float>();
+    v.delta_value = in.get<Rgb>();
+    v.delta_ior_ratio = in.get<float>();
+    v.raster = in.get<Vec2>();
+    const bool finite = is_finite(v.position) && is_finite(v.normal) && is_finite(v.shading.s) &&
+                        is_finite(v.shading.t) && is_finite(v.shading.n) && is_finite(v.uv) &&
+                        is_finite(v.sky_direction) && is_finite(v.throughput) &&
+                        std::isfinite(v.pdf_from_light) && std::isfinite(v.pdf_from_eye) &&
+                        std::isfinite(v.delta_probability) && is_finite(v.delta_value) &&
+                        std::isfinite(v.delta_ior_ratio) && is_finite(v.raster);
+    if (!finite) throw StateError("a saved path vertex holds a value that is not a number");
+  }
+  // The shape every path of the chains has: an emitter or the sky first, the lens last,
+  // surfaces with a BSDF between (what the mutations rely on).
+  if (count > 0) {
+    const bool shape_ok =
+        count >= 2 && path.type.vertices == count &&
+        path.vertices.back().is_camera() && !path.vertices.front().is_camera() &&
+        std::all_of(path.vertices.begin() + 1, path.vertices.end() - 1,
+                    [](const PathVertex& v) { return v.is_surface() && v.bsdf != nullptr; });
+    if (!shape_ok) throw StateError("a saved path is not a path from a light to the camera");
+  }
+  return path;
+}
+
+}  // namespace emlt
