@@ -1,0 +1,378 @@
+// Long renders survive interruption (issue 19): a stop (Ctrl-C, SIGTERM, or the test hook
+// EMLT_STOP_AFTER that stops as if by Ctrl-C after so many samples or mutations) writes the
+// image so far and a checkpoint; --resume continues to the very bits of an uninterrupted
+// render; a bad checkpoint is refused by name with nothing written.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <thread>
+
+#include "emlt/render/image.h"
+#include "support/test_support.h"
+
+using namespace emlt;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string cornell() { return test::source_path("scenes/cornell-box/scene.json"); }
+
+std::string read_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// `emlt render` of the Cornell box at 32 x 32 with `args`; returns the exit status.
+int render(const std::string& args, std::string* text = nullptr, const std::string& env = "") {
+  const std::string bootstrap =
+      args.find("--bootstrap") == std::string::npos ? " --bootstrap 4000" : "";
+  return test::run_command(env + " " + test::emlt_binary() + " render " + cornell() +
+                               " --width 32 --height 32 -q" + bootstrap + " " + args,
+                           text);
+}
+
+double mean(const Image& image) {
+  double sum = 0.0;
+  for (const Rgb& p : image.pixels) sum += double(p.x) + double(p.y) + double(p.z);
+  return sum / (3.0 * double(image.pixels.size()));
+}
+
+int count_lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
+
+struct Case {
+  const char* integrator;
+  const char* budget;
+  // Work units of the whole render (samples, then mutations; MLT's separate direct image
+  // takes as many samples per pixel as the chains take mutations).
+  uint64_t units;
+};
+
+class ResumeEveryIntegrator : public ::testing::TestWithParam<Case> {};
+
+// Stopped early, midway and late, each resumed with another thread count: the same bits.
+TEST_P(ResumeEveryIntegrator, GivesTheBitsOfAnUninterruptedRender) {
+  const Case c = GetParam();
+  const fs::path dir = test::scratch_dir(std::string("resume_") + c.integrator);
+  const std::string common = std::string("--integrator ") + c.integrator + " " + c.budget;
+  const fs::path full = dir / "full.exr";
+  std::string text;
+  ASSERT_EQ(0, render(common + " -o " + full.string(), &text)) << text;
+  for (const double fraction : {0.1, 0.45, 0.8}) {
+    const uint64_t stop = uint64_t(fraction * double(c.units));
+    const fs::path part = dir / "part.exr", resumed = dir / "resumed.exr", ck = dir / "render.ckpt";
+    fs::remove(ck);
+    ASSERT_EQ(130, render(common + " --threads 2 -o " + part.string() + " --checkpoint " +
+                              ck.string(), &text, "EMLT_STOP_AFTER=" + std::to_string(stop)))
+        << text;
+    EXPECT_NE(text.find("stopped by SIGINT"), std::string::npos) << text;
+    EXPECT_NE(text.find("--resume " + ck.string()), std::string::npos) << text;
+    ASSERT_TRUE(fs::exists(part));
+    ASSERT_TRUE(fs::exists(ck));
+    ASSERT_EQ(0, render(common + " --threads 1 -o " + resumed.string() + " --resume " + ck.string(),
+                        &text))
+        << text;
+    EXPECT_TRUE(read_bytes(full) == read_bytes(resumed))
+        << c.integrator << " stopped after " << stop << " units and resumed differs";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Integrators, ResumeEveryIntegrator,
+    ::testing::Values(Case{"direct", "--spp 16", 16 * 1024}, Case{"pt", "--spp 16", 16 * 1024},
+                      Case{"bdpt", "--spp 8", 8 * 1024},
+                      Case{"mlt", "--mpp 16", 2 * 16 * 1024},
+                      Case{"gamlt", "--mpp 16", 2 * 16 * 1024},
+                      Case{"emlt", "--mpp 16", 2 * 16 * 1024}),
+    [](const auto& info) { return std::string(info.param.integrator); });
+
+// A resumed render stopped again and resumed again still ends on the same bits, and a
+// render that writes checkpoints every few milliseconds (pausing each time) too.
+TEST(Checkpoint, RepeatedStopsAndPeriodicCheckpointsLeaveTheImageUnchanged) {
+  const fs::path dir = test::scratch_dir("repeated_stops");
+  // bdpt: 8192 samples in all; emlt: 16384 direct samples, then 16384 mutations.
+  for (const auto& [integrator, first_stop, second_stop] :
+       {std::tuple{std::string("bdpt"), 3000, 2000}, std::tuple{std::string("emlt"), 20000, 6000}}) {
+    const std::string common = "--integrator " + integrator + " --spp 8 --mpp 16";
+    const fs::path full = dir / "full.exr", out = dir / "out.exr", ck = dir / "r.ckpt";
+    std::string text;
+    ASSERT_EQ(0, render(common + " -o " + full.string(), &text)) << text;
+    fs::remove(ck);
+    ASSERT_EQ(130, render(common + " -o " + out.string() + " --checkpoint " + ck.string(), &text,
+                          "EMLT_STOP_AFTER=" + std::to_string(first_stop)))
+        << text;
+    ASSERT_EQ(130, render(common + " -o " + out.string() + " --resume " + ck.string(), &text,
+                          "EMLT_STOP_AFTER=" + std::to_string(second_stop)))
+        << text;
+    ASSERT_EQ(0, render(common + " -o " + out.string() + " --resume " + ck.string(), &text)) << text;
+    EXPECT_TRUE(read_bytes(full) == read_bytes(out)) << integrator << ": stopped twice";
+
+    fs::remove(ck);
+    ASSERT_EQ(0, render(common + " -o " + out.string() + " --checkpoint " + ck.string() +
+                            " --checkpoint-interval 0.002", &text))
+        << text;
+    EXPECT_TRUE(fs::exists(ck));
+    EXPECT_TRUE(read_bytes(full) == read_bytes(out)) << integrator << ": periodic checkpoints";
+  }
+}
+
+// The image of a stopped render is normalised for the work done: its mean matches a converged
+// reference within its noise, whether the stop fell in a pass or in the chains.
+TEST(Checkpoint, StoppedImageMeanMatchesTheReference) {
+  const fs::path dir = test::scratch_dir("stopped_mean");
+  const fs::path reference = dir / "reference.exr", out = dir / "out.exr";
+  std::string text;
+  ASSERT_EQ(0, render("--integrator pt --spp 512 -o " + reference.string(), &text)) << text;
+  const double expected = mean(read_image(reference.string()));
+  // pt stopped inside its 64-sample pass (some pixels a sample ahead of others): 1 %
+  // measured noise of the mean at ~40 samples per pixel; the MLT image, stopped in the
+  // chains at ~12 mutations per pixel, carries the bootstrap's 1-2 % error in b.
+  const struct {
+    const char* args;
+    uint64_t stop;
+    double tolerance;
+  } cases[] = {{"--integrator pt --spp 64", 40 * 1024 + 517, 0.03},
+               {"--integrator mlt --mpp 32 --bootstrap 40000", 32 * 1024 + 12 * 1024 + 3, 0.06},
+               {"--integrator emlt --mpp 32 --bootstrap 40000", 32 * 1024 + 12 * 1024 + 3, 0.06}};
+  for (const auto& c : cases) {
+    ASSERT_EQ(130, render(std::string(c.args) + " -o " + out.string(), &text,
+                          "EMLT_STOP_AFTER=" + std::to_string(c.stop)))
+        << text;
+    const double ratio = mean(read_image(out.string())) / expected;
+    EXPECT_NEAR(ratio, 1.0, c.tolerance) << c.args << ": " << text;
+  }
+  // Stopped before any chain moved: the direct image alone, said so.
+  ASSERT_EQ(130, render("--integrator mlt --mpp 32 -o " + out.string(), &text, "EMLT_STOP_AFTER=500"))
+      << text;
+  EXPECT_NE(text.find("before the chains began"), std::string::npos) << text;
+}
+
+// A real signal from another process: the render stops within a second with the signal's
+// exit status, and resuming it gives the uninterrupted render's bits.
+TEST(Checkpoint, RealSignalsStopWithinASecondAndResumeToTheSameBits) {
+  const fs::path dir = test::scratch_dir("real_signal");
+  std::mt19937 random(std::random_device{}());
+  for (const auto& [signal, status, integrator] :
+       {std::tuple{SIGINT, 130, "mlt"}, std::tuple{SIGTERM, 143, "pt"}}) {
+    const std::string common = std::string("--integrator ") + integrator +
+                               " --mpp 1024 --spp 1024 --width 64 --height 64 --bootstrap 4000 -q";
+    const fs::path full = dir / "full.exr", out = dir / "out.exr", ck = dir / "s.ckpt";
+    const std::string base = test::emlt_binary() + " render " + cornell() + " " + common;
+    std::string text;
+    ASSERT_EQ(0, test::run_command(base + " -o " + full.string(), &text)) << text;
+
+    fs::remove(ck);
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      const std::string command = "exec " + base + " -o " + out.string() + " --checkpoint " +
+                                  ck.string() + " > " + (dir / "log.txt").string() + " 2>&1";
+      execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    // A random moment in the first second or so of a render that takes several.
+    std::this_thread::sleep_for(std::chrono::milliseconds(300 + random() % 700));
+    const auto sent = std::chrono::steady_clock::now();
+    ASSERT_EQ(0, kill(pid, signal));
+    int wait_status = 0;
+    ASSERT_EQ(pid, waitpid(pid, &wait_status, 0));
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+    const std::string log = read_bytes(dir / "log.txt");
+    ASSERT_TRUE(WIFEXITED(wait_status)) << log;
+    ASSERT_EQ(status, WEXITSTATUS(wait_status)) << log;
+    EXPECT_LT(seconds, 1.0) << "the render took " << seconds << " s to stop and write";
+    EXPECT_TRUE(fs::exists(out)) << log;
+    ASSERT_EQ(0, test::run_command(base + " -o " + out.string() + " --resume " + ck.string(), &text))
+        << text;
+    EXPECT_TRUE(read_bytes(full) == read_bytes(out)) << integrator << " stopped by a signal";
+  }
+}
+
+// A second signal while the outputs are written ends the process at once; whatever it cut
+// short, no temporary file stays behind and the output is either the old one or whole.
+TEST(Checkpoint, SecondSignalEndsAtOnceLeavingNoTemporary) {
+  const fs::path dir = test::scratch_dir("second_signal");
+  const fs::path out = dir / "out.exr", ck = dir / "c.ckpt";
+  std::string text;
+  ASSERT_EQ(0, render("--integrator pt --spp 1 -o " + out.string(), &text)) << text;
+  const std::string before = read_bytes(out);
+  for (int delay_ms : {0, 2, 20}) {
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      const std::string command = "exec " + test::emlt_binary() + " render " + cornell() +
+                                  " --integrator mlt --mpp 4096 --width 256 --height 256 -q -o " +
+                                  out.string() + " --checkpoint " + ck.string() + " > /dev/null 2>&1";
+      execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(800));
+    kill(pid, SIGINT);
+    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+    kill(pid, SIGINT);
+    int wait_status = 0;
+    ASSERT_EQ(pid, waitpid(pid, &wait_status, 0));
+    ASSERT_TRUE(WIFEXITED(wait_status));
+    EXPECT_EQ(130, WEXITSTATUS(wait_status));
+    for (const auto& entry : fs::directory_iterator(dir))
+      EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
+    const Image image = read_image(out.string());  // throws if cut short
+    EXPECT_EQ(image.width, read_bytes(out) == before ? 32 : 256);
+  }
+}
+
+// Each bad checkpoint: one line naming the file and the problem, a non-zero exit, and the
+// output and the checkpoint left exactly as they were.
+TEST(Checkpoint, BadCheckpointsAreRefusedByNameWithNothingWritten) {
+  const fs::path dir = test::scratch_dir("bad_checkpoints");
+  const fs::path out = dir / "out.exr", good = dir / "good.ckpt";
+  const std::string common = "--integrator mlt --mpp 8 --max-depth 8";
+  std::string text;
+  ASSERT_EQ(130, render(common + " -o " + out.string() + " --checkpoint " + good.string(), &text,
+                        "EMLT_STOP_AFTER=12000"))
+      << text;
+  const std::string bytes = read_bytes(good), output = read_bytes(out);
+  ASSERT_GT(bytes.size(), 100u);
+
+  // A copy of the scene folder with one changed byte in the scene file.
+  const fs::path other_scene = dir / "cornell-copy";
+  fs::copy(fs::path(cornell()).parent_path(), other_scene, fs::copy_options::recursive);
+  {
+    std::string scene = read_bytes(other_scene / "scene.json");
+    const size_t at = scene.find("\"spp\"");
+    ASSERT_NE(at, std::string::npos);
+    scene.insert(at, " ");
+    std::ofstream(other_scene / "scene.json", std::ios::binary) << scene;
+  }
+
+  const auto variant = [&](const std::string& name, std::string contents) {
+    const fs::path path = dir / name;
+    std::ofstream(path, std::ios::binary) << contents;
+    return path;
+  };
+  std::string flipped = bytes;
+  flipped[bytes.size() / 2] ^= 0x10;
+  std::string version = bytes;
+  version[8] ^= 0x02;
+  struct BadCase {
+    std::string args;
+    fs::path checkpoint;
+    std::string message;
+  };
+  const std::vector<BadCase> cases = {
+      {common, variant("truncated.ckpt", bytes.substr(0, bytes.size() / 3)), "checkpoint is truncated"},
+      {common, variant("flipped.ckpt", flipped), "checkpoint is corrupted"},
+      {common, variant("version.ckpt", version), "format version"},
+      {common, variant("foreign.ckpt", "P3\n1 1\n255\n0 0 0\n"), "not an emlt checkpoint"},
+      {common, dir / "missing.ckpt", "checkpoint not found"},
+      {"--integrator mlt --mpp 8 --max-depth 10", good,
+       "checkpoint was made with --max-depth 8, this run has 10"},
+      {"--integrator emlt --mpp 8 --max-depth 8", good,
+       "checkpoint was made with --integrator mlt, this run has emlt"},
+      {common + " --seed 7", good, "checkpoint was made with --seed 1, this run has 7"},
+      {"--integrator mlt --mpp 4 --max-depth 8", good, "may extend the budget, not cut it"},
+  };
+  for (const BadCase& c : cases) {
+    const int status = render(c.args + " -o " + out.string() + " --resume " + c.checkpoint.string(), &text);
+    EXPECT_NE(status, 0) << c.message;
+    EXPECT_EQ(count_lines(text), 1) << text;
+    EXPECT_NE(text.find(c.checkpoint.filename().string()), std::string::npos) << text;
+    EXPECT_NE(text.find(c.message), std::string::npos) << "expected '" << c.message << "' in: " << text;
+    EXPECT_TRUE(read_bytes(out) == output) << c.message << ": the output was touched";
+  }
+  // Another scene: the same settings, a scene file that changed since.
+  const int status = test::run_command(
+      test::emlt_binary() + " render " + (other_scene / "scene.json").string() +
+          " --width 32 --height 32 --bootstrap 4000 -q " + common + " -o " + out.string() +
+          " --resume " + good.string(),
+      &text);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(text.find("checkpoint was made from other scene files"), std::string::npos) << text;
+  EXPECT_TRUE(read_bytes(good) == bytes) << "a refused resume changed the checkpoint";
+  EXPECT_TRUE(read_bytes(out) == output);
+}
+
+// The checkpoint written when a render finishes lets a later run extend the budget: for the
+// pass-based integrators, to the bits of a render that had the larger budget from the start.
+TEST(Checkpoint, AFinishedRenderExtendsItsBudget) {
+  const fs::path dir = test::scratch_dir("extend");
+  const fs::path full = dir / "full.exr", out = dir / "out.exr", ck = dir / "e.ckpt";
+  std::string text;
+  for (const std::string integrator : {"pt", "bdpt"}) {
+    ASSERT_EQ(0, render("--integrator " + integrator + " --spp 16 -o " + full.string(), &text)) << text;
+    fs::remove(ck);
+    ASSERT_EQ(0, render("--integrator " + integrator + " --spp 8 -o " + out.string() +
+                            " --checkpoint " + ck.string(), &text))
+        << text;
+    ASSERT_EQ(0, render("--integrator " + integrator + " --spp 16 -o " + out.string() +
+                            " --resume " + ck.string(), &text))
+        << text;
+    EXPECT_NE(text.find("16 spp"), std::string::npos) << text;
+    EXPECT_TRUE(read_bytes(full) == read_bytes(out)) << integrator;
+  }
+  // MLT continues its chains for the extra mutations.
+  fs::remove(ck);
+  ASSERT_EQ(0, render("--integrator mlt --mpp 4 --direct-spp 4 -o " + out.string() +
+                          " --checkpoint " + ck.string() + " --stats " + (dir / "a.json").string(),
+                      &text))
+      << text;
+  ASSERT_EQ(0, render("--integrator mlt --mpp 8 --direct-spp 4 -o " + out.string() + " --resume " +
+                          ck.string() + " --stats " + (dir / "b.json").string(),
+                      &text))
+      << text;
+  EXPECT_NE(read_bytes(dir / "b.json").find("\"mutations\": 8192"), std::string::npos)
+      << read_bytes(dir / "b.json");
+}
+
+// --log and --stats are written when a render stops, and a resumed render's log holds the
+// rows of the whole run.
+TEST(Checkpoint, LogAndStatisticsAreCompletedOnStopAndResume) {
+  const fs::path dir = test::scratch_dir("log_on_stop");
+  const fs::path reference = dir / "ref.exr", out = dir / "out.exr", ck = dir / "l.ckpt",
+                 log = dir / "log.csv", stats = dir / "stats.json";
+  std::string text;
+  ASSERT_EQ(0, render("--integrator pt --spp 64 -o " + reference.string(), &text)) << text;
+  const std::string common = "--integrator mlt --mpp 16 --reference " + reference.string() +
+                             " --log " + log.string() + " --stats " + stats.string() + " -o " +
+                             out.string();
+  ASSERT_EQ(130, render(common + " --checkpoint " + ck.string(), &text,
+                        "EMLT_STOP_AFTER=" + std::to_string(16 * 1024 + 5 * 1024 + 7)))
+      << text;
+  const std::string stopped_log = read_bytes(log);
+  // Rows at 1, 2 and 4 mutations per pixel, and the image written at the stop (~5).
+  EXPECT_EQ(count_lines(stopped_log), 1 + 4) << stopped_log;
+  EXPECT_TRUE(fs::exists(stats));
+  ASSERT_EQ(0, render(common + " --resume " + ck.string(), &text)) << text;
+  const std::string log_text = read_bytes(log);
+  // The stop's own row is not part of the run: 1, 2, 4, 8, 16.
+  EXPECT_EQ(count_lines(log_text), 1 + 5) << log_text;
+  const size_t last_row = log_text.rfind('\n', log_text.size() - 2) + 1;
+  EXPECT_EQ(log_text.substr(last_row, 3), "16,") << log_text;
+}
+
+// A time budget counts the time of every run: a resumed render continues until the total
+// reaches --time.
+TEST(Checkpoint, TimeBudgetCountsTheEarlierRuns) {
+  const fs::path dir = test::scratch_dir("time_budget");
+  const fs::path out = dir / "out.exr", ck = dir / "t.ckpt";
+  std::string text;
+  ASSERT_EQ(130, render("--integrator pt --time 1 -o " + out.string() + " --checkpoint " + ck.string(),
+                        &text, "EMLT_STOP_AFTER=2000"))
+      << text;
+  const auto begin = std::chrono::steady_clock::now();
+  ASSERT_EQ(0, render("--integrator pt --time 1 -o " + out.string() + " --resume " + ck.string(), &text))
+      << text;
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  EXPECT_GT(seconds, 0.5) << text;
+  EXPECT_NE(text.find(" 1.0"), std::string::npos) << text;  // "pt: 32x32, N spp, 1.0x s"
+}
+
+}  // namespace
