@@ -44,6 +44,14 @@ double mean(const Image& image) {
   return sum / (3.0 * double(image.pixels.size()));
 }
 
+// Waits until `path` exists (a render has begun writing checkpoints, so its signal handlers
+// are in place); false after 60 s.
+bool wait_for_file(const fs::path& path) {
+  for (int i = 0; i < 6000 && !fs::exists(path); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  return fs::exists(path);
+}
+
 int count_lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
 
 struct Case {
@@ -161,7 +169,7 @@ TEST(Checkpoint, RealSignalsStopWithinASecondAndResumeToTheSameBits) {
   for (const auto& [signal, status, integrator] :
        {std::tuple{SIGINT, 130, "mlt"}, std::tuple{SIGTERM, 143, "pt"}}) {
     const std::string common = std::string("--integrator ") + integrator +
-                               " --mpp 1024 --spp 1024 --width 64 --height 64 --bootstrap 4000 -q";
+                               " --mpp 512 --spp 512 --width 64 --height 64 --bootstrap 4000 -q";
     const fs::path full = dir / "full.exr", out = dir / "out.exr", ck = dir / "s.ckpt";
     const std::string base = test::emlt_binary() + " render " + cornell() + " " + common;
     std::string text;
@@ -172,12 +180,15 @@ TEST(Checkpoint, RealSignalsStopWithinASecondAndResumeToTheSameBits) {
     ASSERT_GE(pid, 0);
     if (pid == 0) {
       const std::string command = "exec " + base + " -o " + out.string() + " --checkpoint " +
-                                  ck.string() + " > " + (dir / "log.txt").string() + " 2>&1";
+                                  ck.string() + " --checkpoint-interval 0.1 > " +
+                                  (dir / "log.txt").string() + " 2>&1";
       execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
       _exit(127);
     }
-    // A random moment in the first second or so of a render that takes several.
-    std::this_thread::sleep_for(std::chrono::milliseconds(300 + random() % 700));
+    // A random moment in the first second or so of a render that takes several (after its
+    // first checkpoint, so that the handlers are surely installed).
+    ASSERT_TRUE(wait_for_file(ck));
+    std::this_thread::sleep_for(std::chrono::milliseconds(random() % 700));
     const auto sent = std::chrono::steady_clock::now();
     ASSERT_EQ(0, kill(pid, signal));
     int wait_status = 0;
@@ -204,16 +215,18 @@ TEST(Checkpoint, SecondSignalEndsAtOnceLeavingNoTemporary) {
   ASSERT_EQ(0, render("--integrator pt --spp 1 -o " + out.string(), &text)) << text;
   const std::string before = read_bytes(out);
   for (int delay_ms : {0, 2, 20}) {
+    fs::remove(ck);
     const pid_t pid = fork();
     ASSERT_GE(pid, 0);
     if (pid == 0) {
       const std::string command = "exec " + test::emlt_binary() + " render " + cornell() +
                                   " --integrator mlt --mpp 4096 --width 256 --height 256 -q -o " +
-                                  out.string() + " --checkpoint " + ck.string() + " > /dev/null 2>&1";
+                                  out.string() + " --checkpoint " + ck.string() +
+                                  " --checkpoint-interval 0.1 > /dev/null 2>&1";
       execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
       _exit(127);
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(800));
+    ASSERT_TRUE(wait_for_file(ck));
     kill(pid, SIGINT);
     std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
     kill(pid, SIGINT);
