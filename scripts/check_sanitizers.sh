@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 build=build-asan
-cmake -S . -B "$build" -G Ninja -DEMLT_SANITIZE=ON -DEMLT_BUILD_BENCH=OFF \
+cmake -S . -B "$build" -G Ninja -DEMLT_SANITIZE=ON -DEMLT_WITH_MPI=OFF -DEMLT_BUILD_BENCH=OFF \
   -DEMLT_BUILD_STATISTICAL_TESTS=OFF -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" \
   >/dev/null
 cmake --build "$build" -j "$(nproc)" --target emlt emlt_unit_tests emlt_e2e_tests

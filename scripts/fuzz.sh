@@ -23,7 +23,7 @@ if [ "$target" != all ] && [ ! -f "tests/fuzz/fuzz_$target.cpp" ]; then
 fi
 
 build=build-fuzz
-CC=clang-14 CXX=clang++-14 cmake -S . -B "$build" -G Ninja -DEMLT_FUZZ=ON -DEMLT_BUILD_TESTS=OFF \
+CC=clang-14 CXX=clang++-14 cmake -S . -B "$build" -G Ninja -DEMLT_FUZZ=ON -DEMLT_WITH_MPI=OFF -DEMLT_BUILD_TESTS=OFF \
   -DEMLT_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" >/dev/null
 if [ "$target" = all ]; then
   cmake --build "$build" -j "$(nproc)" -- $(targets | sed 's/^/fuzz_/')

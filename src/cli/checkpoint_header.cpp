@@ -5,6 +5,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "emlt/core/cluster.h"
 #include "emlt/core/error.h"
 #include "emlt/core/state_io.h"
 
@@ -32,6 +33,7 @@ CheckpointHeader CheckpointHeader::describe(const SceneDescription& desc,
   const auto number = [](auto v) { return fmt::format("{}", v); };
   const auto add = [&](const char* flag, std::string value) { h.settings.emplace_back(flag, std::move(value)); };
   add("--integrator", s.integrator);
+  add("mpirun -n", number(cluster::size()));  // each rank's share depends on the count
   add("--width", number(desc.camera.width));
   add("--height", number(desc.camera.height));
   add("--seed", number(s.seed));

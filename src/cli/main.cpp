@@ -8,10 +8,21 @@
 
 #include "cli/commands.h"
 #include "cli/compare_command.h"
+#include "cli/rank_agreement.h"
 #include "cli/readable_range.h"
+#include "emlt/core/cluster.h"
 #include "emlt/core/error.h"
 
-int main(int argc, char** argv) {
+namespace {
+
+// The error line, once per run (rank 0 under MPI, rank_agreement.h).
+int fail(const std::string& message, int status) {
+  const std::string line = emlt::cli::settle_error(message);
+  if (!line.empty()) std::fprintf(stderr, "emlt: error: %s\n", line.c_str());
+  return status;
+}
+
+int run(int argc, char** argv) {
   CLI::App app{"emlt: Monte Carlo and Markov chain Monte Carlo light transport"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "emlt 0.1.0");
@@ -34,21 +45,27 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return app.exit(e);
-    std::fprintf(stderr, "emlt: error: %s\n", emlt::cli::readable_parse_error(e.what()).c_str());
-    return 2;
+    if (e.get_exit_code() == 0) return emlt::cluster::is_root() ? app.exit(e) : 0;
+    return fail(emlt::cli::readable_parse_error(e.what()), 2);
   }
 
   try {
     if (*render) return emlt::cli::run_render(*render, render_options);
+    // Under MPI only rank 0 answers the commands that do not render.
+    if (!emlt::cluster::is_root()) return 0;
     if (*info) return emlt::cli::run_info(info_options);
     if (*compare) return emlt::cli::run_compare(compare_options);
-  } catch (const emlt::Error& e) {
-    std::fprintf(stderr, "emlt: error: %s\n", e.what());
-    return 1;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "emlt: error: %s\n", e.what());
-    return 1;
+  } catch (const std::exception& e) {  // emlt::Error and everything else: one line
+    return fail(e.what(), 1);
   }
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  emlt::cluster::init(&argc, &argv);
+  const int status = run(argc, argv);
+  emlt::cluster::finalize();
+  return status;
 }

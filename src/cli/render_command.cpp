@@ -10,15 +10,18 @@
 #include "cli/fidelity.h"
 #include "cli/mlt_report.h"
 #include "cli/readable_range.h"
+#include "cli/rank_agreement.h"
 #include "cli/signals.h"
 #include "emlt/mcmc/mlt_integrator.h"
 #include "emlt/render/convergence_log.h"
 #include "emlt/render/image_metrics.h"
+#include "emlt/core/cluster.h"
 #include "emlt/core/error.h"
 #include "emlt/render/checkpoint_file.h"
 #include "emlt/render/integrator.h"
 #include "emlt/render/interruption.h"
 #include "emlt/render/render_control.h"
+#include "emlt/render/snapshot.h"
 #include "emlt/scene/loader.h"
 
 namespace emlt::cli {
@@ -228,18 +231,25 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   if (given("--checkpoint-interval") && checkpoint_path.empty())
     throw Error("--checkpoint-interval needs --checkpoint FILE (or --resume FILE)");
   const CheckpointHeader header_now = CheckpointHeader::describe(desc, settings, o.defines);
+  // Under MPI each rank saves its own share: rank 0 into FILE, rank r into FILE.rank<r>.
+  const auto rank_file = [](const std::string& path) {
+    return cluster::rank() == 0 ? path : path + ".rank" + std::to_string(cluster::rank());
+  };
+  const std::string resume_path = o.resume.empty() ? "" : rank_file(o.resume);
   std::optional<CheckpointHeader> resumed_header;
   std::string resume_state;
   if (!o.resume.empty()) {
-    checkpoint_file::Contents contents = checkpoint_file::read(o.resume);
-    resumed_header = CheckpointHeader::decode(contents.header, o.resume);
-    resumed_header->check_matches(header_now, o.resume);
+    checkpoint_file::Contents contents = checkpoint_file::read(resume_path);
+    resumed_header = CheckpointHeader::decode(contents.header, resume_path);
+    resumed_header->check_matches(header_now, resume_path);
     resume_state = std::move(contents.state);
   }
 
+  const bool root = cluster::is_root();  // under MPI only rank 0 prints and writes
   const auto scene = Scene::build(std::move(desc));
-  for (const auto& w : scene->warnings()) std::fprintf(stderr, "emlt: warning: %s\n", w.c_str());
-  if (const std::string summary = divergence_summary(scene->description()); !summary.empty())
+  for (const auto& w : scene->warnings())
+    if (root) std::fprintf(stderr, "emlt: warning: %s\n", w.c_str());
+  if (const std::string summary = divergence_summary(scene->description()); !summary.empty() && root)
     std::fprintf(stderr, "emlt: warning: %s\n", summary.c_str());
   std::vector<uint8_t> sees_emitter;
   if (!o.reference.empty()) {
@@ -251,14 +261,22 @@ int run_render(const CLI::App& command, RenderOptions& o) {
     sees_emitter = directly_visible_emitters(*scene);
   }
   std::unique_ptr<ConvergenceLog> log;
+  // The other ranks take part in every snapshot (the image is merged on rank 0) and keep
+  // nothing of it.
+  struct NoSnapshots final : SnapshotSink {
+    void snapshot(double, double, const Image&, const std::vector<StrategyAcceptance>&) override {}
+  } no_snapshots;
   if (!o.log.empty()) {
     log = std::make_unique<ConvergenceLog>(o.log, reference, sees_emitter, scene->camera().width(),
                                            scene->camera().height());
-    settings.snapshots = log.get();
+    settings.snapshots = root ? static_cast<SnapshotSink*>(log.get()) : &no_snapshots;
     if (resumed_header) log->restore(resumed_header->log_header, resumed_header->log_rows);
   }
+  if (!root) settings.progress = false;
+  setup_succeeded();  // every rank is ready (rank_agreement.h)
 
-  RenderControl control(checkpoint_path, o.checkpoint_interval, [&] {
+  RenderControl control(checkpoint_path.empty() ? "" : rank_file(checkpoint_path),
+                        o.checkpoint_interval, [&] {
     CheckpointHeader header = header_now;
     if (log) {
       header.log_header = log->header();
@@ -278,8 +296,9 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   try {
     result = integrator->render(*scene, settings, progress);
   } catch (const StateError& e) {
-    throw file_error(o.resume, std::string("cannot resume: ") + e.what());
+    throw file_error(resume_path, std::string("cannot resume: ") + e.what());
   }
+  if (!root) return result.interrupted ? exit_status_for_stop() : 0;
 
   write_image(o.output, result.image);
   if (const auto* mlt = dynamic_cast<const MltIntegrator*>(integrator.get()))

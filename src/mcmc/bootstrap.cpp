@@ -7,6 +7,8 @@
 #include <atomic>
 #include <functional>
 
+#include "emlt/core/cluster.h"
+#include "emlt/core/state_io.h"
 #include "emlt/path/connection.h"
 #include "emlt/path/random_walk.h"
 #include "emlt/render/interruption.h"
@@ -99,8 +101,11 @@ Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& p) {
   std::atomic<bool> interrupted{false};
   const int threads = p.threads > 0 ? p.threads : tbb::this_task_arena::max_concurrency();
   tbb::task_arena arena(threads);
+  // Under MPI each rank samples its share of the blocks and the blocks are then exchanged,
+  // so that every rank holds the whole pool, summed in block order (cluster.h).
+  const auto [first_block, last_block] = cluster::share(uint64_t(blocks));
   arena.execute([&] {
-    tbb::parallel_for(0, blocks, [&](int block) {
+    tbb::parallel_for(int(first_block), int(last_block), [&](int block) {
       SampleScratch scratch;
       Block& out = results[size_t(block)];
       const uint32_t first = uint32_t(int64_t(p.samples) * block / blocks);
@@ -130,6 +135,27 @@ Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& p) {
 
   Bootstrap result;
   result.interrupted = interrupted.load();
+  if (cluster::size() > 1) {
+    StateWriter mine;
+    mine.put<uint8_t>(result.interrupted);
+    for (uint64_t b = first_block; b < last_block; ++b) {
+      mine.put<uint64_t>(b);
+      mine.put(results[b].sum);
+      mine.put(results[b].sum_squares);
+      mine.put_vector(results[b].candidates);
+    }
+    for (const std::string& part : cluster::gather_everywhere(mine.data())) {
+      StateReader in(part);
+      result.interrupted |= in.get<uint8_t>() != 0;
+      while (in.remaining() > 0) {
+        Block& block = results.at(in.get<uint64_t>());
+        block.sum = in.get<double>();
+        block.sum_squares = in.get<double>();
+        block.candidates =
+            in.get_vector_up_to<BootstrapCandidate>(UINT64_MAX / sizeof(BootstrapCandidate));
+      }
+    }
+  }
   result.samples = uint64_t(std::max(p.samples, 0));
   double sum = 0.0, sum_squares = 0.0;
   for (Block& block : results) {  // block order: the same pool at any thread count

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <optional>
 
+#include "emlt/core/cluster.h"
 #include "emlt/core/error.h"
 #include "emlt/mcmc/bootstrap.h"
 #include "emlt/mcmc/fixed_point_film.h"
@@ -77,13 +78,27 @@ size_t film_index(const Path& path, int width, int height) {
 // Adds weight * F / f* at the path's pixel, or spread over the pixels whose
 // reconstruction filter covers its raster position.
 void splat(std::vector<DVec3>& film, int width, int height, const PixelFilter& filter,
-           const Path& path, const DVec3& contribution, double target, double weight) {
+           const Vec2& raster, const DVec3& contribution, double target, double weight) {
   if (!(weight > 0.0) || !(target > 0.0)) return;
   const DVec3 value = contribution * (weight / target);
-  if (filter.is_box())
-    film[film_index(path, width, height)] += value;
-  else
-    filter.splat(path.raster(), [&](uint32_t pixel, float w) { film[pixel] += value * double(w); });
+  if (filter.is_box()) {
+    const int x = std::clamp(int(raster.x), 0, width - 1),
+              y = std::clamp(int(raster.y), 0, height - 1);
+    film[size_t(y) * size_t(width) + size_t(x)] += value;
+  } else {
+    filter.splat(raster, [&](uint32_t pixel, float w) { film[pixel] += value * double(w); });
+  }
+}
+
+// What a composed image needs of a chain besides the films: where its current path lands,
+// its contribution and target, and its weight not yet splatted. Under MPI only the chain's
+// rank has them right; the others hold zeros, so a sum over ranks is exact (cluster.h).
+constexpr size_t kCarriedFields = 7;
+void put_carried(std::vector<double>& out, size_t chain, const Vec2& raster,
+                 const DVec3& contribution, double target, double carried) {
+  double* f = &out[kCarriedFields * chain];
+  f[0] = raster.x, f[1] = raster.y, f[2] = contribution.x, f[3] = contribution.y;
+  f[4] = contribution.z, f[5] = target, f[6] = carried;
 }
 
 // The film a chain splats into: its thread's (shared by several threads when there are more
@@ -260,7 +275,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     if (resumed_phase != kPhaseDirect && resumed_phase != kPhaseChains)
       throw StateError("the saved render is in no known phase");
     earlier_seconds = in.get<double>();
-    if (settings.direct_separate) direct_state.load(in, pixels);
+    if (settings.direct_separate) direct_state.load(in, width, height);
     if (resumed_phase == kPhaseChains) chain_section = std::string(in.get_block());
     in.expect_end();
   }
@@ -302,7 +317,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     const RenderResult direct_result = render_pixels(
         scene, direct, quiet,
         [&](const Ray& ray, Rng& rng) { return DirectIntegrator::radiance(scene, direct, ray, rng); },
-        direct_state, [&] { return RenderControl::pause(control, save_before_chains); });
+        direct_state, [&] { RenderControl::pause(control, save_before_chains); });
     result.image = direct_result.image;
     result.invalid_samples = 0;
     stats_.direct_spp = direct_result.samples_per_pixel;
@@ -381,9 +396,11 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
       chain.rng = Rng::restore(in.get<Rng::State>());
       chain.steps_taken = in.get<uint64_t>();
       chain.sweep_left = in.get<uint64_t>();
+      // F(x) is a colour, non-negative: the film turns splats into integers assuming so.
+      const auto colour = [](double c) { return std::isfinite(c) && c >= 0.0; };
       if (!std::isfinite(chain.target) || chain.target < 0.0 || !std::isfinite(chain.carried) ||
-          chain.carried < 0.0 || !(std::isfinite(chain.contribution.x) && std::isfinite(chain.contribution.y) &&
-            std::isfinite(chain.contribution.z)) ||
+          chain.carried < 0.0 || !colour(chain.contribution.x) || !colour(chain.contribution.y) ||
+          !colour(chain.contribution.z) ||
           (chain.target > 0.0 && chain.current.vertices.empty()))
         throw StateError("a saved chain is inconsistent");
       // Which strategies apply follows from the path (and is checked that way).
@@ -392,6 +409,9 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   } else {
     const double bootstrap_start = elapsed();
     const Bootstrap bootstrap = run_bootstrap(scene, bp);
+    // Every rank knows whether any rank's bootstrap was cut short (bootstrap.cpp); the
+    // agreement makes every rank's stop request and checkpoint the same.
+    interruption::agree(bootstrap.interrupted);
     if (bootstrap.interrupted) {
       // Nothing of the bootstrap is kept: a resumed render runs it again, to the same bits.
       RenderControl::pause(control, save_before_chains);
@@ -443,6 +463,19 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   std::vector<FixedPointFilm> move_films(record_moves ? films.size() : 0,
                                          FixedPointFilm(pixels, 256.0));
   for (BlockOutput& block : blocks) block.stats.assign(mix.size(), BlockOutput::Counters{});
+  // Under MPI each rank runs a contiguous share of the blocks (of each half, in EMLT); a
+  // chain is in one block, so it is moved by one rank only.
+  const auto [first_owned_block, last_owned_block] = cluster::share(blocks.size());
+  const auto owns_block = [&](uint64_t block) {
+    return block >= first_owned_block && block < last_owned_block;
+  };
+  // The block of chain j of a sweep over `count` chains in `block_count` blocks.
+  const auto block_of = [](uint64_t j, uint64_t count, uint64_t block_count) {
+    uint64_t block = j * block_count / count;
+    while (count * (block + 1) / block_count <= j) ++block;
+    while (block > 0 && count * block / block_count > j) --block;
+    return block;
+  };
 
   // The sweep under way: chains [first, first + count) take `size` steps between them
   // (chain.sweep_left each), `done_before` counting the mutations before it.
@@ -490,8 +523,10 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
       consistent = in_sweep ? chain_left <= sweep.size : chain_left == 0;
       left += chain_left;
     }
+    // (Under MPI a rank holds only its own chains' steps left, and `done` counts every rank's.)
     if (consistent && sweep.active)
-      consistent = left <= sweep.size && done == sweep.done_before + sweep.size - left;
+      consistent = left <= sweep.size && done <= sweep.done_before + sweep.size &&
+                   done >= sweep.done_before;
     if (!consistent) throw StateError("the saved chains' schedule is inconsistent");
     if (!timed && done > planned)
       throw StateError("the checkpoint has " + std::to_string(done / pixels) +
@@ -547,30 +582,67 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   uint64_t live = 0;  // chains with a seed (all, in practice)
   for (const Chain& chain : chains) live += chain.target > 0.0;
   const Image direct_image = result.image;
+  // Which rank moves a chain (every chain belongs to one block of its sweep).
+  const auto owns_chain = [&](uint64_t c) {
+    if (!ensemble) return owns_block(block_of(c, uint64_t(chain_count), blocks.size()));
+    return owns_block(block_of(c % ensemble_size, ensemble_size, blocks.size()));
+  };
+  // Complete on rank 0 (the films and the chains' unsplatted weights summed over ranks).
   const auto compose = [&](uint64_t mutations_done) {
     std::vector<DVec3> total(pixels, DVec3(0.0));
-    bool in_range = true;
-    for (const FixedPointFilm& film : films) in_range &= !film.overflowed();
-    for (uint64_t p = 0; p < pixels && in_range; ++p)
-      in_range = FixedPointFilm::total(films, p, total[p]);
-    if (!in_range)
+    std::vector<int64_t> units;
+    if (!FixedPointFilm::total_units(films, units))
       throw Error(
           "the MCMC film overflowed: more than 4e10 mutations' worth of weight in one "
           "pixel (use fewer mutations per pixel or a larger image)");
-    for (const Chain& chain : chains)
-      splat(total, width, height, scene.camera().filter(), chain.current, chain.contribution,
-            chain.target, chain.carried);
+    std::vector<double> carried(kCarriedFields * chains.size(), 0.0);
+    for (size_t c = 0; c < chains.size(); ++c)
+      if (owns_chain(c))
+        put_carried(carried, c, chains[c].current.vertices.empty() ? Vec2(0.0f) : chains[c].current.raster(),
+                    chains[c].contribution, chains[c].target, chains[c].carried);
+    cluster::sum_to_root(units);
+    cluster::sum_to_root(carried);
+    for (uint64_t p = 0; p < pixels; ++p)
+      total[p] = DVec3(double(units[3 * p]), double(units[3 * p + 1]), double(units[3 * p + 2])) /
+                 FixedPointFilm::kUnitsPerValue;
+    for (size_t c = 0; c < chains.size(); ++c) {
+      const double* f = &carried[kCarriedFields * c];
+      splat(total, width, height, scene.camera().filter(), Vec2(float(f[0]), float(f[1])),
+            DVec3(f[2], f[3], f[4]), f[5], f[6]);
+    }
     const double splatted = double(mutations_done) * double(live) / double(chain_count);
     const double scale = splatted > 0.0 ? double(pixels) * b / splatted : 0.0;
     Image image = direct_image;
     for (uint64_t p = 0; p < pixels; ++p) image.pixels[p] += Rgb(total[p] * scale);
     return image;
   };
+  // Every block's counters on rank 0 (a block's are its owner's; the others hold zeros).
+  const auto block_stats = [&] {
+    std::vector<uint64_t> counts;
+    std::vector<double> sums;
+    for (const BlockOutput& block : blocks)
+      for (const StrategyStats& st : block.stats) {
+        counts.insert(counts.end(), {st.proposed, st.not_applicable, st.failed, st.accepted, st.fallbacks});
+        sums.push_back(st.acceptance_sum);
+      }
+    cluster::sum_to_root(counts);
+    cluster::sum_to_root(sums);
+    std::vector<std::vector<StrategyStats>> out(blocks.size(), std::vector<StrategyStats>(mix.size()));
+    for (size_t b = 0, k = 0; b < blocks.size(); ++b)
+      for (size_t i = 0; i < mix.size(); ++i, ++k) {
+        StrategyStats& st = out[b][i];
+        st.proposed = counts[5 * k], st.not_applicable = counts[5 * k + 1];
+        st.failed = counts[5 * k + 2], st.accepted = counts[5 * k + 3];
+        st.fallbacks = counts[5 * k + 4], st.acceptance_sum = sums[k];
+      }
+    return out;
+  };
   const auto acceptance_so_far = [&] {
+    const auto stats = block_stats();
     std::vector<StrategyAcceptance> out;
     for (size_t i = 0; i < mix.size(); ++i) {
       StrategyStats merged;
-      for (const BlockOutput& block : blocks) merged.merge(block.stats[i]);
+      for (const auto& block : stats) merged.merge(block[i]);
       out.push_back({mix.name(i), merged.mean_acceptance()});
     }
     return out;
@@ -616,6 +688,35 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   tbb::task_arena arena(threads);
   progress.start(options_.name.c_str(), timed ? 0 : planned, settings.time_limit_s);
   progress.advance(done);
+  // Under MPI, rank 0's clock decides the time budget for every rank (a broadcast).
+  const auto root_decides = [](uint64_t& value) {
+    if (cluster::size() == 1) return;
+    StateWriter out;
+    out.put(value);
+    std::string data = out.take();
+    cluster::broadcast(data);
+    value = StateReader(data).get<uint64_t>();
+  };
+  // EMLT under MPI: after a half-sweep, every rank needs the moved paths of the others, as
+  // they are the frozen half that guides the next one.
+  const auto share_moved_paths = [&](uint64_t first, uint64_t count) {
+    if (cluster::size() == 1) return;
+    StateWriter mine;
+    for (uint64_t c = first; c < first + count; ++c) {
+      if (!owns_chain(c)) continue;
+      mine.put<uint64_t>(c);
+      mine.put(chains[c].target);
+      codec.save(chains[c].current, mine);
+    }
+    for (const std::string& part : cluster::gather_everywhere(mine.data())) {
+      StateReader in(part);
+      while (in.remaining() > 0) {
+        Chain& chain = chains.at(in.get<uint64_t>());
+        chain.target = in.get<double>();
+        chain.current = codec.load(in);
+      }
+    }
+  };
   // Sweeps: for MLT, every chain takes its share of the steps up to the next checkpoint (a
   // power of two in mutations per pixel) in one visit, so that its path stays in cache
   // (one round of a mutation per pixel at a time ran 10 % slower with 16384 chains); a
@@ -627,13 +728,10 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   const uint64_t round_size = std::max<uint64_t>(pixels, uint64_t(chain_count));
   bool stopped = false;
   while (true) {
-    if (interruption::requested() && RenderControl::pause(control, save_all)) {
-      stopped = true;
-      break;
-    }
     if (!sweep.active) {
-      if (done >= planned) break;
-      if (timed && elapsed() - snapshot_seconds >= settings.time_limit_s) break;
+      uint64_t time_up = timed && elapsed() - snapshot_seconds >= settings.time_limit_s;
+      root_decides(time_up);
+      if (done >= planned || time_up) break;
       sweep.first = 0;
       sweep.count = uint64_t(chain_count);
       sweep.size = timed ? timed_rounds * round_size : planned - done;
@@ -649,8 +747,9 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
         sweep.size = std::min(sweep.size, next_checkpoint * pixels - done);
       for (uint64_t j = 0; j < sweep.count; ++j) {
         Chain& chain = chains[size_t(sweep.first + j)];
-        chain.sweep_left = !(chain.target > 0.0) ? 0
-                           : sweep.size / sweep.count + (j < sweep.size % sweep.count ? 1 : 0);
+        chain.sweep_left = !(chain.target > 0.0) || !owns_chain(sweep.first + j)
+                               ? 0
+                               : sweep.size / sweep.count + (j < sweep.size % sweep.count ? 1 : 0);
       }
       sweep.done_before = done;
       sweep.active = 1;
@@ -662,6 +761,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     const int block_count = int(std::min<uint64_t>(count, blocks.size()));
     arena.execute([&] {
       tbb::parallel_for(0, block_count, [&](int block) {
+        if (!owns_block(uint64_t(block))) return;
         const uint64_t begin = count * uint64_t(block) / uint64_t(block_count);
         const uint64_t end = count * uint64_t(block + 1) / uint64_t(block_count);
         // Progress once per block: a shared counter per chain would bounce between cores
@@ -685,21 +785,37 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
         progress.advance(block_steps);
       });
     });
-    uint64_t left = 0;
-    for (uint64_t j = 0; j < count; ++j) left += chains[size_t(first + j)].sweep_left;
-    done = sweep.done_before + sweep.size - left;
-    if (left > 0) continue;  // paused: handled at the top of the loop
-    sweep.active = 0;
-    if (timed && !ensemble &&
-        elapsed() - sweep_start < std::min(0.05, settings.time_limit_s / 50.0))
-      timed_rounds *= 2;
-    if (ensemble) {
-      half = 1 - half;
-      ++stats_.swaps;
-      guides_ready = false;
+    // The steps left of every rank's chains: a pause on any rank pauses all of them, at the
+    // same point of the loop (interruption.h).
+    std::vector<uint64_t> left = {0};
+    for (uint64_t j = 0; j < count; ++j) left[0] += chains[size_t(first + j)].sweep_left;
+    const interruption::Decision decision = interruption::agree(left[0] > 0);
+    cluster::sum_everywhere(left);
+    done = sweep.done_before + sweep.size - left[0];
+    if (!decision.incomplete) {
+      sweep.active = 0;
+      uint64_t rounds = timed_rounds;
+      if (timed && !ensemble &&
+          elapsed() - sweep_start < std::min(0.05, settings.time_limit_s / 50.0))
+        rounds *= 2;
+      root_decides(rounds);
+      timed_rounds = rounds;
+      if (ensemble) {
+        share_moved_paths(first, count);
+        half = 1 - half;
+        ++stats_.swaps;
+        guides_ready = false;
+      }
+      for (; done >= next_checkpoint * pixels; next_checkpoint *= 2)
+        if (settings.snapshots && done == next_checkpoint * pixels) take_snapshot(done);
     }
-    for (; done >= next_checkpoint * pixels; next_checkpoint *= 2)
-      if (settings.snapshots && done == next_checkpoint * pixels) take_snapshot(done);
+    if (decision.pause()) {
+      RenderControl::pause(control, save_all);
+      if (decision.stop && (decision.incomplete || done < planned)) {
+        stopped = true;
+        break;
+      }
+    }
   }
   if (settings.snapshots && !(done % pixels == 0 && is_checkpoint(done / pixels)))
     take_snapshot(done);
@@ -708,9 +824,20 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
 
   result.image = compose(done);
   result.interrupted = stopped;
-  if (record_moves) write_move_map(settings.aniso_map_path, move_films, width, height);
-  for (const BlockOutput& block : blocks)
-    for (size_t i = 0; i < mix.size(); ++i) stats_.strategies[i].merge(block.stats[i]);
+  if (record_moves) {
+    std::vector<int64_t> units;
+    if (!FixedPointFilm::total_units(move_films, units))
+      throw Error("the --aniso-map tallies overflowed: too many proposals per pixel");
+    cluster::sum_to_root(units);
+    if (cluster::is_root()) {
+      std::vector<FixedPointFilm> merged(1, FixedPointFilm(pixels, 256.0));
+      FixedPointFilm::load_units(merged, units);
+      write_move_map(settings.aniso_map_path, merged, width, height);
+    }
+  }
+  const auto merged_blocks = block_stats();
+  for (const auto& block : merged_blocks)
+    for (size_t i = 0; i < mix.size(); ++i) stats_.strategies[i].merge(block[i]);
   stats_.chains = uint64_t(chain_count);
   stats_.mutations = done;
   stats_.seconds = elapsed() - snapshot_seconds;

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fmt/core.h>
 
+#include "emlt/core/cluster.h"
 #include "emlt/core/error.h"
 #include "emlt/core/rng.h"
 #include "emlt/path/connection.h"
@@ -213,7 +214,7 @@ RenderResult BidirectionalPathTracer::render(const Scene& scene, const RenderSet
   };
   if (control && !control->resume_state().empty()) {
     StateReader in(control->resume_state());
-    state.load(in, pixels);
+    state.load(in, width, height);
     strategy_sums = in.get_vector<DVec3>(size_t(strategies) * pixels);
     film.load(in);
     for (TileOutput& tile : outputs) {
@@ -229,22 +230,50 @@ RenderResult BidirectionalPathTracer::render(const Scene& scene, const RenderSet
     state.sums.assign(pixels, DVec3(0.0));
     state.counts.assign(pixels, 0);
   }
-  const auto light_paths = [&] {
-    uint64_t total = 0;
-    for (const int32_t c : state.counts) total += uint64_t(c);
-    return total;
+  // Under MPI each rank renders the tiles of its rows (owns_row), and rank 0 adds every
+  // rank's splats to the film in tile order.
+  const auto owns_tile = [&](size_t index) { return owns_row(tiles[index].y0); };
+  const auto merge_pass_splats = [&] {
+    std::vector<SplatList> lists(outputs.size());
+    if (cluster::size() == 1) {
+      for (size_t i = 0; i < outputs.size(); ++i) lists[i].records.swap(outputs[i].splats.records);
+    } else {
+      StateWriter mine;
+      for (size_t i = 0; i < outputs.size(); ++i) {
+        if (!owns_tile(i)) continue;
+        mine.put<uint64_t>(i);
+        mine.put_vector(outputs[i].splats.records);
+        outputs[i].splats.records.clear();
+      }
+      for (const std::string& part : cluster::gather_to_root(mine.data())) {
+        StateReader in(part);
+        while (in.remaining() > 0) {
+          const uint64_t i = in.get<uint64_t>();
+          lists.at(i).records = in.get_vector_up_to<SplatRecord>(UINT64_MAX / sizeof(SplatRecord));
+        }
+      }
+    }
+    for (TileOutput& out : outputs) {
+      state.invalid += out.invalid.count;
+      out.invalid.count = 0;
+    }
+    film.add_in_order(lists);
   };
 
   // Camera-side estimates average over the pixel's samples. A splat carries W_e of the
   // whole film (camera.h), so the light-tracing image is scaled by pixels / light paths;
-  // there is one light path per pixel sample.
+  // there is one light path per pixel sample. Complete on rank 0.
+  uint64_t light_paths = 0;
   const auto image_now = [&] {
+    const PixelRenderState::Totals totals = state.totals();
+    light_paths = 0;
+    for (const int32_t c : totals.counts) light_paths += uint64_t(c);
     Image image(width, height);
-    const double paths = double(light_paths());
-    const double splat_scale = paths > 0.0 ? double(pixels) / paths : 0.0;
+    const double splat_scale = light_paths > 0 ? double(pixels) / double(light_paths) : 0.0;
     for (uint64_t i = 0; i < pixels; ++i) {
-      const double camera_scale = state.counts[i] > 0 ? 1.0 / state.counts[i] : 0.0;
-      image.pixels[i] = Rgb(state.sums[i] * camera_scale + film.sums()[i] * splat_scale);
+      const double camera_scale = totals.counts[i] > 0 ? 1.0 / totals.counts[i] : 0.0;
+      const DVec3 sum(totals.sums[3 * i], totals.sums[3 * i + 1], totals.sums[3 * i + 2]);
+      image.pixels[i] = Rgb(sum * camera_scale + film.sums()[i] * splat_scale);
     }
     return image;
   };
@@ -263,19 +292,13 @@ RenderResult BidirectionalPathTracer::render(const Scene& scene, const RenderSet
   RenderResult result;
   bool mid_pass = state.schedule.pass_end > 0 && state.resumed;
   while (schedule.more()) {
-    if (interruption::requested()) {
-      state.schedule = schedule.save(mid_pass);
-      if (RenderControl::pause(control, save)) {
-        result.interrupted = true;
-        break;
-      }
-    }
     const int first = schedule.pass_begin(), last = schedule.pass_end();
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
         SampleScratch scratch;
         std::vector<DVec3> strategy_pixel(static_cast<size_t>(strategies));
         for (size_t index = range.begin(); index < range.end(); ++index) {
+          if (!owns_tile(index)) continue;
           const Tile& tile = tiles[index];
           TileOutput& out = outputs[index];
           uint64_t tile_samples = 0;
@@ -310,18 +333,24 @@ RenderResult BidirectionalPathTracer::render(const Scene& scene, const RenderSet
         }
       });
     });
-    mid_pass = std::any_of(state.counts.begin(), state.counts.end(),
-                           [&](int32_t c) { return c < last; });
-    if (mid_pass) continue;
-    // Splats are added in tile order: the same bits at any thread count.
-    std::vector<SplatList> lists(outputs.size());
-    for (size_t i = 0; i < outputs.size(); ++i) {
-      lists[i].records.swap(outputs[i].splats.records);
-      state.invalid += outputs[i].invalid.count;
-      outputs[i].invalid.count = 0;
+    bool incomplete = false;
+    for (uint64_t i = 0; i < pixels && !incomplete; ++i)
+      incomplete = state.counts[i] < last && owns_row(int(i / uint64_t(width)));
+    const interruption::Decision decision = interruption::agree(incomplete);
+    mid_pass = decision.incomplete;
+    if (!mid_pass) {
+      // Splats are added in tile order: the same bits at any thread and rank count.
+      merge_pass_splats();
+      schedule.complete_pass(average);
     }
-    film.add_in_order(lists);
-    schedule.complete_pass(average);
+    if (decision.pause()) {
+      state.schedule = schedule.save(mid_pass);
+      RenderControl::pause(control, save);
+      if (decision.stop && (mid_pass || schedule.more())) {
+        result.interrupted = true;
+        break;
+      }
+    }
   }
   state.schedule = schedule.save(mid_pass);
   if (!result.interrupted) {
@@ -329,27 +358,35 @@ RenderResult BidirectionalPathTracer::render(const Scene& scene, const RenderSet
     RenderControl::finish(control, save);
   } else {
     // The image of a stop inside a pass includes that pass's splats so far.
-    std::vector<SplatList> lists(outputs.size());
-    for (size_t i = 0; i < outputs.size(); ++i) {
-      lists[i].records.swap(outputs[i].splats.records);
-      state.invalid += outputs[i].invalid.count;
-    }
-    film.add_in_order(lists);
+    merge_pass_splats();
   }
   progress.finish();
 
-  const uint64_t done = light_paths();
+  result.image = image_now();
+  std::vector<uint64_t> invalid = {state.invalid};
+  cluster::sum_to_root(invalid);
   result.seconds = schedule.seconds();
   result.samples_per_pixel = schedule.samples();
-  result.samples = done;
-  result.per_pixel = pixels > 0 ? double(done) / double(pixels) : 0.0;
-  result.invalid_samples = state.invalid;
-  result.image = image_now();
+  result.samples = light_paths;
+  result.per_pixel = pixels > 0 ? double(light_paths) / double(pixels) : 0.0;
+  result.invalid_samples = invalid[0];
   if (result.interrupted && settings.snapshots)
     settings.snapshots->snapshot(result.per_pixel, result.seconds, result.image, {});
-  if (strategy_images)
-    write_strategy_images(settings.bdpt_strategies_dir, width, height, strategy_sums, film,
-                          state.counts, done > 0 ? double(pixels) / double(done) : 0.0);
+  if (strategy_images) {
+    std::vector<double> strategy_totals(3 * strategy_sums.size());
+    for (size_t i = 0; i < strategy_sums.size(); ++i)
+      for (int c = 0; c < 3; ++c) strategy_totals[3 * i + size_t(c)] = strategy_sums[i][c];
+    cluster::sum_to_root(strategy_totals);
+    const PixelRenderState::Totals totals = state.totals();
+    if (cluster::is_root()) {
+      for (size_t i = 0; i < strategy_sums.size(); ++i)
+        strategy_sums[i] = DVec3(strategy_totals[3 * i], strategy_totals[3 * i + 1],
+                                 strategy_totals[3 * i + 2]);
+      write_strategy_images(settings.bdpt_strategies_dir, width, height, strategy_sums, film,
+                            totals.counts,
+                            light_paths > 0 ? double(pixels) / double(light_paths) : 0.0);
+    }
+  }
   return result;
 }
 

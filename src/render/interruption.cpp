@@ -2,9 +2,13 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstring>
+#include <vector>
+
+#include "emlt/core/cluster.h"
 
 namespace emlt::interruption {
 
@@ -61,6 +65,18 @@ void register_temporary(const std::string& path) {
 
 void remove_temporary() {
   if (g_temporary_valid.load(std::memory_order_seq_cst)) ::unlink(g_temporary);
+}
+
+Decision agree(bool incomplete) {
+  if (cluster::size() == 1) return {incomplete, stop_requested(), checkpoint_due()};
+  std::vector<uint64_t> counts = {uint64_t(incomplete), uint64_t(stop_requested()),
+                                  uint64_t(checkpoint_due())};
+  cluster::sum_everywhere(counts);
+  const int signal = int(cluster::max_everywhere(uint64_t(std::max(stop_signal(), 0))));
+  const Decision decision{counts[0] > 0, counts[1] > 0, counts[2] > 0};
+  if (decision.stop && !stop_requested()) request_stop(signal > 0 ? signal : SIGINT);
+  if (decision.checkpoint) request_checkpoint();
+  return decision;
 }
 
 void reset() {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "emlt/core/cluster.h"
 #include "emlt/core/state_io.h"
 #include "emlt/render/snapshot.h"
 
@@ -55,6 +56,11 @@ void PassSchedule::restore(const Saved& saved) {
   snapshot_seconds_ = 0.0;
   // A time budget already spent (the same --time given again) renders nothing more.
   stopped_ = timed_ && resumed_pass_end_ == 0 && seconds() >= settings_.time_limit_s;
+  if (cluster::size() > 1) {
+    std::string decision(1, char(stopped_));
+    cluster::broadcast(decision);
+    stopped_ = decision[0] != 0;
+  }
 }
 
 void PassSchedule::snapshot(const ImageAt& image_at) {
@@ -70,11 +76,21 @@ void PassSchedule::complete_pass(const ImageAt& image_at) {
   if (!timed_) return;
   const double used = seconds(), left = settings_.time_limit_s - used;
   const double seconds_per_sample = used / done_;
-  if (left <= 0.0 || left < seconds_per_sample) {
+  if (left <= 0.0 || left < seconds_per_sample)
     stopped_ = true;
-    return;
+  else
+    pass_samples_ = int(std::clamp(left / seconds_per_sample / 4.0, 1.0, double(max_pass_)));
+  // Under MPI rank 0's clock decides for every rank, so that they run the same passes.
+  if (cluster::size() > 1) {
+    StateWriter out;
+    out.put<int32_t>(pass_samples_);
+    out.put<uint8_t>(stopped_);
+    std::string decision = out.take();
+    cluster::broadcast(decision);
+    StateReader in(decision);
+    pass_samples_ = in.get<int32_t>();
+    stopped_ = in.get<uint8_t>() != 0;
   }
-  pass_samples_ = int(std::clamp(left / seconds_per_sample / 4.0, 1.0, double(max_pass_)));
 }
 
 void PassSchedule::finish(const ImageAt& image_at) {

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 
+#include "emlt/core/cluster.h"
 #include "emlt/core/error.h"
 #include "emlt/render/interruption.h"
 #include "emlt/render/render_control.h"
@@ -32,6 +33,7 @@ uint64_t render_pass(const Scene& scene, const RenderSettings& settings,
         uint64_t& tile_invalid = invalid.local();
         uint64_t tile_samples = 0;
         for (int y = tile.rows().begin(); y < tile.rows().end(); ++y) {
+          if (!owns_row(y)) continue;
           for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
             const uint64_t pixel = uint64_t(y) * uint64_t(width) + uint64_t(x);
             int k = std::max(first, int(state.counts[pixel]));
@@ -70,27 +72,49 @@ void PixelRenderState::save(StateWriter& out) const {
   out.put(invalid);
 }
 
-void PixelRenderState::load(StateReader& in, uint64_t pixels) {
+void PixelRenderState::load(StateReader& in, int width, int height) {
+  const uint64_t pixels = uint64_t(width) * uint64_t(height);
   sums = in.get_vector<DVec3>(pixels);
   counts = in.get_vector<int32_t>(pixels);
   schedule = in.get<PassSchedule::Saved>();
   invalid = in.get<uint64_t>();
-  for (const int32_t c : counts)
-    if (c < schedule.done || c > std::max(schedule.done, schedule.pass_end))
-      throw StateError("a pixel's sample count lies outside the pass under way");
+  for (uint64_t i = 0; i < pixels; ++i) {
+    const int32_t c = counts[i];
+    const bool valid = owns_row(int(i / uint64_t(width)))
+                           ? c >= schedule.done && c <= std::max(schedule.done, schedule.pass_end)
+                           : c == 0;
+    if (!valid) throw StateError("a pixel's sample count lies outside the pass under way");
+  }
   resumed = true;
 }
 
-Image PixelRenderState::image(int width, int height) const {
+PixelRenderState::Totals PixelRenderState::totals() const {
+  Totals t;
+  t.sums.resize(3 * sums.size());
+  for (size_t i = 0; i < sums.size(); ++i)
+    for (int c = 0; c < 3; ++c) t.sums[3 * i + size_t(c)] = sums[i][c];
+  t.counts = counts;
+  // Each pixel is some one rank's: the others add +0.0 and 0, which changes no bit.
+  cluster::sum_to_root(t.sums);
+  cluster::sum_to_root(t.counts);
+  return t;
+}
+
+Image PixelRenderState::Totals::image(int width, int height) const {
   Image image(width, height);
   for (size_t i = 0; i < image.pixels.size(); ++i)
-    image.pixels[i] = counts[i] > 0 ? Rgb(sums[i] / double(counts[i])) : Rgb(0.0f);
+    image.pixels[i] =
+        counts[i] > 0
+            ? Rgb(DVec3(sums[3 * i], sums[3 * i + 1], sums[3 * i + 2]) / double(counts[i]))
+            : Rgb(0.0f);
   return image;
 }
 
+bool owns_row(int y) { return (y / kTileSize) % cluster::size() == cluster::rank(); }
+
 RenderResult render_pixels(const Scene& scene, const RenderSettings& settings,
                            ProgressReporter& progress, const RadianceEstimator& radiance,
-                           PixelRenderState& state, const std::function<bool()>& on_pause) {
+                           PixelRenderState& state, const std::function<void()>& on_pause) {
   const Camera& camera = scene.camera();
   const int width = camera.width(), height = camera.height();
   const uint64_t pixels = uint64_t(width) * uint64_t(height);
@@ -101,9 +125,11 @@ RenderResult render_pixels(const Scene& scene, const RenderSettings& settings,
   }
   // Between passes every pixel has `samples` samples.
   const auto average = [&](int samples) {
+    const PixelRenderState::Totals totals = state.totals();
     Image image(width, height);
     const double scale = samples > 0 ? 1.0 / samples : 0.0;
-    for (uint64_t i = 0; i < pixels; ++i) image.pixels[i] = Rgb(state.sums[i] * scale);
+    for (uint64_t i = 0; i < pixels; ++i)
+      image.pixels[i] = Rgb(DVec3(totals.sums[3 * i], totals.sums[3 * i + 1], totals.sums[3 * i + 2]) * scale);
     return image;
   };
 
@@ -116,35 +142,43 @@ RenderResult render_pixels(const Scene& scene, const RenderSettings& settings,
   progress.advance(pixels * uint64_t(schedule.samples()));
 
   RenderResult result;
-  bool mid_pass = false;
+  bool mid_pass = state.resumed && state.schedule.pass_end > 0;
   while (schedule.more()) {
-    if (interruption::requested()) {
-      state.schedule = schedule.save(mid_pass);
-      if (on_pause()) {
-        result.interrupted = true;
-        break;
-      }
-    }
     const int first = schedule.pass_begin(), last = schedule.pass_end();
     arena.execute([&] {
       state.invalid += render_pass(scene, settings, progress, radiance, first, last, state);
     });
-    mid_pass = std::any_of(state.counts.begin(), state.counts.end(),
-                           [&](int32_t c) { return c < last; });
+    bool incomplete = false;
+    for (uint64_t i = 0; i < pixels && !incomplete; ++i)
+      incomplete = state.counts[i] < last && owns_row(int(i / uint64_t(width)));
+    // Every rank takes the same decision here (interruption.h).
+    const interruption::Decision decision = interruption::agree(incomplete);
+    mid_pass = decision.incomplete;
     if (!mid_pass) schedule.complete_pass(average);
+    if (decision.pause()) {
+      state.schedule = schedule.save(mid_pass);
+      on_pause();
+      if (decision.stop && (mid_pass || schedule.more())) {
+        result.interrupted = true;
+        break;
+      }
+    }
   }
   if (!result.interrupted) schedule.finish(average);
   progress.finish();
   state.schedule = schedule.save(mid_pass);
 
+  const PixelRenderState::Totals totals = state.totals();
+  std::vector<uint64_t> invalid = {state.invalid};
+  cluster::sum_to_root(invalid);
   uint64_t total = 0;
-  for (const int32_t c : state.counts) total += uint64_t(c);
+  for (const int32_t c : totals.counts) total += uint64_t(c);
   result.seconds = schedule.seconds();
   result.samples_per_pixel = schedule.samples();
   result.samples = total;
   result.per_pixel = pixels > 0 ? double(total) / double(pixels) : 0.0;
-  result.invalid_samples = state.invalid;
-  result.image = state.image(width, height);
+  result.invalid_samples = invalid[0];
+  result.image = totals.image(width, height);
   // A stopped render's log ends with the image it writes.
   if (result.interrupted && settings.snapshots)
     settings.snapshots->snapshot(result.per_pixel, result.seconds, result.image, {});
@@ -153,17 +187,16 @@ RenderResult render_pixels(const Scene& scene, const RenderSettings& settings,
 
 RenderResult render_pixels(const Scene& scene, const RenderSettings& settings,
                            ProgressReporter& progress, const RadianceEstimator& radiance) {
-  const uint64_t pixels = uint64_t(scene.camera().width()) * uint64_t(scene.camera().height());
   PixelRenderState state;
   RenderControl* control = settings.control;
   if (control && !control->resume_state().empty()) {
     StateReader in(control->resume_state());
-    state.load(in, pixels);
+    state.load(in, scene.camera().width(), scene.camera().height());
     in.expect_end();
   }
   const auto save = [&](StateWriter& out) { state.save(out); };
   RenderResult result = render_pixels(scene, settings, progress, radiance, state,
-                                      [&] { return RenderControl::pause(control, save); });
+                                      [&] { RenderControl::pause(control, save); });
   if (!result.interrupted) RenderControl::finish(control, save);
   return result;
 }

@@ -25,6 +25,18 @@ void request_checkpoint();
 bool checkpoint_due();
 void clear_checkpoint();
 
+// What to do once the workers have returned (their work done, or cut short by a request):
+// with several ranks (cluster.h) the ranks' requests and progress are combined, so every
+// rank takes the same decision at the same point, and the local requests are set to the
+// union; with one process, this process's own state.
+struct Decision {
+  bool incomplete = false;  // some rank's share of the pass or sweep is not done
+  bool stop = false;        // a stop signal reached some rank: end the render
+  bool checkpoint = false;  // a checkpoint fell due on some rank
+  bool pause() const { return stop || checkpoint; }
+};
+Decision agree(bool incomplete);
+
 // Test hook (EMLT_STOP_AFTER in the command line): stop as if by SIGINT once workers have
 // reported this many units of work. 0 disarms it.
 void stop_after(uint64_t units);

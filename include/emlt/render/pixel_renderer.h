@@ -27,11 +27,22 @@ struct PixelRenderState {
   uint64_t invalid = 0;
 
   void save(StateWriter& out) const;
-  // Throws StateError when the state does not fit an image of `pixels` pixels.
-  void load(StateReader& in, uint64_t pixels);
-  // The mean of each pixel's samples.
-  Image image(int width, int height) const;
+  // Throws StateError when the state does not fit an image of this size.
+  void load(StateReader& in, int width, int height);
+
+  // Every rank's pixels summed on rank 0 (cluster.h); the state itself is left as it is.
+  struct Totals {
+    std::vector<double> sums;  // 3 per pixel
+    std::vector<int32_t> counts;
+    // The mean of each pixel's samples.
+    Image image(int width, int height) const;
+  };
+  Totals totals() const;
 };
+
+// Under MPI each rank renders the rows of every R-th band of 16 rows (R ranks), whole
+// pixels, so every pixel's sum is made by one rank in sample order as without MPI.
+bool owns_row(int y);
 
 // The whole render of one integrator: resumes from and checkpoints through
 // settings.control.
@@ -39,10 +50,11 @@ RenderResult render_pixels(const Scene& scene, const RenderSettings& settings,
                            ProgressReporter& progress, const RadianceEstimator& radiance);
 
 // A pass-based render inside another (MLT's direct-light image): continues from `state`
-// when state.resumed, leaves its final state there, and at a pause calls `on_pause`, which
-// saves whatever the outer render needs and returns whether to stop.
+// when state.resumed, leaves its final state there, and at a pause (a checkpoint or a stop,
+// agreed by every rank) calls `on_pause`, which saves whatever the outer render needs. The
+// image of the result is complete on rank 0 only.
 RenderResult render_pixels(const Scene& scene, const RenderSettings& settings,
                            ProgressReporter& progress, const RadianceEstimator& radiance,
-                           PixelRenderState& state, const std::function<bool()>& on_pause);
+                           PixelRenderState& state, const std::function<void()>& on_pause);
 
 }  // namespace emlt
