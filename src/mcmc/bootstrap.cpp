@@ -103,7 +103,9 @@ Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& p) {
   tbb::task_arena arena(threads);
   // Under MPI each rank samples its share of the blocks and the blocks are then exchanged,
   // so that every rank holds the whole pool, summed in block order (cluster.h).
-  const auto [first_block, last_block] = cluster::share(uint64_t(blocks));
+  // (Not a structured binding: clang 14, the fuzz build's compiler, cannot capture one.)
+  const std::pair<uint64_t, uint64_t> owned = cluster::share(uint64_t(blocks));
+  const uint64_t first_block = owned.first, last_block = owned.second;
   arena.execute([&] {
     tbb::parallel_for(int(first_block), int(last_block), [&](int block) {
       SampleScratch scratch;

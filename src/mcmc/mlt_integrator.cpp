@@ -465,7 +465,9 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   for (BlockOutput& block : blocks) block.stats.assign(mix.size(), BlockOutput::Counters{});
   // Under MPI each rank runs a contiguous share of the blocks (of each half, in EMLT); a
   // chain is in one block, so it is moved by one rank only.
-  const auto [first_owned_block, last_owned_block] = cluster::share(blocks.size());
+  // (Not a structured binding: clang 14, the fuzz build's compiler, cannot capture one.)
+  const std::pair<uint64_t, uint64_t> owned_blocks = cluster::share(blocks.size());
+  const uint64_t first_owned_block = owned_blocks.first, last_owned_block = owned_blocks.second;
   const auto owns_block = [&](uint64_t block) {
     return block >= first_owned_block && block < last_owned_block;
   };
@@ -514,8 +516,22 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
                       std::isfinite(stats_.b) && stats_.b > 0.0 && std::isfinite(alpha_sum);
     for (const int64_t u : units) consistent &= u >= 0;
     if (consistent && sweep.active) {
-      consistent = sweep.count > 0 && sweep.first + sweep.count <= uint64_t(chain_count) &&
+      // (first + count could wrap around.)
+      consistent = sweep.count > 0 && sweep.first < uint64_t(chain_count) &&
+                   sweep.count <= uint64_t(chain_count) - sweep.first &&
                    (!ensemble || (sweep.first == half * ensemble_size && sweep.count == ensemble_size));
+      // The chains take every step a state promises them, so the sweep is held to what the
+      // loop below gives one: it never crosses a checkpoint, and takes `it` steps per path
+      // in EMLT, at most its rounds in a timed MLT render.
+      const uint64_t round_steps = std::max<uint64_t>(pixels, uint64_t(chain_count));
+      uint64_t most = 0, rounds = 0;
+      if (__builtin_mul_overflow(next_checkpoint, pixels, &most)) most = UINT64_MAX;
+      most -= std::min(most, sweep.done_before);
+      if (ensemble)
+        most = std::min(most, ensemble_size * iterations);
+      else if (timed && !__builtin_mul_overflow(timed_rounds, round_steps, &rounds))
+        most = std::min(most, rounds);
+      consistent = consistent && sweep.size <= most;
     }
     for (uint64_t c = 0; consistent && c < uint64_t(chain_count); ++c) {
       const uint64_t chain_left = chains[size_t(c)].sweep_left;
@@ -528,9 +544,11 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
       consistent = left <= sweep.size && done <= sweep.done_before + sweep.size &&
                    done >= sweep.done_before;
     if (!consistent) throw StateError("the saved chains' schedule is inconsistent");
-    if (!timed && done > planned)
-      throw StateError("the checkpoint has " + std::to_string(done / pixels) +
-                       " mutations per pixel done, more than this run's budget of " +
+    // A sweep under way is finished before anything else (and cannot be cut short).
+    const uint64_t committed = sweep.active ? sweep.done_before + sweep.size : done;
+    if (!timed && committed > planned)
+      throw StateError("the checkpoint has " + std::to_string(committed / pixels) +
+                       " mutations per pixel done or under way, more than this run's budget of " +
                        std::to_string(planned / pixels) +
                        " (a resumed render may extend the budget, not cut it)");
     chain_in.reset();

@@ -9,6 +9,8 @@ namespace emlt {
 
 namespace {
 bool is_finite(const Vec2& v) { return std::isfinite(v.x) && std::isfinite(v.y); }
+// Normals, frames and sky directions are unit vectors up to float rounding.
+bool is_unit(const Vec3& v) { return std::abs(glm::length(v) - 1.0f) <= 1e-2f; }
 }  // namespace
 using emlt::is_finite;
 
@@ -68,6 +70,10 @@ Path PathCodec::load(StateReader& in) const {
   const uint64_t count = in.get<uint64_t>();
   if (count > uint64_t(kMaxPathVertices)) throw StateError("a saved path is longer than possible");
   path.vertices.resize(count);
+  // Generous: twice as far as the camera or the farthest surface, whichever is farther.
+  const float reach =
+      2.0f * (scene_.bounds_radius() +
+              glm::length(scene_.camera().position() - scene_.bounds_center()));
   for (PathVertex& v : path.vertices) {
     const uint8_t kind = in.get<uint8_t>();
     if (kind > uint8_t(VertexKind::Camera)) throw StateError("a saved path vertex has no known kind");
@@ -101,16 +107,40 @@ Path PathCodec::load(StateReader& in) const {
                         std::isfinite(v.delta_probability) && is_finite(v.delta_value) &&
                         std::isfinite(v.delta_ior_ratio) && is_finite(v.raster);
     if (!finite) throw StateError("a saved path vertex holds a value that is not a number");
+    // Mutations trace rays from these points along directions made of these vectors: a
+    // normal of length 1e27 or a point far beyond the scene made rays Embree refuses (it
+    // asserts), a vector of no length is normalised into NaN. Points lie within the scene's
+    // bounds or on the lens.
+    const bool directions_ok =
+        v.is_environment() ? is_unit(v.sky_direction)
+                           : is_unit(v.normal) && is_unit(v.shading.s) && is_unit(v.shading.t) &&
+                                 is_unit(v.shading.n);
+    if (!directions_ok)
+      throw StateError("a saved path vertex has a normal or direction that is not of unit length");
+    if (!v.is_environment() && !(glm::length(v.position - scene_.bounds_center()) <= reach))
+      throw StateError("a saved path vertex lies outside the scene");
   }
   // The shape every path of the chains has: an emitter or the sky first, the lens last,
-  // surfaces with a BSDF between (what the mutations rely on).
+  // surfaces with a BSDF between (what the mutations rely on), and the type that follows
+  // from its vertices (which mutations apply, and EMLT's guides, go by it).
   if (count > 0) {
     const bool shape_ok =
-        count >= 2 && path.type.vertices == count &&
+        count >= 2 && path.type == compute_path_type(path.vertices) &&
         path.vertices.back().is_camera() && !path.vertices.front().is_camera() &&
         std::all_of(path.vertices.begin() + 1, path.vertices.end() - 1,
                     [](const PathVertex& v) { return v.is_surface() && v.bsdf != nullptr; });
     if (!shape_ok) throw StateError("a saved path is not a path from a light to the camera");
+    for (size_t i = 1; i < count; ++i)
+      if (!path.vertices[i - 1].is_environment() &&
+          path.vertices[i - 1].position == path.vertices[i].position)
+        throw StateError("a saved path has an edge of no length");
+    // The chains find the path's film pixel from its raster position (clamped there, so the
+    // image's far edges pass, but first converted to int, which a value far outside would
+    // overflow).
+    const Vec2 raster = path.raster();
+    const float width = float(scene_.camera().width()), height = float(scene_.camera().height());
+    if (!(raster.x >= 0.0f && raster.x <= width && raster.y >= 0.0f && raster.y <= height))
+      throw StateError("a saved path lands outside the image");
   }
   return path;
 }

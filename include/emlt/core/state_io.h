@@ -100,7 +100,9 @@ class StateReader {
   std::vector<T> get_vector_data(uint64_t size) {
     if (size > remaining() / sizeof(T)) throw StateError("an array runs past the end of the data");
     std::vector<T> values(size);
-    std::memcpy(values.data(), take(size * sizeof(T)), size * sizeof(T));
+    // An empty vector's data() may be null, which memcpy must not be given even for no
+    // bytes (BDPT's strategy sums are empty without --bdpt-strategies).
+    if (size > 0) std::memcpy(values.data(), take(size * sizeof(T)), size * sizeof(T));
     return values;
   }
   const char* take(uint64_t bytes) {
