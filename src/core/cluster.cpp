@@ -37,7 +37,9 @@ void reduce_sum(std::vector<T>& values, MPI_Datatype type, bool everywhere) {
   }
 }
 
-std::vector<std::string> gather(const std::string& mine, bool everywhere) {
+std::string g_gathered;  // the buffer of the last gather, reused
+
+std::vector<std::string_view> gather(const std::string& mine, bool everywhere) {
   if (g_size == 1) return {mine};
   if (mine.size() > size_t(INT_MAX)) throw Error("MPI: a rank's share is over 2 GB");
   const int length = int(mine.size());
@@ -53,17 +55,18 @@ std::vector<std::string> gather(const std::string& mine, bool everywhere) {
     total += lengths[size_t(r)];
   }
   if (total > INT_MAX) throw Error("MPI: the gathered shares are over 2 GB");
-  std::string all(size_t(everywhere || g_rank == 0 ? total : 0), '\0');
+  std::string& all = g_gathered;
+  all.resize(size_t(everywhere || g_rank == 0 ? total : 0));
   if (everywhere)
     MPI_Allgatherv(mine.data(), length, MPI_BYTE, all.data(), lengths.data(), offsets.data(),
                    MPI_BYTE, MPI_COMM_WORLD);
   else
     MPI_Gatherv(mine.data(), length, MPI_BYTE, all.data(), lengths.data(), offsets.data(),
                 MPI_BYTE, 0, MPI_COMM_WORLD);
-  std::vector<std::string> parts;
+  std::vector<std::string_view> parts;
   if (!everywhere && g_rank != 0) return parts;
   for (int r = 0; r < g_size; ++r)
-    parts.push_back(all.substr(size_t(offsets[size_t(r)]), size_t(lengths[size_t(r)])));
+    parts.push_back(std::string_view(all).substr(size_t(offsets[size_t(r)]), size_t(lengths[size_t(r)])));
   return parts;
 }
 
@@ -121,8 +124,8 @@ uint64_t max_everywhere(uint64_t value) {
   return value;
 }
 
-std::vector<std::string> gather_to_root(const std::string& mine) { return gather(mine, false); }
-std::vector<std::string> gather_everywhere(const std::string& mine) { return gather(mine, true); }
+std::vector<std::string_view> gather_to_root(const std::string& mine) { return gather(mine, false); }
+std::vector<std::string_view> gather_everywhere(const std::string& mine) { return gather(mine, true); }
 
 void broadcast(std::string& data) {
   if (g_size == 1) return;
@@ -147,8 +150,8 @@ void sum_to_root(std::vector<double>&) {}
 void sum_to_root(std::vector<int32_t>&) {}
 void sum_everywhere(std::vector<uint64_t>&) {}
 uint64_t max_everywhere(uint64_t value) { return value; }
-std::vector<std::string> gather_to_root(const std::string& mine) { return {mine}; }
-std::vector<std::string> gather_everywhere(const std::string& mine) { return {mine}; }
+std::vector<std::string_view> gather_to_root(const std::string& mine) { return {mine}; }
+std::vector<std::string_view> gather_everywhere(const std::string& mine) { return {mine}; }
 void broadcast(std::string&) {}
 
 #endif
@@ -158,8 +161,8 @@ void agree_on_error(const std::string& error) {
     if (!error.empty()) throw Error(error);
     return;
   }
-  for (const std::string& e : gather_everywhere(error))
-    if (!e.empty()) throw Error(e);
+  for (const std::string_view e : gather_everywhere(error))
+    if (!e.empty()) throw Error(std::string(e));
 }
 
 }  // namespace emlt::cluster

@@ -146,7 +146,7 @@ Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& p) {
       mine.put(results[b].sum_squares);
       mine.put_vector(results[b].candidates);
     }
-    for (const std::string& part : cluster::gather_everywhere(mine.data())) {
+    for (const std::string_view part : cluster::gather_everywhere(mine.data())) {
       StateReader in(part);
       result.interrupted |= in.get<uint8_t>() != 0;
       while (in.remaining() > 0) {

@@ -45,6 +45,7 @@ struct Chain {
   Rng rng;
   uint64_t steps_taken = 0;  // keys EMLT's choice of guides (ensemble_guides.h)
   uint64_t sweep_left = 0;   // steps still to take in the sweep under way
+  bool moved = false;        // accepted a proposal since EMLT's last swap (MPI: to send)
 };
 
 // What one block of chains counts: its strategies' statistics. Blocks are a fixed partition
@@ -190,6 +191,7 @@ uint64_t run_chain(Chain& chain, uint64_t chain_index, const StrategyMix& mix,
     if (chain.rng.uniform() < acceptance) {
       film.splat(width, height, chain.current, chain.contribution, chain.target, chain.carried);
       chain.current = std::move(proposal->path);
+      chain.moved = true;
       chain.contribution = contribution;
       chain.target = target;
       if (proposal_applicable != chain.applicable) count_not_applicable();
@@ -396,6 +398,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
       chain.rng = Rng::restore(in.get<Rng::State>());
       chain.steps_taken = in.get<uint64_t>();
       chain.sweep_left = in.get<uint64_t>();
+      chain.moved = true;  // the other ranks' copies may predate the checkpoint
       // F(x) is a colour, non-negative: the film turns splats into integers assuming so.
       const auto colour = [](double c) { return std::isfinite(c) && c >= 0.0; };
       if (!std::isfinite(chain.target) || chain.target < 0.0 || !std::isfinite(chain.carried) ||
@@ -717,21 +720,28 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   };
   // EMLT under MPI: after a half-sweep, every rank needs the moved paths of the others, as
   // they are the frozen half that guides the next one.
+  StateWriter exchange;  // kept across swaps, with its memory
   const auto share_moved_paths = [&](uint64_t first, uint64_t count) {
     if (cluster::size() == 1) return;
-    StateWriter mine;
+    // Only the paths that moved: the others are as every rank already has them. (A chain
+    // resumed from a checkpoint counts as moved, since the others' copies may be older.)
+    StateWriter& mine = exchange;
+    mine.clear();
     for (uint64_t c = first; c < first + count; ++c) {
-      if (!owns_chain(c)) continue;
+      if (!owns_chain(c) || !chains[c].moved) continue;
+      chains[c].moved = false;
       mine.put<uint64_t>(c);
       mine.put(chains[c].target);
-      codec.save(chains[c].current, mine);
+      codec.pack(chains[c].current, mine);
     }
-    for (const std::string& part : cluster::gather_everywhere(mine.data())) {
-      StateReader in(part);
+    const std::vector<std::string_view> parts = cluster::gather_everywhere(mine.data());
+    for (size_t r = 0; r < parts.size(); ++r) {
+      if (int(r) == cluster::rank()) continue;
+      StateReader in(parts[r]);
       while (in.remaining() > 0) {
         Chain& chain = chains.at(in.get<uint64_t>());
         chain.target = in.get<double>();
-        chain.current = codec.load(in);
+        codec.unpack(in, chain.current);
       }
     }
   };

@@ -145,4 +145,23 @@ Path PathCodec::load(StateReader& in) const {
   return path;
 }
 
+void PathCodec::pack(const Path& path, StateWriter& out) const {
+  out.put(path.type);
+  out.put_vector(path.vertices);
+  for (const PathVertex& v : path.vertices) {
+    out.put<int32_t>(v.bsdf ? bsdf_index_.at(v.bsdf) : -1);
+    out.put<int32_t>(v.light ? light_index_.at(v.light) : -1);
+  }
+}
+
+void PathCodec::unpack(StateReader& in, Path& path) const {
+  path.type = in.get<PathType>();
+  in.get_vector_into(path.vertices, uint64_t(kMaxPathVertices));
+  for (PathVertex& v : path.vertices) {
+    const int32_t bsdf = in.get<int32_t>(), light = in.get<int32_t>();
+    v.bsdf = bsdf >= 0 ? bsdfs_.at(size_t(bsdf)) : nullptr;
+    v.light = light >= 0 ? &scene_.lights().light(size_t(light)) : nullptr;
+  }
+}
+
 }  // namespace emlt

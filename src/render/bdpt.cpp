@@ -245,7 +245,7 @@ RenderResult BidirectionalPathTracer::render(const Scene& scene, const RenderSet
         mine.put_vector(outputs[i].splats.records);
         outputs[i].splats.records.clear();
       }
-      for (const std::string& part : cluster::gather_to_root(mine.data())) {
+      for (const std::string_view part : cluster::gather_to_root(mine.data())) {
         StateReader in(part);
         while (in.remaining() > 0) {
           const uint64_t i = in.get<uint64_t>();

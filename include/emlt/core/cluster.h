@@ -14,6 +14,7 @@
 // workers never do.
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -47,9 +48,11 @@ void sum_to_root(std::vector<int32_t>& values);
 void sum_everywhere(std::vector<uint64_t>& values);
 uint64_t max_everywhere(uint64_t value);
 
-// Every rank's bytes, in rank order, on rank 0 (empty elsewhere) or on every rank.
-std::vector<std::string> gather_to_root(const std::string& mine);
-std::vector<std::string> gather_everywhere(const std::string& mine);
+// Every rank's bytes, in rank order, on rank 0 (empty elsewhere) or on every rank. The
+// views stay valid until the next gather (the buffer is kept: EMLT gathers megabytes at
+// every swap, and fresh pages for each would cost more than the copy).
+std::vector<std::string_view> gather_to_root(const std::string& mine);
+std::vector<std::string_view> gather_everywhere(const std::string& mine);
 // Rank 0's bytes on every rank.
 void broadcast(std::string& data);
 

@@ -42,6 +42,8 @@ class StateWriter {
   // A section whose length is written first, so a reader can hand it on whole.
   void put_block(const std::string& block) { put_string(block); }
 
+  // Empties the writer but keeps its memory (a writer reused for every exchange).
+  void clear() { data_.clear(); }
   const std::string& data() const { return data_; }
   std::string take() { return std::move(data_); }
 
@@ -82,6 +84,16 @@ class StateReader {
     const uint64_t size = get<uint64_t>();
     if (size > limit) throw StateError("an array is longer than possible");
     return get_vector_data<T>(size);
+  }
+  // The same into `values`, reusing its storage.
+  template <typename T>
+  void get_vector_into(std::vector<T>& values, uint64_t limit) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const uint64_t size = get<uint64_t>();
+    if (size > limit || size > remaining() / sizeof(T))
+      throw StateError("an array is longer than possible");
+    values.resize(size);
+    if (size > 0) std::memcpy(values.data(), take(size * sizeof(T)), size * sizeof(T));
   }
   std::string_view get_block() {
     const uint64_t size = get<uint64_t>();

@@ -19,6 +19,12 @@ class PathCodec {
   // vertices).
   Path load(StateReader& in) const;
 
+  // The fast form for paths passed between the ranks of one run (EMLT's swaps, cluster.h):
+  // each vertex record copied whole, its BSDF and light as indices, no checks (the data
+  // never left the run). `unpack` reuses the path's storage.
+  void pack(const Path& path, StateWriter& out) const;
+  void unpack(StateReader& in, Path& path) const;
+
  private:
   const Scene& scene_;
   std::vector<const Bsdf*> bsdfs_;

@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Strong scaling of MPI on this machine (issue 20): the same render as 1 rank x 2 threads
+# and as 2 ranks x 1 thread (mpirun), for each integrator. Efficiency = time(1 x 2) /
+# time(2 x 1): 1.0 when splitting the work over processes costs nothing beyond threads.
+#   scripts/bench_mpi_scaling.sh [SIZE]   (default 256: a 256 x 256 Cornell box)
+# Prints a Markdown table (docs/scaling.md quotes it); "render s" is what emlt reports (the
+# render alone), "wall s" the whole command with MPI's start-up and the scene's loading.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+size=${1:-256}
+emlt=${EMLT:-build/emlt}
+launch=(mpirun)
+if mpirun --version 2>&1 | grep -qiE "open mpi|openrte"; then
+  launch+=(--allow-run-as-root --oversubscribe --bind-to none)
+fi
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+seconds_of() { sed -n 's/.*, \([0-9.]*\) s, .*/\1/p' "$1" | tail -1; }
+now() { date +%s.%N; }
+
+echo "| integrator | budget | 1 rank x 2 threads: render s (wall s) | 2 ranks x 1 thread: render s (wall s) | efficiency (render) | same bits |"
+echo "|---|---|---|---|---|---|"
+for spec in "pt --spp 256" "bdpt --spp 64" "mlt --mpp 256" "emlt --mpp 128"; do
+  read -r integrator flag budget <<< "$spec"
+  args=(render scenes/cornell-box/scene.json --integrator "$integrator" "$flag" "$budget"
+        --width "$size" --height "$size" -q)
+  t0=$(now)
+  "$emlt" "${args[@]}" --threads 2 -o "$work/one.exr" > "$work/one.txt" 2>&1
+  t1=$(now)
+  "${launch[@]}" -n 2 "$emlt" "${args[@]}" --threads 1 -o "$work/two.exr" > "$work/two.txt" 2>&1
+  t2=$(now)
+  one=$(seconds_of "$work/one.txt") two=$(seconds_of "$work/two.txt")
+  same=no
+  cmp -s "$work/one.exr" "$work/two.exr" && same=yes
+  /usr/bin/python3 - "$integrator" "$flag $budget" "$one" "$two" "$t0" "$t1" "$t2" "$same" <<'PY'
+import sys
+name, budget, one, two, t0, t1, t2, same = sys.argv[1:]
+one, two, t0, t1, t2 = map(float, (one, two, t0, t1, t2))
+print(f"| {name} | {budget} | {one:.2f} ({t1 - t0:.2f}) | {two:.2f} ({t2 - t1:.2f}) | {one / two:.2f} | {same} |")
+PY
+done
