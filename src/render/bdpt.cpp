@@ -333,9 +333,7 @@ RenderResult BidirectionalPathTracer::render(const Scene& scene, const RenderSet
         }
       });
     });
-    bool incomplete = false;
-    for (uint64_t i = 0; i < pixels && !incomplete; ++i)
-      incomplete = state.counts[i] < last && owns_row(int(i / uint64_t(width)));
+    const bool incomplete = state.behind(last, width);
     const interruption::Decision decision = interruption::agree(incomplete);
     mid_pass = decision.incomplete;
     if (!mid_pass) {

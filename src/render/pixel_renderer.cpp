@@ -110,6 +110,16 @@ Image PixelRenderState::Totals::image(int width, int height) const {
   return image;
 }
 
+bool PixelRenderState::behind(int samples, int width) const {
+  const size_t rows = width > 0 ? counts.size() / size_t(width) : 0;
+  for (size_t y = 0; y < rows; ++y) {
+    if (!owns_row(int(y))) continue;
+    const int32_t* row = &counts[y * size_t(width)];
+    if (std::any_of(row, row + width, [&](int32_t c) { return c < samples; })) return true;
+  }
+  return false;
+}
+
 bool owns_row(int y) { return (y / kTileSize) % cluster::size() == cluster::rank(); }
 
 RenderResult render_pixels(const Scene& scene, const RenderSettings& settings,
@@ -148,9 +158,7 @@ RenderResult render_pixels(const Scene& scene, const RenderSettings& settings,
     arena.execute([&] {
       state.invalid += render_pass(scene, settings, progress, radiance, first, last, state);
     });
-    bool incomplete = false;
-    for (uint64_t i = 0; i < pixels && !incomplete; ++i)
-      incomplete = state.counts[i] < last && owns_row(int(i / uint64_t(width)));
+    const bool incomplete = state.behind(last, width);
     // Every rank takes the same decision here (interruption.h).
     const interruption::Decision decision = interruption::agree(incomplete);
     mid_pass = decision.incomplete;

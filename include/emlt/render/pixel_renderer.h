@@ -38,6 +38,8 @@ struct PixelRenderState {
     Image image(int width, int height) const;
   };
   Totals totals() const;
+  // Whether some pixel of this rank's rows has fewer than `samples` samples (a pass cut short).
+  bool behind(int samples, int width) const;
 };
 
 // Under MPI each rank renders the rows of every R-th band of 16 rows (R ranks), whole
