@@ -1,5 +1,6 @@
 #include "emlt/core/cluster.h"
 
+#include <cstdio>
 #include <cstdlib>
 
 #include "emlt/core/error.h"
@@ -12,6 +13,18 @@
 #endif
 
 namespace emlt::cluster {
+
+namespace {
+// Whether a launcher (mpirun, mpiexec, srun) started this process: Open MPI, MPICH's Hydra
+// and PMIx-based launchers each leave their variables. A plain run does not initialise MPI
+// at all, so it behaves exactly as a build without MPI (Open MPI would otherwise start a
+// singleton runtime).
+bool launched_by_mpi() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "PMI_RANK"})
+    if (std::getenv(name)) return true;
+  return false;
+}
+}  // namespace
 
 #if EMLT_WITH_MPI
 
@@ -68,16 +81,6 @@ std::vector<std::string_view> gather(const std::string& mine, bool everywhere) {
   for (int r = 0; r < g_size; ++r)
     parts.push_back(std::string_view(all).substr(size_t(offsets[size_t(r)]), size_t(lengths[size_t(r)])));
   return parts;
-}
-
-// Whether a launcher (mpirun, mpiexec, srun) started this process: Open MPI, MPICH's Hydra
-// and PMIx-based launchers each leave their variables. A plain run does not initialise MPI
-// at all, so it behaves exactly as a build without MPI (Open MPI would otherwise start a
-// singleton runtime).
-bool launched_by_mpi() {
-  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "PMI_RANK"})
-    if (std::getenv(name)) return true;
-  return false;
 }
 
 }  // namespace
@@ -138,7 +141,13 @@ void broadcast(std::string& data) {
 
 #else  // one process
 
-void init(int*, char***) {}
+void init(int*, char***) {
+  // Every process of the launch would render the whole image and write the same files.
+  if (launched_by_mpi())
+    std::fprintf(stderr,
+                 "emlt: warning: started by an MPI launcher, but this emlt was built without "
+                 "MPI (EMLT_WITH_MPI=OFF): each process renders the whole image on its own\n");
+}
 void finalize() {}
 void abort(int status) { std::exit(status); }
 int rank() { return 0; }
