@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "emlt/core/error.h"
+#include "emlt/render/interruption.h"
 
 namespace emlt::cli {
 
@@ -76,6 +77,10 @@ void report_mlt_statistics(const std::string& name, const MltStatistics& st,
                      {"tree_seconds", st.tree_seconds},
                      {"mean_alpha", st.mean_alpha}};
   const std::string temporary = json_path + ".tmp-" + std::to_string(getpid());
+  interruption::register_temporary(temporary);  // a second Ctrl-C removes it
+  struct Forget {
+    ~Forget() { interruption::register_temporary(""); }
+  } forget;
   {
     std::ofstream out(temporary);
     out << j.dump(2) << "\n";

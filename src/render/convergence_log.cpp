@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "emlt/core/error.h"
+#include "emlt/render/interruption.h"
 
 namespace emlt {
 
@@ -37,6 +38,10 @@ void ConvergenceLog::snapshot(double per_pixel, double seconds, const Image& ima
 
 void ConvergenceLog::write() const {
   const std::string temporary = path_ + ".tmp-" + std::to_string(getpid());
+  interruption::register_temporary(temporary);  // a second Ctrl-C removes it
+  struct Forget {
+    ~Forget() { interruption::register_temporary(""); }
+  } forget;
   {
     std::ofstream out(temporary);
     out << header_ << "\n";

@@ -222,6 +222,7 @@ TEST(Checkpoint, SecondSignalEndsAtOnceLeavingNoTemporary) {
       const std::string command = "exec " + test::emlt_binary() + " render " + cornell() +
                                   " --integrator mlt --mpp 4096 --width 256 --height 256 -q -o " +
                                   out.string() + " --checkpoint " + ck.string() +
+                                  " --stats " + (dir / "stats.json").string() +
                                   " --checkpoint-interval 0.1 > /dev/null 2>&1";
       execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
       _exit(127);
