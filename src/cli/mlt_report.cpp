@@ -36,17 +36,22 @@ void report_mlt_statistics(const std::string& name, const MltStatistics& st,
                  static_cast<unsigned long long>(st.ensemble_neighbours),
                  static_cast<unsigned long long>(st.ensemble_iterations),
                  static_cast<unsigned long long>(st.swaps), st.tree_seconds, st.mean_alpha);
-  std::fprintf(stderr, "  %-16s %12s %14s %12s %12s %10s %10s\n", "strategy", "proposed",
-               "not applicable", "failed", "accepted", "mean a", "fallbacks");
+  // A render stopped before its chains began has no strategy figures: a table of zeros would
+  // read like a measurement.
+  const bool chains_ran = st.mutations > 0;
+  if (chains_ran)
+    std::fprintf(stderr, "  %-16s %12s %14s %12s %12s %10s %10s\n", "strategy", "proposed",
+                 "not applicable", "failed", "accepted", "mean a", "fallbacks");
   nlohmann::json strategies = nlohmann::json::array();
   for (size_t i = 0; i < st.strategies.size(); ++i) {
     const StrategyStats& s = st.strategies[i];
-    std::fprintf(stderr, "  %-16s %12llu %14llu %12llu %12llu %10.4f %10llu\n",
-                 st.strategy_names[i].c_str(), static_cast<unsigned long long>(s.proposed),
-                 static_cast<unsigned long long>(s.not_applicable),
-                 static_cast<unsigned long long>(s.failed),
-                 static_cast<unsigned long long>(s.accepted), s.mean_acceptance(),
-                 static_cast<unsigned long long>(s.fallbacks));
+    if (chains_ran)
+      std::fprintf(stderr, "  %-16s %12llu %14llu %12llu %12llu %10.4f %10llu\n",
+                   st.strategy_names[i].c_str(), static_cast<unsigned long long>(s.proposed),
+                   static_cast<unsigned long long>(s.not_applicable),
+                   static_cast<unsigned long long>(s.failed),
+                   static_cast<unsigned long long>(s.accepted), s.mean_acceptance(),
+                   static_cast<unsigned long long>(s.fallbacks));
     strategies.push_back({{"name", st.strategy_names[i]},
                           {"proposed", s.proposed},
                           {"not_applicable", s.not_applicable},

@@ -159,6 +159,8 @@ TEST(Checkpoint, StoppedImageMeanMatchesTheReference) {
   ASSERT_EQ(130, render("--integrator mlt --mpp 32 -o " + out.string(), &text, "EMLT_STOP_AFTER=500"))
       << text;
   EXPECT_NE(text.find("before the chains began"), std::string::npos) << text;
+  // ... and no strategy table of zeros, which would read like a measurement.
+  EXPECT_EQ(text.find("not applicable"), std::string::npos) << text;
 }
 
 // A real signal from another process: the render stops within a second with the signal's
