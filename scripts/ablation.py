@@ -41,7 +41,7 @@ from ablation_config import REPO_ROOT, ConfigError, load_config  # noqa: E402
 
 PROG = "ablation"
 RESULT_FIELDS = ["scene", "method", "seed", "budget_kind", "budget", "per_pixel", "seconds", "mse", "relmse",
-                 "mse_no_emitter", "mean_ratio", "pixels", "image"]
+                 "mse_no_emitter", "mean_ratio", "pixels", "image", "mse_net", "reference_floor"]
 
 
 class RunError(Exception):
@@ -113,41 +113,123 @@ def _scene_hash(scene):
 
 def reference_key(config, scene):
     """The cache key of a scene's reference: scene content and settings plus reference settings."""
-    return hashlib.sha256(json.dumps([scene_hash(scene), config.reference.engine_args()]).encode()).hexdigest()[:20]
+    settings = config.reference.engine_args() if config.reference.parts == 1 else config.reference.identity()
+    if config.indirect_only:
+        settings = [settings, "indirect-only", config.reference.direct_spp]
+    return hashlib.sha256(json.dumps([scene_hash(scene), settings]).encode()).hexdigest()[:20]
+
+
+def render_cached(emlt, args, output):
+    """Render `emlt render ARGS -o OUTPUT` unless OUTPUT exists and OUTPUT.args records the same
+    arguments (written only after a successful render)."""
+    record = output + ".args"
+    text = json.dumps(args)
+    if os.path.exists(output) and os.path.exists(record):
+        with open(record) as f:
+            if f.read() == text:
+                return output
+    os.makedirs(os.path.dirname(output), exist_ok=True)
+    run_engine([emlt, "render"] + args + ["-o", output, "--quiet"], log_path=output + ".log")
+    with open(record, "w") as f:
+        f.write(text)
+    return output
+
+
+def direct_args(scene, spp, seed, threads):
+    """The direct image an MCMC run with --direct separate --direct-spp SPP --seed SEED renders
+    first: `--integrator direct` with the same seed and samples gives the same bits."""
+    return [scene.path, "--threads", str(threads)] + scene.engine_args() + [
+        "--integrator", "direct", "--spp", str(spp), "--seed", str(seed)]
+
+
+def indirect_args(config):
+    """What every MCMC render of an indirect-only experiment adds: direct light rendered apart."""
+    return ["--direct", "separate", "--direct-spp", str(config.indirect_direct_spp)] if config.indirect_only else []
 
 
 def ensure_reference(config, scene, emlt, cache_dir, out_dir):
     """Render (or reuse from the cache) the scene's reference; copy it to out/references/SCENE.pfm.
 
     The cache key hashes the scene's content, its resolution/depth/parameters and the
-    reference settings, so any change to them renders a new reference.
+    reference settings, so any change to them renders a new reference.  With "parts": K the
+    reference is the mean of K renders with seeds seed..seed+K-1, and their spread gives its
+    own noise (the floor every MSE against it contains).  In an indirect-only experiment
+    each part is its chains alone: an MCMC reference renders direct light separately and
+    the same direct image is subtracted (exactly); another integrator's image has a direct
+    image of "direct_spp" samples subtracted.  Returns (path, key, noise floor or None).
     """
-    ref_args = config.reference.engine_args()
+    from emlt_images import read_pfm, write_pfm
+    import numpy as np
+    ref = config.reference
     key = reference_key(config, scene)
     os.makedirs(cache_dir, exist_ok=True)
     cached = os.path.join(cache_dir, f"{scene.name}-{key}.pfm")
     if os.path.exists(cached):
         print(f"reference {scene.name}: cached {cached}", file=sys.stderr)
     else:
-        print(f"reference {scene.name}: rendering ({config.reference.describe()}) ...", file=sys.stderr, flush=True)
+        print(f"reference {scene.name}: rendering ({ref.describe()}"
+              f"{', indirect only' if config.indirect_only else ''}) ...", file=sys.stderr, flush=True)
         start = time.monotonic()
         with tempfile.TemporaryDirectory(dir=cache_dir) as tmp:
-            image = os.path.join(tmp, "reference.pfm")
-            cmd = [emlt, "render", scene.path, "-o", image, "--quiet", "--threads", str(config.threads)]
-            try:
-                run_engine(cmd + scene.engine_args() + ref_args, log_path=os.path.join(tmp, "engine.log"))
-            except RunError as e:
-                raise RunError(f"reference of {scene.name} failed: {e}")
+            parts = []
+            for part in range(ref.parts):
+                image = os.path.join(tmp, f"part-{part}.pfm")
+                args = ref.engine_args(part)
+                if config.indirect_only and ref.is_mcmc:
+                    args += ["--direct", "separate", "--direct-spp", str(ref.direct_spp)]
+                cmd = [emlt, "render", scene.path, "-o", image, "--quiet", "--threads", str(config.threads)]
+                try:
+                    run_engine(cmd + scene.engine_args() + args, log_path=os.path.join(tmp, f"engine-{part}.log"))
+                    pixels = read_pfm(image).astype(np.float64)
+                    if config.indirect_only:
+                        direct = os.path.join(tmp, f"direct-{part}.pfm")
+                        render_cached(emlt, direct_args(scene, ref.direct_spp, ref.seed + part, config.threads),
+                                      direct)
+                        pixels -= read_pfm(direct)
+                except RunError as e:
+                    raise RunError(f"reference of {scene.name} failed: {e}")
+                parts.append(pixels)
+            parts = np.stack(parts)
+            mean = parts.mean(axis=0)
+            # Variance of the mean, per pixel and channel, averaged like `emlt compare`'s MSE.
+            floor = float(parts.var(axis=0, ddof=1).mean() / len(parts)) if len(parts) > 1 else None
+            write_pfm(os.path.join(tmp, "reference.pfm"), mean)
             with open(os.path.join(tmp, "reference.json"), "w") as f:
-                json.dump({"scene": scene.path, "settings": scene.engine_args() + ref_args, "key": key}, f, indent=1)
+                json.dump({"scene": scene.path, "settings": scene.engine_args(), "reference": ref.identity(),
+                           "indirect_only": config.indirect_only, "key": key, "noise_floor_mse": floor,
+                           "seconds": round(time.monotonic() - start, 1)}, f, indent=1)
             os.replace(os.path.join(tmp, "reference.json"), cached[:-4] + ".json")
-            os.replace(image, cached)  # last: a reference exists only once complete
+            os.replace(os.path.join(tmp, "reference.pfm"), cached)  # last: a reference exists only once complete
         print(f"reference {scene.name}: {time.monotonic() - start:.1f} s -> {cached}", file=sys.stderr)
+    floor = None
+    if os.path.exists(cached[:-4] + ".json"):
+        with open(cached[:-4] + ".json") as f:
+            floor = json.load(f).get("noise_floor_mse")
     local = os.path.join(out_dir, "references", scene.name + ".pfm")
     os.makedirs(os.path.dirname(local), exist_ok=True)
     if not os.path.exists(local) or hash_file(local) != hash_file(cached):
         shutil.copyfile(cached, local)
-    return local, key
+    return local, key, floor
+
+
+def seed_references(config, emlt, references, out_dir):
+    """Indirect-only experiments: per (scene, seed) the reference each run is measured against,
+    the indirect reference plus that seed's exact direct image, so that the engine's own log
+    and `emlt compare` see only the chains' error.  Returns {(scene, seed): (path, direct path)}."""
+    from emlt_images import read_pfm, write_pfm
+    import numpy as np
+    out = {}
+    for scene in config.scenes:
+        indirect = read_pfm(references[scene.name][0]).astype(np.float64)
+        for seed in config.seeds:
+            direct = render_cached(emlt, direct_args(scene, config.indirect_direct_spp, seed, config.threads),
+                                   os.path.join(out_dir, "direct", scene.name, f"seed-{seed}.pfm"))
+            path = os.path.join(out_dir, "references", f"{scene.name}.seed-{seed}.pfm")
+            image = (indirect + read_pfm(direct)).astype(np.float32)
+            if not os.path.exists(path) or not np.array_equal(read_pfm(path), image):
+                write_pfm(path, image)
+            out[(scene.name, seed)] = (path, direct)
+    return out
 
 
 # ---------------------------------------------------------------------------------------------
@@ -168,7 +250,8 @@ class Run:
     def engine_args(self):
         """The run's engine arguments, without paths (also its identity for resuming)."""
         return (["--seed", str(self.seed), "--threads", str(self.config.threads)] + self.scene.engine_args()
-                + self.method.args + self.budget.engine_args(self.method) + self.config.extra_args)
+                + self.method.args + self.budget.engine_args(self.method) + self.config.extra_args
+                + indirect_args(self.config))
 
     def key(self, reference_key):
         """What must match for a finished run to be reused."""
@@ -176,7 +259,7 @@ class Run:
 
     def is_done(self, reference_key):
         """True when the run finished with the same settings (its outputs and marker exist)."""
-        needed = [self.image, self.log, self.marker] + ([self.stats] if self.method.is_mlt else [])
+        needed = [self.image, self.marker] + ([self.stats] if self.method.is_mlt else [])
         if not all(os.path.exists(p) for p in needed):
             return False
         try:
@@ -227,6 +310,13 @@ def probe_methods(config, methods, emlt):
                 raise RunError(f"method '{method.name}' does not run in this engine: {e}")
 
 
+def run_reference(run, references):
+    """(reference path, reference key) a run is measured against."""
+    path, key = references[run.scene.name][:2]
+    seeded = references.get((run.scene.name, run.seed))
+    return (seeded[0] if seeded else path), key
+
+
 def execute_runs(runs, emlt, references, jobs):
     """Run what is not done yet, printing '[k/N] scene method seed budget ...' lines on stderr.
 
@@ -247,7 +337,7 @@ def execute_runs(runs, emlt, references, jobs):
 
     def one(item):
         k, run = item
-        reference, key = references[run.scene.name]
+        reference, key = run_reference(run, references)
         if jobs == 1 and tty:
             print(f"[{k}/{total}] {run.describe()} ...", end="", file=sys.stderr, flush=True)
         try:
@@ -279,7 +369,10 @@ def execute_runs(runs, emlt, references, jobs):
 
 
 def read_log(path):
-    """The convergence log of a run as a list of dicts of floats."""
+    """The convergence log of a run as a list of dicts of floats ([] when the engine wrote none:
+    an MCMC render whose chains had nothing to do, e.g. direct light alone)."""
+    if not os.path.exists(path):
+        return []
     with open(path, newline="") as f:
         return [{k: (float(v) if v not in ("", None) else None) for k, v in row.items()} for row in csv.DictReader(f)]
 
@@ -304,7 +397,12 @@ def collect_results(config, runs, emlt, references, out_dir):
     rows = []
     for scene in config.scenes:
         scene_runs = [r for r in runs if r.scene.name == scene.name]
-        metrics = compare_metrics(emlt, references[scene.name][0], [r.image for r in scene_runs], scene.path)
+        metrics = {}
+        for reference in dict.fromkeys(run_reference(r, references)[0] for r in scene_runs):
+            metrics.update(compare_metrics(emlt, reference, [r.image for r in scene_runs
+                                                             if run_reference(r, references)[0] == reference],
+                                           scene.path))
+        floor = references[scene.name][2]
         for run in scene_runs:
             m = metrics[run.image]
             log = read_log(run.log)
@@ -312,7 +410,8 @@ def collect_results(config, runs, emlt, references, out_dir):
                    "budget": run.budget.value, "per_pixel": log[-1]["per_pixel"] if log else None,
                    "seconds": log[-1]["seconds"] if log else None, "mse": m["mse"], "relmse": m["relmse"],
                    "mse_no_emitter": m.get("mse_no_emitter"), "mean_ratio": m["mean_ratio"],
-                   "pixels": m["pixels"], "image": os.path.relpath(run.image, out_dir)}
+                   "pixels": m["pixels"], "image": os.path.relpath(run.image, out_dir),
+                   "mse_net": m["mse"] - floor if floor is not None else None, "reference_floor": floor}
             if run.method.is_mlt and os.path.exists(run.stats):
                 with open(run.stats) as f:
                     stats = json.load(f)
@@ -321,6 +420,45 @@ def collect_results(config, runs, emlt, references, out_dir):
             row["_log"] = log
             rows.append(row)
     return rows
+
+
+def run_reference_for_strip(config, scene, references):
+    """The image the strip shows as the reference: in an indirect-only experiment the first
+    seed's (indirect reference + that seed's direct image), comparable with the runs' images."""
+    seeded = references.get((scene.name, config.seeds[0]))
+    return seeded[0] if seeded else references[scene.name][0]
+
+
+def chains_variance(config, runs, references):
+    """Indirect-only experiments: per (scene, budget, method) the chains' variance across seeds,
+    i.e. the per-pixel sample variance (ddof 1) over seeds of (image - that seed's direct image),
+    averaged over pixels and channels like `emlt compare`'s MSE (scripts/chain_variance.py's
+    figure divided by 3, since it sums the channels).  The chains are unbiased, so this is their
+    MSE without any reference; it needs two seeds or more."""
+    from emlt_images import read_pfm
+    import numpy as np
+    groups = {}
+    for run in runs:
+        groups.setdefault((run.scene.name, run.budget.kind, run.budget.value, run.method.name), []).append(run)
+    out = []
+    for (scene, kind, value, method), members in groups.items():
+        if len(members) < 2:
+            continue
+        chains = np.stack([read_pfm(r.image).astype(np.float64) - read_pfm(references[(scene, r.seed)][1])
+                           for r in members])
+        out.append({"scene": scene, "budget_kind": kind, "budget": value, "method": method, "seeds": len(members),
+                    "chains_variance": float(chains.var(axis=0, ddof=1).mean())})
+    return out
+
+
+def write_chains_csv(chains, path):
+    """chains.csv: one row per (scene, budget, method)."""
+    fields = ["scene", "budget_kind", "budget", "method", "seeds", "chains_variance"]
+    with open(path, "w", newline="") as f:
+        writer = csv.writer(f, lineterminator="\n")
+        writer.writerow(fields)
+        for row in chains:
+            writer.writerow([csv_value(row[k]) for k in fields])
 
 
 def csv_value(value):
@@ -413,13 +551,19 @@ def main(argv=None):
         probe_methods(config, list({r.method.name: r.method for r in todo}.values()), emlt)
         references = {scene.name: ensure_reference(config, scene, emlt, cache_dir, out_dir)
                       for scene in config.scenes}
+        if config.indirect_only:
+            references.update(seed_references(config, emlt, references, out_dir))
         executed, skipped = execute_runs(runs, emlt, references, args.jobs)
         rows = collect_results(config, runs, emlt, references, out_dir)
         write_results_csv(rows, os.path.join(out_dir, "results.csv"))
+        chains = chains_variance(config, runs, references) if config.indirect_only else []
+        if chains:
+            write_chains_csv(chains, os.path.join(out_dir, "chains.csv"))
         if not args.no_report:
             import ablation_report
             ablation_report.write_report(config, rows, out_dir, engine_version(emlt),
-                                         {name: ref for name, (ref, _) in references.items()})
+                                         {scene.name: run_reference_for_strip(config, scene, references)
+                                          for scene in config.scenes}, chains)
             if args.figures:
                 publish_figures(out_dir, args.figures)
     except RunError as e:

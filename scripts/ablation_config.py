@@ -110,19 +110,37 @@ class Reference:
     time: float = None
     seed: int = 1000
     args: list = field(default_factory=list)
+    mpp: float = None  # MCMC references: mutations per pixel
+    parts: int = 1  # independent renders (seeds seed, seed+1, ...) averaged; their spread gives the noise floor
+    direct_spp: int = 1  # indirect-only experiments: samples of the direct image subtracted from each part
 
-    def engine_args(self):
-        """Engine arguments of the reference render (without scene settings and paths)."""
-        args = ["--integrator", self.integrator, "--seed", str(self.seed)]
+    @property
+    def is_mcmc(self):
+        """True when the reference is rendered by a Markov chain integrator."""
+        return self.integrator not in ("pt", "bdpt", "direct")
+
+    def engine_args(self, part=0):
+        """Engine arguments of one part of the reference render (without scene settings and paths)."""
+        args = ["--integrator", self.integrator, "--seed", str(self.seed + part)]
         if self.spp is not None:
             args += ["--spp", str(self.spp)]
+        if self.mpp is not None:
+            args += ["--mpp", fmt_number(self.mpp)]
         if self.time is not None:
             args += ["--time", fmt_number(self.time)]
         return args + list(self.args)
 
+    def identity(self):
+        """Everything that fixes the reference (its cache key)."""
+        return [self.engine_args(part) for part in range(self.parts)] + (
+            [["parts", self.parts]] if self.parts > 1 else [])
+
     def describe(self):
         """Short text such as 'bdpt, 4096 spp'."""
-        amount = f"{self.spp} spp" if self.spp is not None else f"{fmt_number(self.time)} s"
+        amount = (f"{self.spp} spp" if self.spp is not None else f"{fmt_number(self.mpp)} mpp"
+                  if self.mpp is not None else f"{fmt_number(self.time)} s")
+        if self.parts > 1:
+            amount = f"{self.parts} x {amount}"
         return f"{self.integrator}, {amount}"
 
 
@@ -140,6 +158,14 @@ class Config:
     threads: int = 0
     extra_args: list = field(default_factory=list)
     raw: dict = field(default_factory=dict)
+    # Indirect light only (EMLT paper 4.1): samples per pixel of the direct image every MCMC
+    # run renders separately and the runner subtracts exactly (None: whole images).
+    indirect_direct_spp: int = None
+
+    @property
+    def indirect_only(self):
+        """True when the runs' chains are measured alone against an indirect-only reference."""
+        return self.indirect_direct_spp is not None
 
 
 def fmt_number(value):
@@ -285,16 +311,38 @@ def parse_budgets(value):
 def parse_reference(value):
     """Reference settings: integrator, spp or time, seed, extra args."""
     value = dict(value or {})
-    unknown = set(value) - {"integrator", "spp", "time", "seed", "args"}
+    unknown = set(value) - {"integrator", "spp", "mpp", "time", "seed", "args", "parts", "direct_spp"}
     if unknown:
         raise ConfigError(f"reference: unknown keys {sorted(unknown)}")
     ref = Reference(integrator=value.get("integrator", "bdpt"), spp=value.get("spp"), time=value.get("time"),
-                    seed=value.get("seed", 1000), args=value.get("args", []))
+                    seed=value.get("seed", 1000), args=value.get("args", []), mpp=value.get("mpp"),
+                    parts=value.get("parts", 1), direct_spp=value.get("direct_spp", 1))
     if isinstance(ref.args, str):
         ref.args = shlex.split(ref.args)
-    if ref.spp is None and ref.time is None:
+    for key in ("parts", "direct_spp"):
+        if not isinstance(getattr(ref, key), int) or getattr(ref, key) < 1:
+            raise ConfigError(f"reference: \"{key}\" must be a positive integer")
+    if ref.spp is None and ref.time is None and ref.mpp is None:
+        if ref.is_mcmc:
+            raise ConfigError("reference: an MCMC reference needs \"mpp\" or \"time\"")
         ref.spp = 1024
     return ref
+
+
+def parse_indirect_only(value, methods, reference):
+    """"indirect_only": {"direct_spp": N} -> N; None when absent or false."""
+    if value is None or value is False:
+        return None
+    if not isinstance(value, dict) or set(value) - {"direct_spp"} or not isinstance(value.get("direct_spp"), int) \
+            or value["direct_spp"] < 1:
+        raise ConfigError("\"indirect_only\" must be {\"direct_spp\": N} with N >= 1 (samples of the direct image)")
+    unfit = [m.name for m in methods if not m.is_mlt]
+    if unfit:
+        raise ConfigError(f"indirect_only: methods {unfit} render direct light themselves; only MCMC methods "
+                          "(direct light rendered separately and subtracted) can be measured on the indirect part")
+    if integrator_of(reference.args) is not None:
+        raise ConfigError("reference: give the integrator as \"integrator\", not in \"args\"")
+    return value["direct_spp"]
 
 
 def load_config(path):
@@ -309,7 +357,7 @@ def load_config(path):
     if not isinstance(raw, dict):
         raise ConfigError(f"{path}: the config must be a JSON object")
     known = {"name", "description", "scenes", "methods", "seeds", "budgets", "reference", "width", "height",
-             "max_depth", "exposure", "threads", "extra_args"}
+             "max_depth", "exposure", "threads", "extra_args", "indirect_only"}
     unknown = set(raw) - known
     if unknown:
         raise ConfigError(f"{path}: unknown keys {sorted(unknown)}")
@@ -327,10 +375,13 @@ def load_config(path):
     if not isinstance(seeds, list) or not seeds or not all(isinstance(s, int) and s >= 0 for s in seeds):
         raise ConfigError(f"{path}: \"seeds\" must be a non-empty list of non-negative integers")
     extra = raw.get("extra_args", [])
+    methods = parse_methods(raw["methods"])
+    reference = parse_reference(raw.get("reference"))
     return Config(
         name=raw.get("name") or os.path.splitext(os.path.basename(path))[0],
         path=os.path.abspath(path), description=raw.get("description", ""),
-        scenes=scenes, methods=parse_methods(raw["methods"]), seeds=list(dict.fromkeys(seeds)),
-        budgets=parse_budgets(raw["budgets"]), reference=parse_reference(raw.get("reference")),
+        scenes=scenes, methods=methods, seeds=list(dict.fromkeys(seeds)),
+        budgets=parse_budgets(raw["budgets"]), reference=reference,
+        indirect_direct_spp=parse_indirect_only(raw.get("indirect_only"), methods, reference),
         threads=int(raw.get("threads", 0)),
         extra_args=shlex.split(extra) if isinstance(extra, str) else [str(a) for a in extra], raw=raw)

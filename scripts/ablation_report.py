@@ -12,8 +12,9 @@ import numpy as np
 from ablation_config import PER_PIXEL, SECONDS, fmt_number
 from emlt_images import crop, read_pfm, tonemap
 
-METRICS = [("mse", "MSE"), ("relmse", "relMSE"), ("mse_no_emitter", "MSE without visible emitters"),
-           ("seconds", "Render time (s)")]
+METRICS = [("mse", "MSE"), ("mse_net", "MSE minus the reference's own noise"), ("relmse", "relMSE"),
+           ("mse_no_emitter", "MSE without visible emitters"), ("seconds", "Render time (s)")]
+CHAINS_METRIC = ("chains_variance", "Chains' variance across seeds (their MSE, no reference)")
 
 
 def fmt_value(value):
@@ -71,17 +72,46 @@ def cell_text(cell, bold):
     """'mean ± std', bold when it is the scene's best."""
     if cell is None:
         return "–"
-    text = f"{fmt_value(cell[0])} ± {fmt_spread(cell[1])}"
+    text = fmt_value(cell[0]) if cell[1] is None else f"{fmt_value(cell[0])} ± {fmt_spread(cell[1])}"
     return f"**{text}**" if bold else text
 
 
-def write_table_md(config, tables, path, engine):
+def build_chains_tables(config, chains):
+    """Tables of the chains' variance (one value per scene x method x budget, no spread)."""
+    tables = []
+    for kind, value in sorted({(c["budget_kind"], c["budget"]) for c in chains}, key=lambda b: (b[0] != PER_PIXEL, b[1])):
+        cells, best = {}, {}
+        for scene in (s.name for s in config.scenes):
+            cells[scene] = {c["method"]: (c["chains_variance"], None) for c in chains
+                            if c["scene"] == scene and (c["budget_kind"], c["budget"]) == (kind, value)}
+            if cells[scene]:
+                best[scene] = min(cells[scene], key=lambda m: cells[scene][m][0])
+        tables.append((f"{CHAINS_METRIC[1]} at {budget_caption(kind, value)}", CHAINS_METRIC[0], (kind, value),
+                       cells, best))
+    return tables
+
+
+def reference_note(config, rows):
+    """The reference's description, with what an indirect-only experiment measures and the floors."""
+    text = f"Reference: {config.reference.describe()}"
+    if config.indirect_only:
+        text += (f", indirect light only. Every run renders direct light separately "
+                 f"({config.indirect_direct_spp} spp) and is measured against the indirect reference plus "
+                 "that seed's exact direct image, so the MSE is the chains' alone")
+    floors = {r["scene"]: r.get("reference_floor") for r in rows if r.get("reference_floor") is not None}
+    if floors:
+        text += ". The reference's own noise (variance of the mean of its parts), contained in every MSE: " + \
+            ", ".join(f"{scene} {fmt_value(floor)}" for scene, floor in floors.items())
+    return text + "."
+
+
+def write_table_md(config, tables, path, engine, rows=()):
     """table.md: one Markdown table per metric and budget, scenes as rows and methods as columns."""
     methods = [m.name for m in config.methods]
     lines = [f"# Ablation: {config.name}", ""]
     if config.description:
         lines += [config.description, ""]
-    lines += [f"Engine: {engine}. Reference: {config.reference.describe()}. "
+    lines += [f"Engine: {engine}. {reference_note(config, rows)} "
               f"Seeds: {', '.join(map(str, config.seeds))}. "
               "Cells are mean ± standard deviation over seeds; the best mean per scene is bold. "
               "Metrics are `emlt compare --json --scene SCENE` on the saved images.", ""]
@@ -248,21 +278,21 @@ def html_table(config, table):
         tds = []
         for method in methods:
             cell = row.get(method)
-            text = "–" if cell is None else f"{fmt_value(cell[0])} ± {fmt_spread(cell[1])}"
+            text = cell_text(cell, False)
             tds.append(f"<td><b>{text}</b></td>" if best.get(scene) == method else f"<td>{text}</td>")
         out.append(f"<tr><th>{html.escape(scene)}</th>{''.join(tds)}</tr>")
     out.append("</table>")
     return "\n".join(out)
 
 
-def write_html(config, tables, path, engine):
+def write_html(config, tables, path, engine, rows=()):
     """report.html: plots, strip and tables in one page with relative links and inline CSS."""
     methods = "".join(f"<li><code>{html.escape(m.name)}</code>: <code>{html.escape(' '.join(m.args))}</code> "
                       f"(per-pixel budget as <code>{m.budget_flag}</code>)</li>" for m in config.methods)
     body = [
         f"<h1>Ablation: {html.escape(config.name)}</h1>",
         f"<p>{html.escape(config.description)}</p>" if config.description else "",
-        f"<p>Engine: {html.escape(engine)}. Reference: {html.escape(config.reference.describe())}. "
+        f"<p>Engine: {html.escape(engine)}. {html.escape(reference_note(config, rows))} "
         f"Seeds: {', '.join(map(str, config.seeds))}. "
         "Metrics are <code>emlt compare --json --scene SCENE</code> on the saved images; "
         "cells are mean ± standard deviation over seeds, the best mean per scene in bold.</p>",
@@ -286,11 +316,11 @@ def write_html(config, tables, path, engine):
                 + "\n".join(b for b in body if b) + "\n</body></html>\n")
 
 
-def write_report(config, rows, out_dir, engine, references):
+def write_report(config, rows, out_dir, engine, references, chains=()):
     """Write table.md, convergence.png, convergence_time.png, strip.png and report.html into out_dir."""
-    tables = build_tables(config, rows)
-    write_table_md(config, tables, os.path.join(out_dir, "table.md"), engine)
+    tables = build_tables(config, rows) + build_chains_tables(config, chains)
+    write_table_md(config, tables, os.path.join(out_dir, "table.md"), engine, rows)
     plot_convergence(config, rows, os.path.join(out_dir, "convergence.png"), "per_pixel")
     plot_convergence(config, rows, os.path.join(out_dir, "convergence_time.png"), "seconds")
     plot_strip(config, rows, out_dir, os.path.join(out_dir, "strip.png"), references)
-    write_html(config, tables, os.path.join(out_dir, "report.html"), engine)
+    write_html(config, tables, os.path.join(out_dir, "report.html"), engine, rows)

@@ -189,5 +189,82 @@ class AblationTest(unittest.TestCase):
         self.bad_method({"pt": {}, "odd-mix": {"mutations": "no-such-strategy=1"}}, "odd-mix")
 
 
+class IndirectOnlyTest(unittest.TestCase):
+    """"indirect_only": the runs' direct image is subtracted exactly, so only the chains are measured."""
+
+    def run_config(self, name, **changes):
+        """Run a small indirect-only config (changed by changes) into a fresh folder; returns (result, out)."""
+        config = {"name": name, "scenes": [os.path.join(ROOT, "scenes/cornell-box/scene.json")],
+                  "width": 16, "height": 16,
+                  "methods": {"mlt": {"args": "--integrator mlt --bootstrap 2048 --chains 16"},
+                              "emlt": {"args": "--integrator emlt --bootstrap 2048"}},
+                  "seeds": [1, 2], "budgets": {"per_pixel": [4]},
+                  "reference": {"integrator": "mlt", "mpp": 16, "parts": 2, "args": "--bootstrap 2048"},
+                  "indirect_only": {"direct_spp": 4}, "threads": 1}
+        config.update(changes)
+        path = os.path.join(self.tmp.name, name + ".json")
+        with open(path, "w") as f:
+            json.dump(config, f)
+        out = os.path.join(self.tmp.name, name)
+        return run_ablation(path, out, os.path.join(self.tmp.name, "cache")), out
+
+    def setUp(self):
+        if not os.path.exists(EMLT):
+            self.skipTest(f"emlt binary not found at {EMLT} (set EMLT_BINARY)")
+        self.tmp = tempfile.TemporaryDirectory(prefix="emlt-ablation-indirect-")
+        self.addCleanup(self.tmp.cleanup)
+
+    def rows(self, out, name):
+        with open(os.path.join(out, name), newline="") as f:
+            return list(csv.DictReader(f))
+
+    def test_direct_light_alone_measures_zero(self):
+        # With paths of at most two segments the chains have nothing to do: every image is its
+        # seed's direct image, bit for bit, and the indirect reference is black.  A runner that
+        # let direct light into the chains (--direct mlt) or subtracted another seed's or
+        # sample count's direct image would measure a positive MSE here.
+        result, out = self.run_config("direct-only", max_depth=2)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        rows = self.rows(out, "results.csv")
+        self.assertEqual(len(rows), 4)
+        for row in rows:
+            self.assertEqual(float(row["mse"]), 0.0, row["image"])
+        self.assertFalse(read_pfm(os.path.join(out, "references", "cornell-box.pfm")).any())
+        for row in self.rows(out, "chains.csv"):
+            self.assertEqual(float(row["chains_variance"]), 0.0, row["method"])
+
+    def test_mse_is_the_chains_against_the_indirect_reference(self):
+        result, out = self.run_config("indirect")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        reference = read_pfm(os.path.join(out, "references", "cornell-box.pfm")).astype("float64")
+        self.assertGreater(reference.mean(), 0.0)
+        rows = self.rows(out, "results.csv")
+        chains = {}
+        for row in rows:
+            direct = read_pfm(os.path.join(out, "direct", "cornell-box", f"seed-{row['seed']}.pfm"))
+            image = read_pfm(os.path.join(out, row["image"])).astype("float64")
+            alone = image - direct
+            chains.setdefault(row["method"], []).append(alone)
+            expected = ((alone - reference) ** 2).mean()
+            self.assertAlmostEqual(float(row["mse"]) / expected, 1.0, places=4, msg=row["image"])
+            floor = float(row["reference_floor"])
+            self.assertGreater(floor, 0.0)
+            self.assertAlmostEqual(float(row["mse_net"]), float(row["mse"]) - floor, places=12)
+        for row in self.rows(out, "chains.csv"):
+            a, b = chains[row["method"]]
+            variance = (((a - b) ** 2) / 2).mean()  # sample variance of two values, ddof 1
+            self.assertAlmostEqual(float(row["chains_variance"]) / variance, 1.0, places=6, msg=row["method"])
+        with open(os.path.join(out, "table.md")) as f:
+            table = f.read()
+        self.assertIn("indirect light only", table)
+        self.assertIn("Chains' variance across seeds", table)
+
+    def test_methods_that_render_direct_light_are_refused(self):
+        result, _out = self.run_config("with-pt", methods=["pt", "mlt"])
+        self.assertEqual(result.returncode, 2)
+        self.assertIn("indirect_only", result.stderr)
+        self.assertNotIn("Traceback", result.stderr)
+
+
 if __name__ == "__main__":
     unittest.main(verbosity=2)
