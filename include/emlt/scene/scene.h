@@ -74,6 +74,8 @@ class Scene {
   const SceneStats& stats() const { return stats_; }
   Vec3 bounds_center() const { return bounds_center_; }
   float bounds_radius() const { return bounds_radius_; }
+  // The Embree scene itself, for measuring Embree alone (bench/ray_rate.cpp).
+  RTCScene embree_scene() const { return rtc_scene_; }
 
  private:
   Scene() = default;
