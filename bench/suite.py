@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """emlt's performance suite (issue 24): whole-process figures on four scenes of the repository.
 
   bench/run.sh [--quick] [--repeat N] [--threads T] [--scenes a,b] [--no-profile] [--scaling]

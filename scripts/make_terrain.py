@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Writes the meshes of scenes/env-terrain/ (about 1.03 million triangles, 30 MB) into
 scenes/env-terrain/cache/, which git ignores: the performance suite (bench/run.sh) runs
 this when the files are missing, so the repository holds only this script.
