@@ -182,12 +182,17 @@ class Suite:
         quick = 8 if a.quick else 1
         pt_spp, bdpt_spp, mpp = (max(1, n // quick) for n in (scene.pt_spp, scene.bdpt_spp, scene.mpp))
         fig = {"scene": scene.name, "path": scene.path, "size": f"{scene.width}x{scene.height}",
-               "threads": t, "load_before": load_average()}
+               "threads": t, "repeat": a.repeat, "load_before": load_average(),
+               "time": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())}
         fig["rays"] = self.ray_bound(scene, t)
-        fig["pt"] = self.emlt_render(scene, "pt", pt_spp, t)
-        fig["bdpt"] = self.emlt_render(scene, "bdpt", bdpt_spp, t)
-        for integrator in MCMC:
-            fig[integrator] = self.emlt_render(scene, integrator, mpp, t)
+        if a.mitsuba:
+            fig["mitsuba"] = {}
+        # With Mitsuba, each of its runs follows emlt's of the same method, so that the two
+        # see about the same load from the rest of the machine.
+        for integrator, count in (("pt", pt_spp), ("bdpt", bdpt_spp)) + tuple((k, mpp) for k in MCMC):
+            fig[integrator] = self.emlt_render(scene, integrator, count, t)
+            if a.mitsuba and integrator in ("pt", "bdpt", "mlt"):
+                fig["mitsuba"][integrator] = self.mitsuba(scene, integrator, count, t)
         fig["peak_mb"] = max(fig[k]["peak_mb"] for k in ("pt", "bdpt") + MCMC)
         if a.profile:
             fig["profile"] = self.profile(scene)
@@ -195,18 +200,14 @@ class Suite:
             fig["scaling"] = {}
             for integrator, count in (("pt", pt_spp), ("mlt", mpp)):
                 one = self.emlt_render(scene, integrator, count, 1)
-                two = self.emlt_render(scene, integrator, count, 2)
+                many = self.emlt_render(scene, integrator, count, t)
                 fig["scaling"][integrator] = {
-                    "wall_1": one["wall_s"], "wall_2": two["wall_s"],
-                    "cpu_1": one["cpu_s"], "cpu_2": two["cpu_s"],
-                    "efficiency": one["wall_s"] / (2 * two["wall_s"]),
-                    # Extra CPU time the two-thread run spends (1 = none): contention or
-                    # serial parts spinning, as opposed to the machine's other load.
-                    "cpu_ratio": two["cpu_s"] / one["cpu_s"]}
-        if a.mitsuba:
-            fig["mitsuba"] = {"pt": self.mitsuba(scene, "pt", pt_spp, t),
-                              "bdpt": self.mitsuba(scene, "bdpt", bdpt_spp, t),
-                              "mlt": self.mitsuba(scene, "mlt", mpp, t)}
+                    "threads": t, "wall_1": one["wall_s"], "wall_2": many["wall_s"],
+                    "cpu_1": one["cpu_s"], "cpu_2": many["cpu_s"],
+                    "efficiency": one["wall_s"] / (t * many["wall_s"]),
+                    # Extra CPU time the T-thread run spends (1 = none): contention or
+                    # threads spinning, as opposed to the machine's other load.
+                    "cpu_ratio": many["cpu_s"] / one["cpu_s"]}
         fig["load_after"] = load_average()
         return fig
 
@@ -382,10 +383,11 @@ def table(figures, args):
     scaled = [f for f in figures if f.get("scaling")]
     if scaled:
         lines.append("")
-        lines.append("Strong scaling, 1 to 2 threads (efficiency = T1 / (2 T2), wall clock; CPU ratio = "
-                     "CPU time with 2 threads over 1, where 1.00 means no extra work):")
+        lines.append(f"Strong scaling, 1 to {args.threads} threads (efficiency = T1 / ({args.threads} "
+                     f"T{args.threads}), wall clock; CPU ratio = CPU time with {args.threads} threads over 1, "
+                     "where 1.00 means no extra work):")
         lines.append("")
-        lines.append("| scene | integrator | T1 | T2 | efficiency | CPU ratio |")
+        lines.append(f"| scene | integrator | T1 | T{args.threads} | efficiency | CPU ratio |")
         lines.append("|---|---|---|---|---|---|")
         for f in scaled:
             for k, s in f["scaling"].items():
@@ -394,22 +396,25 @@ def table(figures, args):
     compared = [f for f in figures if f.get("mitsuba")]
     if compared:
         lines.append("")
-        lines.append("Side by side with Mitsuba 0.6 (same scene files, same work, same threads; "
-                     "emlt / Mitsuba in brackets):")
+        lines.append("Side by side with Mitsuba 0.6 (same scene files, same work, same threads): emlt / Mitsuba "
+                     "whole-process rates in M/s, then the ratio emlt over Mitsuba by wall clock and, after the "
+                     "semicolon, by CPU time (work per CPU second, user + system: steadier than wall clock "
+                     "when other processes share the machine):")
         lines.append("")
-        lines.append("| scene | pt samples emlt / Mitsuba | bdpt samples | mlt mutations (direct in the chains) "
+        lines.append("| scene | pt samples | bdpt samples | mlt mutations (direct in the chains) "
                      "| peak memory pt | peak memory mlt |")
         lines.append("|---|---|---|---|---|---|")
         for f in compared:
             m = f["mitsuba"]
-            cells = [f"{mega(f[k]['rate'])} / {mega(m[k]['rate'])} ({f[k]['rate'] / m[k]['rate']:.2f}x)"
+            cells = [f"{mega(f[k]['rate'])} / {mega(m[k]['rate'])} ({f[k]['rate'] / m[k]['rate']:.2f}x; "
+                     f"{(f[k]['work'] / f[k]['cpu_s']) / (m[k]['work'] / m[k]['cpu_s']):.2f}x)"
                      for k in ("pt", "bdpt", "mlt")]
             cells += [f"{f[k]['peak_mb']:.0f} / {m[k]['peak_mb']:.0f} MB" for k in ("pt", "mlt")]
             lines.append(f"| {f['scene']} | " + " | ".join(cells) + " |")
     loads = ", ".join(f"{f['scene']} {f['load_before']}-{f['load_after']}" for f in figures)
     lines.append("")
     lines.append(f"Load average (1 min) before-after each scene: {loads}; {os.cpu_count()} CPUs; "
-                 f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; repeats: {args.repeat} (median).")
+                 f"{figures[0].get('time', '') if figures else ''}; repeats: {args.repeat} (median).")
     return "\n".join(lines) + "\n"
 
 
@@ -435,11 +440,22 @@ def main():
     parser.add_argument("--no-profile", dest="profile", action="store_false")
     parser.add_argument("--profile-function", default="emlt::(anonymous namespace)::run_chain*",
                         help="callgrind collects inside this function only (the chains)")
-    parser.add_argument("--scaling", action="store_true", help="also pt and mlt at 1 and 2 threads")
+    parser.add_argument("--scaling", action="store_true", help="also pt and mlt at 1 thread and at --threads, with the efficiency")
     parser.add_argument("--mitsuba", default=os.environ.get("MITSUBA"), help="Mitsuba 0.6 binary: side by side")
     parser.add_argument("--door", help="also the public Veach door (its door-mlt.xml), 384x256")
     parser.add_argument("--update-docs", action="store_true", help="write the table into docs/performance.md")
+    parser.add_argument("--from-json", help="no runs: the table of an earlier run's results.json")
     args = parser.parse_args()
+    if args.from_json:
+        with open(args.from_json) as f:
+            figures = json.load(f)
+        args.repeat = figures[0].get("repeat", "?") if figures else "?"
+        args.threads = figures[0]["threads"] if figures else args.threads
+        markdown = table(figures, args)
+        print(markdown)
+        if args.update_docs:
+            update_docs(markdown, os.path.join(ROOT, "docs", "performance.md"))
+        return
     if args.quick:
         args.profile = False
     if args.mitsuba:
