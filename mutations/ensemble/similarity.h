@@ -59,9 +59,7 @@ class GuideBuffer {
   GuideBuffer& operator=(const GuideBuffer&) = delete;
 
   std::span<T> span() { return {size_ > kStackGuides ? heap_.data() : stack(), size_}; }
-  std::span<const T> span() const {
-    return {size_ > kStackGuides ? heap_.data() : stack(), size_};
-  }
+  std::span<const T> span() const { return {size_ > kStackGuides ? heap_.data() : stack(), size_}; }
   T& operator[](size_t n) { return span()[n]; }
   size_t size() const { return size_; }
 
