@@ -71,34 +71,79 @@ void vertex_similarities(const PathVertex& a, const GuideView& guides, int i,
   }
 }
 
+namespace {
+
+// path_similarities, keeping the rows in `kept` and taking those `reuse` has for this path.
 void path_similarities(const Path& x, const GuideView& guides, int first, int last,
-                       const SimilarityParams& params, std::span<SimilarityProduct> out) {
+                       const SimilarityParams& params, std::span<SimilarityProduct> out,
+                       SimilarityRows* kept, const SimilarityRows* reuse) {
   assert(out.size() == guides.size());
   std::fill(out.begin(), out.end(), SimilarityProduct{});
   const size_t count = guides.size();
-  GuideBuffer<double> row(count);
+  GuideBuffer<double> scratch(count);
+  if (kept) kept->assign(x, first, last, count);
   for (int i = first; i <= last; ++i) {
-    vertex_similarities(x.vertices[size_t(i)], guides, i, params, row.span());
+    std::span<const double> row = reuse ? reuse->reusable_row(x, i) : std::span<const double>();
+    if (row.empty()) {
+      const std::span<double> computed = kept ? kept->row(i) : scratch.span();
+      vertex_similarities(x.vertices[size_t(i)], guides, i, params, computed);
+      row = computed;
+    }
     for (size_t n = 0; n < count; ++n) out[n].multiply(row[n]);
   }
 }
 
+}  // namespace
+
+void SimilarityRows::assign(const Path& path, int first, int last, size_t guides) {
+  path_ = &path;
+  first_ = first;
+  last_ = last;
+  guides_ = guides;
+  const size_t size = size_t(std::max(last - first + 1, 0)) * guides;
+  if (size <= kStackEntries) {
+    data_ = stack_.data();
+  } else {
+    heap_.resize(size);
+    data_ = heap_.data();
+  }
+}
+
+std::span<const double> SimilarityRows::reusable_row(const Path& other, int i) const {
+  if (!path_ || i < first_ || i > last_ || size_t(i) >= other.vertices.size()) return {};
+  const PathVertex& a = path_->vertices[size_t(i)];
+  const PathVertex& b = other.vertices[size_t(i)];
+  const bool same = a.position == b.position && a.is_environment() == b.is_environment() &&
+                    (!a.is_environment() || a.sky_direction == b.sky_direction);
+  if (!same) return {};
+  return {data_ + size_t(i - first_) * guides_, guides_};
+}
+
+void path_similarities(const Path& x, const GuideView& guides, int first, int last,
+                       const SimilarityParams& params, std::span<SimilarityProduct> out) {
+  path_similarities(x, guides, first, last, params, out, nullptr, nullptr);
+}
+
 GuideChoice choose_similar_guide(const Path& x, const GuideView& guides, int first, int last,
-                                 const MutationContext& ctx, Rng& rng) {
+                                 const MutationContext& ctx, Rng& rng, SimilarityRows* rows) {
   GuideBuffer<SimilarityProduct> weights(guides.size());
-  path_similarities(x, guides, first, last, similarity_params(ctx), weights.span());
+  path_similarities(x, guides, first, last, similarity_params(ctx), weights.span(), rows, nullptr);
   return choose_guide(std::span<const SimilarityProduct>(weights.span()), rng);
 }
 
 double log_selection_ratio(const Path& y, const GuideView& guides, uint32_t index,
                            double log_probability_x, int first, int last,
-                           const MutationContext& ctx, const InjectedBugs& bugs) {
+                           const MutationContext& ctx, const InjectedBugs& bugs,
+                           const SimilarityRows* rows_x) {
   if (bugs.ignore_selection) return 0.0;
   const GuideView reverse_guides =
       bugs.upsilon_from_proposal ? guides_for_next_step(y, ctx) : guides;
   if (index >= reverse_guides.size()) return 0.0;
+  // x's rows hold for y's unmoved vertices only against the same Υ.
+  const SimilarityRows* reuse = bugs.upsilon_from_proposal ? nullptr : rows_x;
   GuideBuffer<SimilarityProduct> weights(reverse_guides.size());
-  path_similarities(y, reverse_guides, first, last, similarity_params(ctx), weights.span());
+  path_similarities(y, reverse_guides, first, last, similarity_params(ctx), weights.span(), nullptr,
+                    reuse);
   return guide_log_probability(std::span<const SimilarityProduct>(weights.span()), index) -
          log_probability_x;
 }

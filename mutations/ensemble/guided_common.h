@@ -3,6 +3,7 @@
 // the current step, the similarity and stretch parameters of this render, the
 // similarity-weighted choice of one guide path, and the test switches that inject the
 // bugs the statistical tests must catch.
+#include <array>
 #include <span>
 #include <vector>
 
@@ -50,14 +51,43 @@ void vertex_similarities(const PathVertex& a, const GuideView& guides, int i,
 void path_similarities(const Path& x, const GuideView& guides, int first, int last,
                        const SimilarityParams& params, std::span<SimilarityProduct> out);
 
-// One guide drawn with P(n | x) proportional to S(x, v^n, first, last) (eq. 9).
+// The rows S(x_i, v^n_i) of one path, i in [first, last], kept from the guide choice for the
+// reverse move: where the proposal leaves a vertex as it was (the fixed vertex of the
+// caustic perturbation, a pinhole camera's lens point), its row is reused, not recomputed.
+class SimilarityRows {
+ public:
+  SimilarityRows() = default;
+  SimilarityRows(const SimilarityRows&) = delete;
+  SimilarityRows& operator=(const SimilarityRows&) = delete;
+
+  void assign(const Path& path, int first, int last, size_t guides);
+  std::span<double> row(int i) { return {data_ + size_t(i - first_) * guides_, guides_}; }
+  // The row of vertex i of `other` if it equals the kept path's vertex i (an empty span if
+  // not): vertex_similarities reads only what is compared here.
+  std::span<const double> reusable_row(const Path& other, int i) const;
+
+ private:
+  static constexpr size_t kStackEntries = 512;  // 8 guides of 64 vertices
+  const Path* path_ = nullptr;
+  int first_ = 0, last_ = -1;
+  size_t guides_ = 0;
+  double* data_ = nullptr;
+  std::array<double, kStackEntries> stack_;  // left uninitialised
+  std::vector<double> heap_;
+};
+
+// One guide drawn with P(n | x) proportional to S(x, v^n, first, last) (eq. 9); with `rows`,
+// x's rows are kept there.
 GuideChoice choose_similar_guide(const Path& x, const GuideView& guides, int first, int last,
-                                 const MutationContext& ctx, Rng& rng);
+                                 const MutationContext& ctx, Rng& rng,
+                                 SimilarityRows* rows = nullptr);
 
 // log P(n | y) / P(n | x) for a guide chosen with similarity weights over [first, last];
-// `log_probability_x` is what choose_guide reported for x.
+// `log_probability_x` is what choose_guide reported for x; `rows_x`, when given, x's rows
+// from choose_similar_guide (the same Υ).
 double log_selection_ratio(const Path& y, const GuideView& guides, uint32_t index,
                            double log_probability_x, int first, int last,
-                           const MutationContext& ctx, const InjectedBugs& bugs);
+                           const MutationContext& ctx, const InjectedBugs& bugs,
+                           const SimilarityRows* rows_x = nullptr);
 
 }  // namespace emlt::ensemble
