@@ -164,6 +164,8 @@ class Suite:
         mutations = (scene.width // 2) * (scene.height // 2) * mpp
         total = sum(totals.values())
         if total == 0:
+            print(f"bench: warning: callgrind counted nothing inside {self.args.profile_function} "
+                  "(renamed? see --profile-function); no breakdown", file=sys.stderr)
             return None
         return {"instructions_per_mutation": total / mutations,
                 "share": {k: v / total for k, v in totals.items()}}
