@@ -37,16 +37,16 @@ int g_rank = 0, g_size = 1;
 constexpr size_t kPiece = size_t(1) << 28;
 
 template <typename T>
-void reduce_sum(std::vector<T>& values, MPI_Datatype type, bool everywhere) {
+void reduce(std::vector<T>& values, MPI_Datatype type, MPI_Op op, bool everywhere) {
   if (g_size == 1) return;
   for (size_t offset = 0; offset < values.size(); offset += kPiece) {
     const int count = int(std::min(kPiece, values.size() - offset));
     if (everywhere)
-      MPI_Allreduce(MPI_IN_PLACE, values.data() + offset, count, type, MPI_SUM, MPI_COMM_WORLD);
+      MPI_Allreduce(MPI_IN_PLACE, values.data() + offset, count, type, op, MPI_COMM_WORLD);
     else if (g_rank == 0)
-      MPI_Reduce(MPI_IN_PLACE, values.data() + offset, count, type, MPI_SUM, 0, MPI_COMM_WORLD);
+      MPI_Reduce(MPI_IN_PLACE, values.data() + offset, count, type, op, 0, MPI_COMM_WORLD);
     else
-      MPI_Reduce(values.data() + offset, nullptr, count, type, MPI_SUM, 0, MPI_COMM_WORLD);
+      MPI_Reduce(values.data() + offset, nullptr, count, type, op, 0, MPI_COMM_WORLD);
   }
 }
 
@@ -115,17 +115,12 @@ std::string library_version() {
   return text.substr(0, text.find_first_of(",\n"));
 }
 
-void sum_to_root(std::vector<int64_t>& v) { reduce_sum(v, MPI_INT64_T, false); }
-void sum_to_root(std::vector<uint64_t>& v) { reduce_sum(v, MPI_UINT64_T, false); }
-void sum_to_root(std::vector<double>& v) { reduce_sum(v, MPI_DOUBLE, false); }
-void sum_to_root(std::vector<int32_t>& v) { reduce_sum(v, MPI_INT32_T, false); }
-void sum_everywhere(std::vector<uint64_t>& v) { reduce_sum(v, MPI_UINT64_T, true); }
-
-uint64_t max_everywhere(uint64_t value) {
-  if (g_size == 1) return value;
-  MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_UINT64_T, MPI_MAX, MPI_COMM_WORLD);
-  return value;
-}
+void sum_to_root(std::vector<int64_t>& v) { reduce(v, MPI_INT64_T, MPI_SUM, false); }
+void sum_to_root(std::vector<uint64_t>& v) { reduce(v, MPI_UINT64_T, MPI_SUM, false); }
+void sum_to_root(std::vector<double>& v) { reduce(v, MPI_DOUBLE, MPI_SUM, false); }
+void sum_to_root(std::vector<int32_t>& v) { reduce(v, MPI_INT32_T, MPI_SUM, false); }
+void sum_everywhere(std::vector<uint64_t>& v) { reduce(v, MPI_UINT64_T, MPI_SUM, true); }
+void max_everywhere(std::vector<uint64_t>& v) { reduce(v, MPI_UINT64_T, MPI_MAX, true); }
 
 std::vector<std::string_view> gather_to_root(const std::string& mine) { return gather(mine, false); }
 std::vector<std::string_view> gather_everywhere(const std::string& mine) { return gather(mine, true); }
@@ -158,7 +153,7 @@ void sum_to_root(std::vector<uint64_t>&) {}
 void sum_to_root(std::vector<double>&) {}
 void sum_to_root(std::vector<int32_t>&) {}
 void sum_everywhere(std::vector<uint64_t>&) {}
-uint64_t max_everywhere(uint64_t value) { return value; }
+void max_everywhere(std::vector<uint64_t>&) {}
 std::vector<std::string_view> gather_to_root(const std::string& mine) { return {mine}; }
 std::vector<std::string_view> gather_everywhere(const std::string& mine) { return {mine}; }
 void broadcast(std::string&) {}

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <ctime>
 #include <optional>
 
 #include "emlt/core/cluster.h"
@@ -67,6 +69,36 @@ void prefetch_path(const Path& path) {
   const size_t bytes = path.vertices.size() * sizeof(PathVertex);
   for (size_t offset = 0; offset < bytes; offset += 64) __builtin_prefetch(data + offset);
 }
+
+// EMLT_MPI_PROFILE=1 (docs/scaling.md): every rank prints where its chains' loop spent its
+// time: taking steps (wall time, and the calling thread's CPU time, which falls short of it
+// when the rank was not running), building Y's guides, waiting at the per-sweep agreement
+// (for the slowest rank, mostly), and EMLT's exchange of moved paths (packing them,
+// MPI's allgather, unpacking the others').
+struct SweepProfile {
+  bool enabled = std::getenv("EMLT_MPI_PROFILE") != nullptr;
+  double steps = 0.0, steps_cpu = 0.0, guides = 0.0, agreement = 0.0, pack = 0.0, gather = 0.0,
+         unpack = 0.0;
+  uint64_t bytes_sent = 0;
+  static double now() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+  }
+  static double thread_cpu() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+  }
+  void print() const {
+    if (!enabled) return;
+    std::fprintf(stderr,
+                 "emlt: profile rank %d: steps %.2f s (cpu %.2f s), guides %.2f s, agreement "
+                 "%.2f s, exchange %.2f s (pack %.2f, allgather %.2f, unpack %.2f; %.0f MB "
+                 "sent)\n",
+                 cluster::rank(), steps, steps_cpu, guides, agreement, pack + gather + unpack,
+                 pack, gather, unpack, double(bytes_sent) / 1e6);
+  }
+};
 
 // The film pixel a path lands in.
 size_t film_index(const Path& path, int width, int height) {
@@ -476,13 +508,12 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   const auto owns_block = [&](uint64_t block) {
     return block >= first_owned_block && block < last_owned_block;
   };
-  // The block of chain j of a sweep over `count` chains in `block_count` blocks.
-  const auto block_of = [](uint64_t j, uint64_t count, uint64_t block_count) {
-    uint64_t block = j * block_count / count;
-    while (count * (block + 1) / block_count <= j) ++block;
-    while (block > 0 && count * block / block_count > j) --block;
-    return block;
-  };
+  // A sweep's chains (all of them in MLT, a half-ensemble in EMLT) fall in its blocks as
+  // chain j of `count` in block b when count b / B <= j < count (b + 1) / B (B blocks, the
+  // split of the sweep loop below), so a rank's blocks hold one range of them.
+  const uint64_t sweep_chains = ensemble ? ensemble_size : uint64_t(chain_count);
+  const uint64_t first_owned_chain = sweep_chains * first_owned_block / blocks.size(),
+                 end_owned_chain = sweep_chains * last_owned_block / blocks.size();
 
   // The sweep under way: chains [first, first + count) take `size` steps between them
   // (chain.sweep_left each), `done_before` counting the mutations before it.
@@ -492,6 +523,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   } sweep;
   uint64_t done = 0, next_checkpoint = 1, half = 0, timed_rounds = 1;
   double alpha_sum = 0.0;
+  const bool resumed = chain_in.has_value();
   if (chain_in) {
     StateReader& in = *chain_in;
     for (BlockOutput& block : blocks)
@@ -559,17 +591,35 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     chain_in.reset();
     chain_section.clear();
   }
+  // Which rank moves a chain (every chain belongs to one block of its sweep).
+  const auto owns_chain = [&](uint64_t c) {
+    const uint64_t j = ensemble && c >= ensemble_size ? c - ensemble_size : c;
+    return j >= first_owned_chain && j < end_owned_chain;
+  };
+  // EMLT under MPI: a rank holds the other ranks' chains only as guide copies (the paths
+  // they moved, in PathCodec's guide form), which are no chains to resume from. It saves
+  // them as chains without a path, and a resumed run has every rank send its own chains
+  // again before the first sweep.
+  const bool guide_copies = ensemble && cluster::size() > 1;
   const auto save_chains = [&](StateWriter& out) {
     out.put<double>(stats_.b);
     out.put<double>(stats_.b_standard_error);
     out.put<uint64_t>(stats_.bootstrap_samples);
     out.put<double>(stats_.bootstrap_seconds);
     out.put<uint64_t>(chains.size());
-    for (const Chain& chain : chains) {
-      codec.save(chain.current, out);
-      out.put(chain.contribution);
-      out.put(chain.target);
-      out.put(chain.carried);
+    for (size_t c = 0; c < chains.size(); ++c) {
+      const Chain& chain = chains[c];
+      if (guide_copies && !owns_chain(c)) {
+        codec.save(Path{}, out);
+        out.put(DVec3(0.0));
+        out.put(0.0);
+        out.put(0.0);
+      } else {
+        codec.save(chain.current, out);
+        out.put(chain.contribution);
+        out.put(chain.target);
+        out.put(chain.carried);
+      }
       out.put(chain.rng.save());
       out.put(chain.steps_taken);
       out.put(chain.sweep_left);
@@ -602,14 +652,8 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   // The image after `mutations` steps: the direct part, plus the films' sum and each chain's
   // weight not yet splatted (added to a copy: the chains go on untouched), scaled so the
   // image's mean luminance is b.
-  uint64_t live = 0;  // chains with a seed (all, in practice)
-  for (const Chain& chain : chains) live += chain.target > 0.0;
+  uint64_t live = 0;  // chains with a seed (all, in practice): counted once every rank has them
   const Image direct_image = result.image;
-  // Which rank moves a chain (every chain belongs to one block of its sweep).
-  const auto owns_chain = [&](uint64_t c) {
-    if (!ensemble) return owns_block(block_of(c, uint64_t(chain_count), blocks.size()));
-    return owns_block(block_of(c % ensemble_size, ensemble_size, blocks.size()));
-  };
   // Complete on rank 0 (the films and the chains' unsplatted weights summed over ranks).
   const auto compose = [&](uint64_t mutations_done) {
     std::vector<DVec3> total(pixels, DVec3(0.0));
@@ -712,8 +756,9 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   progress.start(options_.name.c_str(), timed ? 0 : planned, settings.time_limit_s);
   progress.advance(done);
   // Under MPI, rank 0's clock decides the time budget for every rank (a broadcast).
-  const auto root_decides = [](uint64_t& value) {
-    if (cluster::size() == 1) return;
+  // (Without a time budget every rank's value is already the same: nothing to send.)
+  const auto root_decides = [&](uint64_t& value) {
+    if (cluster::size() == 1 || !timed) return;
     StateWriter out;
     out.put(value);
     std::string data = out.take();
@@ -722,29 +767,53 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   };
   // EMLT under MPI: after a half-sweep, every rank needs the moved paths of the others, as
   // they are the frozen half that guides the next one.
+  SweepProfile profile;
   StateWriter exchange;  // kept across swaps, with its memory
+  std::vector<uint32_t> moved_ids;  // likewise
   const auto share_moved_paths = [&](uint64_t first, uint64_t count) {
     if (cluster::size() == 1) return;
+    const double t0 = profile.enabled ? SweepProfile::now() : 0.0;
     // Only the paths that moved: the others are as every rank already has them. (A chain
     // resumed from a checkpoint counts as moved, since the others' copies may be older.)
+    // The chains' indices come first, so that the receiver can ask for the paths it will
+    // overwrite ahead of time: the paths lie scattered in memory, and both ends of the
+    // exchange are bound by fetching them.
+    moved_ids.clear();
+    for (uint64_t c = first; c < first + count; ++c)
+      if (owns_chain(c) && chains[c].moved) moved_ids.push_back(uint32_t(c));
     StateWriter& mine = exchange;
     mine.clear();
-    for (uint64_t c = first; c < first + count; ++c) {
-      if (!owns_chain(c) || !chains[c].moved) continue;
-      chains[c].moved = false;
-      mine.put<uint64_t>(c);
-      mine.put(chains[c].target);
-      codec.pack(chains[c].current, mine);
+    mine.put_vector(moved_ids);
+    constexpr size_t kAhead = 4;
+    for (size_t k = 0; k < moved_ids.size(); ++k) {
+      if (k + kAhead < moved_ids.size()) prefetch_path(chains[moved_ids[k + kAhead]].current);
+      Chain& chain = chains[moved_ids[k]];
+      chain.moved = false;
+      mine.put(chain.target);
+      PathCodec::pack_guide(chain.current, mine);
     }
+    const double t1 = profile.enabled ? SweepProfile::now() : 0.0;
+    profile.bytes_sent += mine.data().size();
     const std::vector<std::string_view> parts = cluster::gather_everywhere(mine.data());
+    const double t2 = profile.enabled ? SweepProfile::now() : 0.0;
     for (size_t r = 0; r < parts.size(); ++r) {
       if (int(r) == cluster::rank()) continue;
       StateReader in(parts[r]);
-      while (in.remaining() > 0) {
-        Chain& chain = chains.at(in.get<uint64_t>());
+      const std::vector<uint32_t> ids = in.get_vector_up_to<uint32_t>(chains.size());
+      for (size_t k = 0; k < ids.size(); ++k) {
+        if (k + kAhead < ids.size()) {
+          const Chain& ahead = chains.at(ids[k + kAhead]);
+          __builtin_prefetch(&ahead);
+          prefetch_path(ahead.current);
+        }
+        Chain& chain = chains.at(ids[k]);
         chain.target = in.get<double>();
-        codec.unpack(in, chain.current);
+        PathCodec::unpack_guide(in, chain.current);
       }
+    }
+    if (profile.enabled) {
+      const double t3 = SweepProfile::now();
+      profile.pack += t1 - t0, profile.gather += t2 - t1, profile.unpack += t3 - t2;
     }
   };
   // Sweeps: for MLT, every chain takes its share of the steps up to the next checkpoint (a
@@ -756,6 +825,10 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   // pause (a checkpoint falling due, a stop) cuts a sweep short with every chain's steps
   // left recorded; the sweep then goes on from there, in this process or a resumed one.
   const uint64_t round_size = std::max<uint64_t>(pixels, uint64_t(chain_count));
+  // A resumed rank holds only its own chains (save_chains): every rank sends them (all
+  // count as moved), and the others' guide copies are whole again.
+  if (guide_copies && resumed) share_moved_paths(0, uint64_t(chain_count));
+  for (const Chain& chain : chains) live += chain.target > 0.0;
   bool stopped = false;
   while (true) {
     if (!sweep.active) {
@@ -769,7 +842,9 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
         sweep.first = half * ensemble_size;
         sweep.count = ensemble_size;
         sweep.size = ensemble_size * iterations;
+        const double guides_start = profile.enabled ? SweepProfile::now() : 0.0;
         build_guides();
+        if (profile.enabled) profile.guides += SweepProfile::now() - guides_start;
         alpha_sum += guides.alpha();
       }
       sweep.size = std::min(sweep.size, planned - done);
@@ -789,6 +864,8 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     const double sweep_start = elapsed();
     const uint64_t first = sweep.first, count = sweep.count;
     const int block_count = int(std::min<uint64_t>(count, blocks.size()));
+    const double steps_start = profile.enabled ? SweepProfile::now() : 0.0,
+                 steps_cpu_start = profile.enabled ? SweepProfile::thread_cpu() : 0.0;
     arena.execute([&] {
       tbb::parallel_for(0, block_count, [&](int block) {
         if (!owns_block(uint64_t(block))) return;
@@ -817,10 +894,17 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     });
     // The steps left of every rank's chains: a pause on any rank pauses all of them, at the
     // same point of the loop (interruption.h).
+    const double agreement_start = profile.enabled ? SweepProfile::now() : 0.0;
+    if (profile.enabled) {
+      profile.steps += agreement_start - steps_start;
+      profile.steps_cpu += SweepProfile::thread_cpu() - steps_cpu_start;
+    }
     std::vector<uint64_t> left = {0};
     for (uint64_t j = 0; j < count; ++j) left[0] += chains[size_t(first + j)].sweep_left;
     const interruption::Decision decision = interruption::agree(left[0] > 0);
-    cluster::sum_everywhere(left);
+    // (A complete sweep has no steps left on any rank: no sum to take.)
+    if (decision.incomplete) cluster::sum_everywhere(left);
+    if (profile.enabled) profile.agreement += SweepProfile::now() - agreement_start;
     done = sweep.done_before + sweep.size - left[0];
     if (!decision.incomplete) {
       sweep.active = 0;
@@ -847,6 +931,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
       }
     }
   }
+  profile.print();
   if (settings.snapshots && !(done % pixels == 0 && is_checkpoint(done / pixels)))
     take_snapshot(done);
   if (!stopped) RenderControl::finish(control, save_all);

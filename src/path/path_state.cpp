@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "emlt/core/error.h"
 
@@ -162,6 +163,47 @@ void PathCodec::unpack(StateReader& in, Path& path) const {
     v.bsdf = bsdf >= 0 ? bsdfs_.at(size_t(bsdf)) : nullptr;
     v.light = light >= 0 ? &scene_.lights().light(size_t(light)) : nullptr;
   }
+}
+
+namespace {
+// One vertex of the guide form (trivially copyable, written as raw bytes).
+struct GuideVertex {
+  Vec3 position;
+  Vec3 sky_direction;
+  uint32_t kind;
+};
+}  // namespace
+
+void PathCodec::pack_guide(const Path& path, StateWriter& out) {
+  out.put(path.type);
+  out.put<uint8_t>(uint8_t(path.vertices.size()));  // at most kMaxPathVertices
+  if (path.vertices.empty()) return;
+  GuideVertex records[kMaxPathVertices];
+  for (size_t i = 0; i < path.vertices.size(); ++i) {
+    const PathVertex& v = path.vertices[i];
+    records[i] = GuideVertex{v.position, v.sky_direction, uint32_t(v.kind)};
+  }
+  out.put_string(std::string_view(reinterpret_cast<const char*>(records),
+                                  path.vertices.size() * sizeof(GuideVertex)));
+  out.put(path.raster());
+}
+
+void PathCodec::unpack_guide(StateReader& in, Path& path) {
+  path.type = in.get<PathType>();
+  const size_t count = in.get<uint8_t>();
+  path.vertices.assign(count, PathVertex{});
+  if (count == 0) return;
+  const std::string_view bytes = in.get_block();
+  if (bytes.size() != count * sizeof(GuideVertex)) throw StateError("a guide path is damaged");
+  for (size_t i = 0; i < count; ++i) {
+    GuideVertex record;
+    std::memcpy(&record, bytes.data() + i * sizeof(GuideVertex), sizeof(GuideVertex));
+    PathVertex& v = path.vertices[i];
+    v.kind = VertexKind(record.kind);
+    v.position = record.position;
+    v.sky_direction = record.sky_direction;
+  }
+  path.vertices.back().raster = in.get<Vec2>();
 }
 
 }  // namespace emlt

@@ -69,11 +69,14 @@ void remove_temporary() {
 
 Decision agree(bool incomplete) {
   if (cluster::size() == 1) return {incomplete, stop_requested(), checkpoint_due()};
-  std::vector<uint64_t> counts = {uint64_t(incomplete), uint64_t(stop_requested()),
-                                  uint64_t(checkpoint_due())};
-  cluster::sum_everywhere(counts);
-  const int signal = int(cluster::max_everywhere(uint64_t(std::max(stop_signal(), 0))));
-  const Decision decision{counts[0] > 0, counts[1] > 0, counts[2] > 0};
+  // One reduction, since every collective waits for the slowest rank to reach it (under
+  // load, for the scheduler to run it): "on any rank" is the maximum of 0/1 flags, and the
+  // signal passed on is the largest.
+  std::vector<uint64_t> flags = {uint64_t(incomplete), uint64_t(stop_requested()),
+                                 uint64_t(checkpoint_due()), uint64_t(std::max(stop_signal(), 0))};
+  cluster::max_everywhere(flags);
+  const int signal = int(flags[3]);
+  const Decision decision{flags[0] > 0, flags[1] > 0, flags[2] > 0};
   if (decision.stop && !stop_requested()) request_stop(signal > 0 ? signal : SIGINT);
   if (decision.checkpoint) request_checkpoint();
   return decision;

@@ -46,7 +46,8 @@ void sum_to_root(std::vector<uint64_t>& values);
 void sum_to_root(std::vector<double>& values);
 void sum_to_root(std::vector<int32_t>& values);
 void sum_everywhere(std::vector<uint64_t>& values);
-uint64_t max_everywhere(uint64_t value);
+// Element-wise maxima, on every rank.
+void max_everywhere(std::vector<uint64_t>& values);
 
 // Every rank's bytes, in rank order, on rank 0 (empty elsewhere) or on every rank. The
 // views stay valid until the next gather (the buffer is kept: EMLT gathers megabytes at

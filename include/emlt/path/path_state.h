@@ -25,6 +25,15 @@ class PathCodec {
   void pack(const Path& path, StateWriter& out) const;
   void unpack(StateReader& in, Path& path) const;
 
+  // The guide form: what EMLT reads of a path of the frozen ensemble Y (EnsembleGuides and,
+  // through GuideView, the guided strategies): its type and every vertex's kind, position
+  // and sky direction, and the camera vertex's raster position; about a fifth of the whole
+  // path. MPI ranks send the paths they moved in this form, since the other ranks only ever
+  // read them as guides. `unpack_guide` leaves every other field of the vertices at its
+  // default (a guide copy is never moved, splatted or saved as a chain).
+  static void pack_guide(const Path& path, StateWriter& out);
+  static void unpack_guide(StateReader& in, Path& path);
+
  private:
   const Scene& scene_;
   std::vector<const Bsdf*> bsdfs_;
