@@ -52,15 +52,24 @@ void reduce(std::vector<T>& values, MPI_Datatype type, MPI_Op op, bool everywher
 
 std::string g_gathered;  // the buffer of the last gather, reused
 
-std::vector<std::string_view> gather(const std::string& mine, bool everywhere) {
+// `known`: every rank's length, when every rank has them (else they are gathered first).
+std::vector<std::string_view> gather(const std::string& mine, bool everywhere,
+                                     std::span<const uint64_t> known = {}) {
   if (g_size == 1) return {mine};
   if (mine.size() > size_t(INT_MAX)) throw Error("MPI: a rank's share is over 2 GB");
   const int length = int(mine.size());
   std::vector<int> lengths(size_t(g_size), 0);
-  if (everywhere)
+  if (!known.empty()) {
+    for (int r = 0; r < g_size; ++r) {
+      if (known[size_t(r)] > uint64_t(INT_MAX)) throw Error("MPI: a rank's share is over 2 GB");
+      lengths[size_t(r)] = int(known[size_t(r)]);
+    }
+    if (lengths[size_t(g_rank)] != length) throw Error("MPI: a rank's share changed its length");
+  } else if (everywhere) {
     MPI_Allgather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, MPI_COMM_WORLD);
-  else
+  } else {
     MPI_Gather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  }
   std::vector<int> offsets(size_t(g_size), 0);
   int64_t total = 0;
   for (int r = 0; r < g_size; ++r) {
@@ -124,6 +133,10 @@ void max_everywhere(std::vector<uint64_t>& v) { reduce(v, MPI_UINT64_T, MPI_MAX,
 
 std::vector<std::string_view> gather_to_root(const std::string& mine) { return gather(mine, false); }
 std::vector<std::string_view> gather_everywhere(const std::string& mine) { return gather(mine, true); }
+std::vector<std::string_view> gather_everywhere(const std::string& mine,
+                                                std::span<const uint64_t> lengths) {
+  return gather(mine, true, lengths);
+}
 
 void broadcast(std::string& data) {
   if (g_size == 1) return;
@@ -156,6 +169,10 @@ void sum_everywhere(std::vector<uint64_t>&) {}
 void max_everywhere(std::vector<uint64_t>&) {}
 std::vector<std::string_view> gather_to_root(const std::string& mine) { return {mine}; }
 std::vector<std::string_view> gather_everywhere(const std::string& mine) { return {mine}; }
+std::vector<std::string_view> gather_everywhere(const std::string& mine,
+                                                std::span<const uint64_t>) {
+  return {mine};
+}
 void broadcast(std::string&) {}
 
 #endif

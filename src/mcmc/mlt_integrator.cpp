@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <optional>
+#include <span>
 
 #include "emlt/core/cluster.h"
 #include "emlt/core/error.h"
@@ -47,7 +48,7 @@ struct Chain {
   Rng rng;
   uint64_t steps_taken = 0;  // keys EMLT's choice of guides (ensemble_guides.h)
   uint64_t sweep_left = 0;   // steps still to take in the sweep under way
-  bool moved = false;        // accepted a proposal since EMLT's last swap (MPI: to send)
+  bool moved = false;        // accepted a proposal since packed for the other ranks (EMLT, MPI)
 };
 
 // What one block of chains counts: its strategies' statistics. Blocks are a fixed partition
@@ -73,8 +74,9 @@ void prefetch_path(const Path& path) {
 // EMLT_MPI_PROFILE=1 (docs/scaling.md): every rank prints where its chains' loop spent its
 // time: taking steps (wall time, and the calling thread's CPU time, which falls short of it
 // when the rank was not running), building Y's guides, waiting at the per-sweep agreement
-// (for the slowest rank, mostly), and EMLT's exchange of moved paths (packing them,
-// MPI's allgather, unpacking the others').
+// (for the slowest rank, mostly), and EMLT's exchange of moved paths ("pack": joining what
+// the blocks packed as their chains took their steps; MPI's allgather; unpacking the other
+// ranks' paths).
 struct SweepProfile {
   bool enabled = std::getenv("EMLT_MPI_PROFILE") != nullptr;
   double steps = 0.0, steps_cpu = 0.0, guides = 0.0, agreement = 0.0, pack = 0.0, gather = 0.0,
@@ -95,8 +97,8 @@ struct SweepProfile {
                  "emlt: profile rank %d: steps %.2f s (cpu %.2f s), guides %.2f s, agreement "
                  "%.2f s, exchange %.2f s (pack %.2f, allgather %.2f, unpack %.2f; %.0f MB "
                  "sent)\n",
-                 cluster::rank(), steps, steps_cpu, guides, agreement, pack + gather + unpack,
-                 pack, gather, unpack, double(bytes_sent) / 1e6);
+                 cluster::rank(), steps, steps_cpu, guides, agreement, pack + gather + unpack, pack,
+                 gather, unpack, double(bytes_sent) / 1e6);
   }
 };
 
@@ -432,7 +434,6 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
       chain.rng = Rng::restore(in.get<Rng::State>());
       chain.steps_taken = in.get<uint64_t>();
       chain.sweep_left = in.get<uint64_t>();
-      chain.moved = true;  // the other ranks' copies may predate the checkpoint
       // F(x) is a colour, non-negative: the film turns splats into integers assuming so.
       const auto colour = [](double c) { return std::isfinite(c) && c >= 0.0; };
       if (!std::isfinite(chain.target) || chain.target < 0.0 || !std::isfinite(chain.carried) ||
@@ -768,53 +769,78 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   // EMLT under MPI: after a half-sweep, every rank needs the moved paths of the others, as
   // they are the frozen half that guides the next one.
   SweepProfile profile;
-  StateWriter exchange;  // kept across swaps, with its memory
-  std::vector<uint32_t> moved_ids;  // likewise
-  const auto share_moved_paths = [&](uint64_t first, uint64_t count) {
-    if (cluster::size() == 1) return;
+  // Only the paths that moved are sent: the others are as every rank already has them.
+  // Each block packs its chains' as soon as a chain has taken its steps, while the path is
+  // in cache (packing them after the sweep fetched every path from memory again). The
+  // writers are kept across swaps, with their memory.
+  struct PackedPaths {
+    std::vector<uint32_t> ids;
+    StateWriter records;  // for each of ids: the chain's target, its path in guide form
+  };
+  std::vector<PackedPaths> packed(guide_copies ? blocks.size() : 0);
+  const auto pack_moved = [&](uint64_t c, PackedPaths& out) {
+    Chain& chain = chains[c];
+    chain.moved = false;
+    out.ids.push_back(uint32_t(c));
+    out.records.put(chain.target);
+    PathCodec::pack_guide(chain.current, out.records);
+  };
+  StateWriter exchange;
+  std::vector<uint32_t> all_ids;
+  // What this rank sends (into `exchange`): the blocks' packed paths, the chains' indices
+  // first, so that the receiver can ask for the paths it will overwrite ahead of time (they
+  // lie scattered in memory). The blocks keep theirs until they are sent: a sweep cut
+  // short goes on packing. Returns every rank's length in bytes as far as this rank knows
+  // it (its own; zeros for the others): their maxima over the ranks are every rank's.
+  const auto prepare_moved_paths = [&] {
     const double t0 = profile.enabled ? SweepProfile::now() : 0.0;
-    // Only the paths that moved: the others are as every rank already has them. (A chain
-    // resumed from a checkpoint counts as moved, since the others' copies may be older.)
-    // The chains' indices come first, so that the receiver can ask for the paths it will
-    // overwrite ahead of time: the paths lie scattered in memory, and both ends of the
-    // exchange are bound by fetching them.
-    moved_ids.clear();
-    for (uint64_t c = first; c < first + count; ++c)
-      if (owns_chain(c) && chains[c].moved) moved_ids.push_back(uint32_t(c));
+    all_ids.clear();
+    for (const PackedPaths& block : packed)
+      all_ids.insert(all_ids.end(), block.ids.begin(), block.ids.end());
     StateWriter& mine = exchange;
     mine.clear();
-    mine.put_vector(moved_ids);
-    constexpr size_t kAhead = 4;
-    for (size_t k = 0; k < moved_ids.size(); ++k) {
-      if (k + kAhead < moved_ids.size()) prefetch_path(chains[moved_ids[k + kAhead]].current);
-      Chain& chain = chains[moved_ids[k]];
-      chain.moved = false;
-      mine.put(chain.target);
-      PathCodec::pack_guide(chain.current, mine);
-    }
+    mine.put_vector(all_ids);
+    mine.put<uint64_t>(packed.size());
+    for (const PackedPaths& block : packed) mine.put_block(block.records.data());
+    std::vector<uint64_t> lengths(size_t(cluster::size()), 0);
+    lengths[size_t(cluster::rank())] = mine.data().size();
+    if (profile.enabled) profile.pack += SweepProfile::now() - t0;
+    return lengths;
+  };
+  // Sends what prepare_moved_paths prepared, every rank's length known, and takes in the
+  // other ranks' paths.
+  const auto share_moved_paths = [&](std::span<const uint64_t> lengths) {
     const double t1 = profile.enabled ? SweepProfile::now() : 0.0;
-    profile.bytes_sent += mine.data().size();
-    const std::vector<std::string_view> parts = cluster::gather_everywhere(mine.data());
+    for (PackedPaths& block : packed) {
+      block.ids.clear();
+      block.records.clear();
+    }
+    profile.bytes_sent += exchange.data().size();
+    const std::vector<std::string_view> parts = cluster::gather_everywhere(exchange.data(), lengths);
     const double t2 = profile.enabled ? SweepProfile::now() : 0.0;
+    constexpr size_t kAhead = 4;
     for (size_t r = 0; r < parts.size(); ++r) {
       if (int(r) == cluster::rank()) continue;
       StateReader in(parts[r]);
       const std::vector<uint32_t> ids = in.get_vector_up_to<uint32_t>(chains.size());
-      for (size_t k = 0; k < ids.size(); ++k) {
-        if (k + kAhead < ids.size()) {
-          const Chain& ahead = chains.at(ids[k + kAhead]);
-          __builtin_prefetch(&ahead);
-          prefetch_path(ahead.current);
+      const uint64_t block_count = in.get<uint64_t>();
+      size_t k = 0;
+      for (uint64_t b = 0; b < block_count; ++b) {
+        StateReader records(in.get_block());
+        for (; records.remaining() > 0; ++k) {
+          if (k + kAhead < ids.size()) {
+            const Chain& ahead = chains.at(ids[k + kAhead]);
+            __builtin_prefetch(&ahead);
+            prefetch_path(ahead.current);
+          }
+          Chain& chain = chains.at(ids.at(k));
+          chain.target = records.get<double>();
+          PathCodec::unpack_guide(records, chain.current);
         }
-        Chain& chain = chains.at(ids[k]);
-        chain.target = in.get<double>();
-        PathCodec::unpack_guide(in, chain.current);
       }
+      if (k != ids.size()) throw StateError("the moved paths of a rank are damaged");
     }
-    if (profile.enabled) {
-      const double t3 = SweepProfile::now();
-      profile.pack += t1 - t0, profile.gather += t2 - t1, profile.unpack += t3 - t2;
-    }
+    if (profile.enabled) profile.gather += t2 - t1, profile.unpack += SweepProfile::now() - t2;
   };
   // Sweeps: for MLT, every chain takes its share of the steps up to the next checkpoint (a
   // power of two in mutations per pixel) in one visit, so that its path stays in cache
@@ -825,9 +851,15 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   // pause (a checkpoint falling due, a stop) cuts a sweep short with every chain's steps
   // left recorded; the sweep then goes on from there, in this process or a resumed one.
   const uint64_t round_size = std::max<uint64_t>(pixels, uint64_t(chain_count));
-  // A resumed rank holds only its own chains (save_chains): every rank sends them (all
-  // count as moved), and the others' guide copies are whole again.
-  if (guide_copies && resumed) share_moved_paths(0, uint64_t(chain_count));
+  // A resumed rank holds only its own chains (save_chains): every rank sends them, and the
+  // others' guide copies are whole again.
+  if (resumed && guide_copies) {
+    for (uint64_t c = 0; c < chains.size(); ++c)
+      if (owns_chain(c)) pack_moved(c, packed[0]);
+    std::vector<uint64_t> lengths = prepare_moved_paths();
+    cluster::max_everywhere(lengths);
+    share_moved_paths(lengths);
+  }
   for (const Chain& chain : chains) live += chain.target > 0.0;
   bool stopped = false;
   while (true) {
@@ -886,6 +918,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
           const uint64_t steps = run_chain(chain, first + j, mix, ctx,
                                            options_.ignore_selection_probability,
                                            blocks[size_t(block)], film, width, height);
+          if (guide_copies && chain.moved) pack_moved(first + j, packed[size_t(block)]);
           interruption::poll(steps);
           block_steps += steps;
         }
@@ -894,14 +927,16 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     });
     // The steps left of every rank's chains: a pause on any rank pauses all of them, at the
     // same point of the loop (interruption.h).
-    const double agreement_start = profile.enabled ? SweepProfile::now() : 0.0;
     if (profile.enabled) {
-      profile.steps += agreement_start - steps_start;
+      profile.steps += SweepProfile::now() - steps_start;
       profile.steps_cpu += SweepProfile::thread_cpu() - steps_cpu_start;
     }
     std::vector<uint64_t> left = {0};
     for (uint64_t j = 0; j < count; ++j) left[0] += chains[size_t(first + j)].sweep_left;
-    const interruption::Decision decision = interruption::agree(left[0] > 0);
+    // EMLT under MPI: the lengths of the moved paths to exchange are agreed on with the rest.
+    std::vector<uint64_t> lengths = guide_copies ? prepare_moved_paths() : std::vector<uint64_t>();
+    const double agreement_start = profile.enabled ? SweepProfile::now() : 0.0;
+    const interruption::Decision decision = interruption::agree(left[0] > 0, lengths);
     // (A complete sweep has no steps left on any rank: no sum to take.)
     if (decision.incomplete) cluster::sum_everywhere(left);
     if (profile.enabled) profile.agreement += SweepProfile::now() - agreement_start;
@@ -915,7 +950,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
       root_decides(rounds);
       timed_rounds = rounds;
       if (ensemble) {
-        share_moved_paths(first, count);
+        if (guide_copies) share_moved_paths(lengths);
         half = 1 - half;
         ++stats_.swaps;
         guides_ready = false;

@@ -67,14 +67,16 @@ void remove_temporary() {
   if (g_temporary_valid.load(std::memory_order_seq_cst)) ::unlink(g_temporary);
 }
 
-Decision agree(bool incomplete) {
+Decision agree(bool incomplete, std::span<uint64_t> maxima) {
   if (cluster::size() == 1) return {incomplete, stop_requested(), checkpoint_due()};
   // One reduction, since every collective waits for the slowest rank to reach it (under
   // load, for the scheduler to run it): "on any rank" is the maximum of 0/1 flags, and the
   // signal passed on is the largest.
   std::vector<uint64_t> flags = {uint64_t(incomplete), uint64_t(stop_requested()),
                                  uint64_t(checkpoint_due()), uint64_t(std::max(stop_signal(), 0))};
+  flags.insert(flags.end(), maxima.begin(), maxima.end());
   cluster::max_everywhere(flags);
+  std::copy(flags.begin() + 4, flags.end(), maxima.begin());
   const int signal = int(flags[3]);
   const Decision decision{flags[0] > 0, flags[1] > 0, flags[2] > 0};
   if (decision.stop && !stop_requested()) request_stop(signal > 0 ? signal : SIGINT);

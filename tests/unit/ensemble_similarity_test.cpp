@@ -12,6 +12,7 @@
 
 #include "emlt/core/rng.h"
 #include "emlt/mcmc/ensemble_guides.h"
+#include "emlt/path/path_state.h"
 #include "mutations/ensemble/similarity.h"
 
 using namespace emlt;
@@ -216,4 +217,67 @@ TEST(EnsembleGuideView, HoldsTheGuidePathsOwnDataForEveryWindow) {
   PathType absent;
   absent.vertices = 9;
   EXPECT_TRUE(ensemble.upsilon(absent, 0, 0).empty());
+}
+
+// Under MPI a rank holds the other ranks' paths as guide copies (PathCodec's guide form):
+// Υ built from copies must be Υ built from the paths, field for field, or the guided steps
+// (and the image) would differ from one process's.
+TEST(EnsembleGuideView, GuideCopiesGiveTheSameGuidesAsThePaths) {
+  Rng rng(11, 5);
+  std::vector<Path> paths;
+  for (int i = 0; i < 48; ++i) {
+    Path path = i % 6 == 5 ? synthetic_path(rng, 5, 0b100, true) : synthetic_path(rng, 4, 0, false);
+    // What the guide form leaves out, set so that a copy differs from its path there.
+    for (PathVertex& v : path.vertices) {
+      v.normal = random_point(rng, 1.0f);
+      v.throughput = Rgb(rng.uniform());
+      v.pdf_from_eye = rng.uniform();
+      v.raster = Vec2(rng.uniform(), rng.uniform());
+    }
+    path.vertices.back().raster = Vec2(rng.uniform() * 64.0f, rng.uniform() * 64.0f);
+    paths.push_back(path);
+  }
+  paths.push_back(Path{});  // a chain without a seed
+  std::vector<Path> copies(paths.size());
+  StateWriter out;
+  for (const Path& path : paths) PathCodec::pack_guide(path, out);
+  StateReader in(out.data());
+  for (Path& copy : copies) PathCodec::unpack_guide(in, copy);
+  EXPECT_EQ(in.remaining(), 0u);
+
+  const auto build = [](const std::vector<Path>& from) {
+    std::vector<const Path*> pointers;
+    for (const Path& p : from) pointers.push_back(&p);
+    EnsembleGuides ensemble;
+    EnsembleParams params;
+    params.neighbours = 8;
+    ensemble.build(pointers, 64, 64, 3, params);
+    return ensemble;
+  };
+  const EnsembleGuides original = build(paths), copied = build(copies);
+  ASSERT_EQ(original.size(), copied.size());
+  EXPECT_EQ(original.alpha(), copied.alpha());
+  for (const Path* type_of : {&paths[0], &paths[5]})
+    for (uint64_t step = 0; step < 20; ++step) {
+      const GuideView a = original.upsilon(type_of->type, 7, step),
+                      b = copied.upsilon(type_of->type, 7, step);
+      ASSERT_EQ(a.size(), b.size());
+      ASSERT_EQ(a.has_environment(), b.has_environment());
+      for (size_t n = 0; n < a.size(); ++n) {
+        EXPECT_EQ(a.rasters()[n], b.rasters()[n]);
+        EXPECT_EQ(a[n]->type, b[n]->type);
+        for (int i = 0; i < int(type_of->type.vertices); ++i) {
+          for (int axis = 0; axis < 3; ++axis)
+            EXPECT_EQ(a.coordinates(i, axis)[n], b.coordinates(i, axis)[n]);
+          // Read from the paths themselves when Υ keeps no sky data (guided_common.cpp).
+          EXPECT_EQ(a[n]->vertices[size_t(i)].sky_direction,
+                    b[n]->vertices[size_t(i)].sky_direction);
+          EXPECT_EQ(a[n]->vertices[size_t(i)].kind, b[n]->vertices[size_t(i)].kind);
+          if (a.has_environment()) {
+            EXPECT_EQ(a.environment(i)[n], b.environment(i)[n]);
+            EXPECT_EQ(a.sky_directions(i)[n], b.sky_directions(i)[n]);
+          }
+        }
+      }
+    }
 }

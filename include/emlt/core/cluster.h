@@ -13,6 +13,7 @@
 // one-process version. Only the calling thread talks to MPI (MPI_THREAD_FUNNELED); the TBB
 // workers never do.
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -54,6 +55,9 @@ void max_everywhere(std::vector<uint64_t>& values);
 // every swap, and fresh pages for each would cost more than the copy).
 std::vector<std::string_view> gather_to_root(const std::string& mine);
 std::vector<std::string_view> gather_everywhere(const std::string& mine);
+// The same when every rank already knows every rank's length (lengths[r], in bytes).
+std::vector<std::string_view> gather_everywhere(const std::string& mine,
+                                                std::span<const uint64_t> lengths);
 // Rank 0's bytes on every rank.
 void broadcast(std::string& data);
 

@@ -4,6 +4,7 @@
 // the path in hand is done; the integrator then saves or writes what it has
 // (render_control.h). The state is process-wide because a signal handler must reach it.
 #include <cstdint>
+#include <span>
 #include <string>
 
 namespace emlt::interruption {
@@ -35,7 +36,10 @@ struct Decision {
   bool checkpoint = false;  // a checkpoint fell due on some rank
   bool pause() const { return stop || checkpoint; }
 };
-Decision agree(bool incomplete);
+// `maxima`: values of the caller's to reduce in the same collective (element-wise maxima,
+// on every rank), which saves the caller one: each collective waits for every rank to
+// reach it.
+Decision agree(bool incomplete, std::span<uint64_t> maxima = {});
 
 // Test hook (EMLT_STOP_AFTER in the command line): stop as if by SIGINT once workers have
 // reported this many units of work. 0 disarms it.
