@@ -13,6 +13,7 @@ struct RenderOptions {
   RenderSettings settings;
   std::string mis = "power", direct_point_set = "independent", direct_mode = "separate",
               aniso_fallback = "vmf";
+  std::string pss_tracer = "pt";
   std::vector<std::string> defines;
   std::string reference, log;
   // --checkpoint FILE, written every checkpoint_interval seconds and on a stop signal;

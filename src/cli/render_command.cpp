@@ -17,6 +17,7 @@
 #include "emlt/render/image_metrics.h"
 #include "emlt/core/cluster.h"
 #include "emlt/core/error.h"
+#include "emlt/mcmc/pss_integrator.h"
 #include "emlt/render/checkpoint_file.h"
 #include "emlt/render/integrator.h"
 #include "emlt/render/interruption.h"
@@ -59,7 +60,8 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
   RenderSettings& s = o.settings;
   command.add_option("scene", o.scene, "Scene file (.json or Mitsuba .xml)")->required();
   command.add_option("-o,--output", o.output, "Output image (.exr, .pfm, .png, .hdr)");
-  command.add_option("--integrator", s.integrator, "direct | pt | bdpt | mlt | gamlt | emlt");
+  command.add_option("--integrator", s.integrator,
+                     "direct | pt | bdpt | mlt | gamlt | emlt | pssmlt | mmlt");
   command.add_option("--spp", s.spp, "Samples per pixel")
       ->check(whole_number(1, kMaxSpp, "a whole number from 1 to 2^24 (about 16.8 million)"));
   command.add_option("--time", s.time_limit_s, "Time budget in seconds (renders until spent)")
@@ -130,6 +132,15 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
   command.add_option("--direct-spp", s.direct_spp,
                      "mlt: samples of the separate direct image (default: the mutations per pixel)")
       ->check(whole_number(1, 1 << 20, "a whole number from 1 to 2^20 (about a million)"));
+  command.add_option("--pss-tracer", o.pss_tracer,
+                     "pssmlt: the sampler the primary samples drive: pt | bdpt")
+      ->check(CLI::IsMember({"pt", "bdpt"}));
+  command.add_option("--large-step", s.large_step_probability,
+                     "pssmlt/mmlt: probability of a large step (default 0.3)")
+      ->check(real_number(0.0, false, 1.0, "a probability from 0 to 1"));
+  command.add_option("--pss-sigma", s.pss_sigma,
+                     "pssmlt/mmlt: largest small-step perturbation of a coordinate (default 1/64)")
+      ->check(real_number(0.0, true, 0.5, "a number above 0, at most 0.5"));
   command.add_option("--stats", s.stats_path, "mlt: write statistics as JSON to this file");
   command.add_option("--reference", o.reference, "Reference image for error metrics");
   command.add_option("--log", o.log,
@@ -177,6 +188,9 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   if (given("--direct")) settings.direct_separate = o.direct_mode == "separate";
   if (given("--direct-spp")) settings.direct_spp = cli.direct_spp;
   if (given("--stats")) settings.stats_path = cli.stats_path;
+  if (given("--pss-tracer")) settings.pss_bdpt = o.pss_tracer == "bdpt";
+  if (given("--large-step")) settings.large_step_probability = cli.large_step_probability;
+  if (given("--pss-sigma")) settings.pss_sigma = cli.pss_sigma;
   if (given("--ensemble-size")) settings.ensemble_size = cli.ensemble_size;
   if (given("--ensemble-neighbours")) settings.ensemble_neighbours = cli.ensemble_neighbours;
   if (given("--ensemble-iterations")) settings.ensemble_iterations = cli.ensemble_iterations;
@@ -198,6 +212,8 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   check_output_path(o.output);
   const auto integrator = make_integrator(settings.integrator);
   const bool mcmc = dynamic_cast<const MltIntegrator*>(integrator.get()) != nullptr;
+  const bool primary_sample_space =
+      dynamic_cast<const PssMltIntegrator*>(integrator.get()) != nullptr;
   if (!settings.aniso_map_path.empty()) {
     if (!mcmc) throw Error("--aniso-map needs an MCMC integrator (mlt, gamlt or emlt)");
     check_output_path(settings.aniso_map_path);
@@ -228,6 +244,9 @@ int run_render(const CLI::App& command, RenderOptions& o) {
     if (std::filesystem::path(checkpoint_path) == std::filesystem::path(o.output))
       throw file_error(checkpoint_path, "the checkpoint and the output image are the same file");
   }
+  if (primary_sample_space && !checkpoint_path.empty())
+    throw Error("--checkpoint/--resume: " + settings.integrator +
+                " cannot save or resume its state (mlt, gamlt and emlt can)");
   if (given("--checkpoint-interval") && checkpoint_path.empty())
     throw Error("--checkpoint-interval needs --checkpoint FILE (or --resume FILE)");
   const CheckpointHeader header_now = CheckpointHeader::describe(desc, settings, o.defines);
@@ -303,6 +322,8 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   write_image(o.output, result.image);
   if (const auto* mlt = dynamic_cast<const MltIntegrator*>(integrator.get()))
     report_mlt_statistics(settings.integrator, mlt->statistics(), settings.stats_path);
+  if (const auto* pss = dynamic_cast<const PssMltIntegrator*>(integrator.get()))
+    report_mlt_statistics(settings.integrator, pss->statistics(), settings.stats_path);
   if (!o.reference.empty()) {
     const ImageMetrics m = compare_images(reference, result.image, std::nullopt, &sees_emitter);
     std::fprintf(stderr, "against %s: mse %.6g, relmse %.6g, mse without visible emitters %.6g, mean ratio %.5f\n",

@@ -19,10 +19,9 @@ std::optional<PathVertex> trace_to_vertex(const Scene& scene, const Ray& ray) {
   return std::nullopt;
 }
 
-}  // namespace
-
-int random_walk(const Scene& scene, Rng& rng, TransportMode mode, int steps, int rr_depth,
-                std::vector<PathVertex>& subpath, InvalidCounter* invalid) {
+template <class Sampler>
+int walk(const Scene& scene, Sampler& rng, TransportMode mode, int steps, int rr_depth,
+         std::vector<PathVertex>& subpath, InvalidCounter* invalid) {
   if (subpath.size() < 2) return 0;
   const bool importance = mode == TransportMode::Importance;
   int added = 0;
@@ -117,8 +116,9 @@ int random_walk(const Scene& scene, Rng& rng, TransportMode mode, int steps, int
   return added;
 }
 
-int generate_light_subpath(const Scene& scene, Rng& rng, const WalkLimits& limits,
-                           std::vector<PathVertex>& subpath, InvalidCounter* invalid) {
+template <class Sampler>
+int light_subpath(const Scene& scene, Sampler& rng, const WalkLimits& limits,
+                  std::vector<PathVertex>& subpath, InvalidCounter* invalid) {
   subpath.clear();
   if (limits.max_vertices < 1) return 0;
   float selection = 0.0f;
@@ -161,14 +161,15 @@ int generate_light_subpath(const Scene& scene, Rng& rng, const WalkLimits& limit
           ? emission->pdf_position * abs_cos_at(*first, emission->ray.direction)
           : solid_angle_to_vertex_measure(emission->pdf_direction, origin, *first);
   subpath.push_back(*first);
-  random_walk(scene, rng, TransportMode::Importance, limits.max_vertices - 2, limits.rr_depth,
+  walk(scene, rng, TransportMode::Importance, limits.max_vertices - 2, limits.rr_depth,
               subpath, invalid);
   return int(subpath.size());
 }
 
-int generate_camera_subpath(const Scene& scene, Rng& rng, const Vec2& raster, const Vec2& u_lens,
-                            const WalkLimits& limits, std::vector<PathVertex>& subpath,
-                            InvalidCounter* invalid) {
+template <class Sampler>
+int camera_subpath(const Scene& scene, Sampler& rng, const Vec2& raster, const Vec2& u_lens,
+                   const WalkLimits& limits, std::vector<PathVertex>& subpath,
+                   InvalidCounter* invalid) {
   subpath.clear();
   if (limits.max_vertices < 1) return 0;
   const Camera& camera = scene.camera();
@@ -190,9 +191,38 @@ int generate_camera_subpath(const Scene& scene, Rng& rng, const Vec2& raster, co
   first->throughput = Rgb(1.0f);
   first->pdf_from_eye = solid_angle_to_vertex_measure(pdf_direction, lens, *first);
   subpath.push_back(*first);
-  random_walk(scene, rng, TransportMode::Radiance, limits.max_vertices - 2, limits.rr_depth,
+  walk(scene, rng, TransportMode::Radiance, limits.max_vertices - 2, limits.rr_depth,
               subpath, invalid);
   return int(subpath.size());
+}
+
+}  // namespace
+
+int random_walk(const Scene& scene, Rng& rng, TransportMode mode, int steps, int rr_depth,
+                std::vector<PathVertex>& subpath, InvalidCounter* invalid) {
+  return walk(scene, rng, mode, steps, rr_depth, subpath, invalid);
+}
+int random_walk(const Scene& scene, SampleSource& samples, TransportMode mode, int steps,
+                int rr_depth, std::vector<PathVertex>& subpath, InvalidCounter* invalid) {
+  return walk(scene, samples, mode, steps, rr_depth, subpath, invalid);
+}
+int generate_light_subpath(const Scene& scene, Rng& rng, const WalkLimits& limits,
+                           std::vector<PathVertex>& subpath, InvalidCounter* invalid) {
+  return light_subpath(scene, rng, limits, subpath, invalid);
+}
+int generate_light_subpath(const Scene& scene, SampleSource& samples, const WalkLimits& limits,
+                           std::vector<PathVertex>& subpath, InvalidCounter* invalid) {
+  return light_subpath(scene, samples, limits, subpath, invalid);
+}
+int generate_camera_subpath(const Scene& scene, Rng& rng, const Vec2& raster, const Vec2& u_lens,
+                            const WalkLimits& limits, std::vector<PathVertex>& subpath,
+                            InvalidCounter* invalid) {
+  return camera_subpath(scene, rng, raster, u_lens, limits, subpath, invalid);
+}
+int generate_camera_subpath(const Scene& scene, SampleSource& samples, const Vec2& raster,
+                            const Vec2& u_lens, const WalkLimits& limits,
+                            std::vector<PathVertex>& subpath, InvalidCounter* invalid) {
+  return camera_subpath(scene, samples, raster, u_lens, limits, subpath, invalid);
 }
 
 }  // namespace emlt

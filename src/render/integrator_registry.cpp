@@ -4,10 +4,13 @@
 #include "emlt/render/integrator.h"
 #include "emlt/render/path_tracer.h"
 #include "emlt/mcmc/mlt_integrator.h"
+#include "emlt/mcmc/pss_integrator.h"
 
 namespace emlt {
 
-std::vector<std::string> integrator_names() { return {"direct", "pt", "bdpt", "mlt", "gamlt", "emlt"}; }
+std::vector<std::string> integrator_names() {
+  return {"direct", "pt", "bdpt", "mlt", "gamlt", "emlt", "pssmlt", "mmlt"};
+}
 
 std::unique_ptr<Integrator> make_integrator(const std::string& name) {
   if (name == "direct") return std::make_unique<DirectIntegrator>();
@@ -26,6 +29,12 @@ std::unique_ptr<Integrator> make_integrator(const std::string& name) {
     options.default_mix = kEmltMix;
     options.ensemble = true;
     return std::make_unique<MltIntegrator>(std::move(options));
+  }
+  if (name == "pssmlt") return std::make_unique<PssMltIntegrator>();
+  if (name == "mmlt") {
+    PssOptions options;
+    options.multiplexed = true;
+    return std::make_unique<PssMltIntegrator>(options);
   }
   std::string known;
   for (const auto& n : integrator_names()) known += (known.empty() ? "" : ", ") + n;

@@ -5,8 +5,14 @@
 
 namespace emlt {
 
-Rgb PathTracer::radiance(const Scene& scene, const RenderSettings& settings, const Ray& camera_ray,
-                         Rng& rng) {
+namespace {
+
+// Paths of fewer than `min_segments` segments add nothing (PSSMLT with the direct light
+// rendered separately); their samples are drawn all the same. With 1 it is the plain
+// path tracer.
+template <class Sampler>
+Rgb trace(const Scene& scene, const RenderSettings& settings, const Ray& camera_ray,
+          Sampler& rng, int min_segments) {
   Rgb result(0.0f), throughput(1.0f);
   Ray ray = camera_ray;
   Vec3 previous_position = ray.origin;
@@ -18,11 +24,12 @@ Rgb PathTracer::radiance(const Scene& scene, const RenderSettings& settings, con
     SurfaceHit hit;
     const bool found = scene.intersect(ray, hit);
     if (!found) {
-      result += throughput * weighted_emission(scene, previous_position, ray.direction, nullptr,
-                                               previous_pdf, previous_delta, settings.mis);
+      if (segments >= min_segments)
+        result += throughput * weighted_emission(scene, previous_position, ray.direction, nullptr,
+                                                 previous_pdf, previous_delta, settings.mis);
       break;
     }
-    if (hit.light)
+    if (hit.light && segments >= min_segments)
       result += throughput * weighted_emission(scene, previous_position, ray.direction, &hit,
                                                previous_pdf, previous_delta, settings.mis);
     if (settings.max_depth >= 0 && segments >= settings.max_depth) break;
@@ -30,8 +37,9 @@ Rgb PathTracer::radiance(const Scene& scene, const RenderSettings& settings, con
     const Vec3 wo = -ray.direction;
     const float u_select = rng.uniform();
     const Vec2 u_light = rng.uniform2();
-    result += throughput * sample_light_contribution(scene, hit, wo, TransportMode::Radiance,
-                                                     u_select, u_light, settings.mis);
+    if (segments + 1 >= min_segments)
+      result += throughput * sample_light_contribution(scene, hit, wo, TransportMode::Radiance,
+                                                       u_select, u_light, settings.mis);
 
     const Vec3 wo_local = hit.shading.to_local(wo);
     const float u_lobe = rng.uniform();
@@ -54,6 +62,18 @@ Rgb PathTracer::radiance(const Scene& scene, const RenderSettings& settings, con
     }
   }
   return result;
+}
+
+}  // namespace
+
+Rgb PathTracer::radiance(const Scene& scene, const RenderSettings& settings, const Ray& ray,
+                         Rng& rng) {
+  return trace(scene, settings, ray, rng, 1);
+}
+
+Rgb PathTracer::radiance(const Scene& scene, const RenderSettings& settings, const Ray& ray,
+                         SampleSource& samples, int min_segments) {
+  return trace(scene, settings, ray, samples, min_segments);
 }
 
 RenderResult PathTracer::render(const Scene& scene, const RenderSettings& settings,

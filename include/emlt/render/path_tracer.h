@@ -1,5 +1,6 @@
 #pragma once
 #include "emlt/core/rng.h"
+#include "emlt/core/sample_source.h"
 #include "emlt/render/integrator.h"
 
 namespace emlt {
@@ -12,6 +13,10 @@ class PathTracer final : public Integrator {
   RenderResult render(const Scene& scene, const RenderSettings& settings,
                       ProgressReporter& progress) const override;
   static Rgb radiance(const Scene& scene, const RenderSettings& settings, const Ray& ray, Rng& rng);
+  // The same estimate from a primary-sample vector (PSSMLT), counting only paths of at
+  // least `min_segments` segments.
+  static Rgb radiance(const Scene& scene, const RenderSettings& settings, const Ray& ray,
+                      SampleSource& samples, int min_segments);
 };
 
 }  // namespace emlt

@@ -48,6 +48,11 @@ struct RenderSettings {
   // EMLT paper's Figure 12) to this PNG; empty: not recorded.
   std::string aniso_map_path;
 
+  // Primary-sample-space MLT (integrators "pssmlt" and "mmlt"; mcmc/pss_integrator.h).
+  bool pss_bdpt = false;                 // --pss-tracer bdpt (pssmlt); false: the path tracer
+  double large_step_probability = 0.3;   // --large-step
+  double pss_sigma = 1.0 / 64.0;         // --pss-sigma: the largest small-step perturbation
+
   // Ensemble MLT (integrator "emlt"; include/emlt/mcmc/ensemble_guides.h).
   int ensemble_size = 0;        // |X| = |Y|; 0: 16384, fewer on images under 32768 pixels
   int ensemble_neighbours = 0;  // M, the guide paths of one step; 0: EnsembleParams' (8)

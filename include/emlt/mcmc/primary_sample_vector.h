@@ -1,0 +1,75 @@
+#pragma once
+// The state of a primary-sample-space chain (Kelemen et al. 2002): the unit-cube
+// coordinates a path sampler reads instead of a random stream. Coordinates are created and
+// mutated lazily, when the sampler first reads them in an iteration (Kelemen §4.1):
+//   - after a large step was accepted, a coordinate not read since is drawn afresh;
+//   - in a large step, every coordinate read is drawn afresh;
+//   - in a small step, a coordinate read is perturbed once for every small step it missed
+//     (at most kMaxCatchUp times: any symmetric kernel keeps the chain correct, and an
+//     unread coordinate does not change f).
+// A rejection restores the coordinates the iteration read. Coordinates are laid out in
+// `kStreams` interleaved streams (camera subpath, light subpath, connections), so that a
+// change in the number of coordinates one subpath reads does not shift the other's.
+#include <cstdint>
+#include <vector>
+
+#include "emlt/core/rng.h"
+#include "emlt/core/sample_source.h"
+
+namespace emlt {
+
+class PrimarySampleVector {
+ public:
+  static constexpr int kStreams = 3;
+  static constexpr uint64_t kMaxCatchUp = 64;
+
+  // Kelemen's exponential perturbation: a step of s2 * (s1 / s2)^u in either direction,
+  // with s2 = sigma and s1 = sigma / 64 (the paper's 1/64 and 1/1024 at sigma = 1/64).
+  explicit PrimarySampleVector(float sigma = 1.0f / 64.0f) : sigma_(sigma) {}
+
+  // Starts an iteration; coordinates are then read with value().
+  void begin(bool large_step) {
+    ++iteration_;
+    large_step_ = large_step;
+    touched_.clear();
+  }
+  // Coordinate `index` of the proposal, mutated on first read in this iteration.
+  float value(uint32_t index, Rng& rng);
+  void accept() {
+    if (large_step_) last_large_ = iteration_;
+  }
+  // `keep_one` (tests only): leaves coordinate 0 as proposed, a classic bug.
+  void reject(bool keep_one = false);
+
+  size_t size() const { return coordinates_.size(); }
+
+ private:
+  struct Coordinate {
+    float value = 0.0f, saved_value = 0.0f;
+    uint64_t modified = 0, saved_modified = 0;  // the iteration that last set it
+  };
+  float perturb(float x, Rng& rng) const;
+
+  std::vector<Coordinate> coordinates_;
+  std::vector<uint32_t> touched_;  // read in this iteration
+  uint64_t iteration_ = 0, last_large_ = 0;
+  bool large_step_ = false;
+  float sigma_;
+};
+
+// The coordinates of one stream as a SampleSource, read in order.
+class PrimaryStream final : public SampleSource {
+ public:
+  PrimaryStream(PrimarySampleVector& vector, Rng& rng, int stream)
+      : vector_(vector), rng_(rng), stream_(uint32_t(stream)) {}
+  float uniform() override {
+    return vector_.value(stream_ + uint32_t(PrimarySampleVector::kStreams) * next_++, rng_);
+  }
+
+ private:
+  PrimarySampleVector& vector_;
+  Rng& rng_;
+  uint32_t stream_, next_ = 0;
+};
+
+}  // namespace emlt
