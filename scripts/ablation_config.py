@@ -30,6 +30,9 @@ METHODS = {
     "emlt": (["--integrator", "emlt"], "--mpp"),  # ensemble MLT, all strategies (issue 6)
     "emlt-ani": (["--integrator", "emlt", "--mutations", "emlt-ani"], "--mpp"),  # paper Table 1 "Ani"
     "emlt-lin": (["--integrator", "emlt", "--mutations", "emlt-lin"], "--mpp"),  # paper Table 1 "Lin"
+    "pssmlt": (["--integrator", "pssmlt"], "--mpp"),  # Kelemen et al. 2002 over the path tracer (issue 22)
+    "pssmlt-bdpt": (["--integrator", "pssmlt", "--pss-tracer", "bdpt"], "--mpp"),  # ... over BDPT
+    "mmlt": (["--integrator", "mmlt"], "--mpp"),  # Hachisuka et al. 2014, Multiplexed MLT (issue 22)
 }
 
 # "mlt:MIX" names an MLT run with the mutation mix MIX, e.g. "mlt:bidir=1,lens=1".

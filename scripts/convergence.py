@@ -19,8 +19,13 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from emlt_images import read_pfm  # noqa: E402  (shared with ablation.py)
 
 
+# Integrators whose per-pixel budget is mutations (--mpp) rather than samples (--spp).
+MCMC_INTEGRATORS = ("mlt", "gamlt", "emlt", "pssmlt", "mmlt")
+
+
 def render(emlt, scene, out, integrator, spp, seed, extra):
-    cmd = [emlt, "render", scene, "-o", out, "--integrator", integrator, "--spp", str(spp),
+    budget = "--mpp" if integrator in MCMC_INTEGRATORS else "--spp"
+    cmd = [emlt, "render", scene, "-o", out, "--integrator", integrator, budget, str(spp),
            "--seed", str(seed), "--quiet"] + extra
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
     return read_pfm(out)

@@ -247,6 +247,8 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   if (primary_sample_space && !checkpoint_path.empty())
     throw Error("--checkpoint/--resume: " + settings.integrator +
                 " cannot save or resume its state (mlt, gamlt and emlt can)");
+  if (primary_sample_space && cluster::size() > 1)
+    throw Error(settings.integrator + " runs as one process only (not under mpirun)");
   if (given("--checkpoint-interval") && checkpoint_path.empty())
     throw Error("--checkpoint-interval needs --checkpoint FILE (or --resume FILE)");
   const CheckpointHeader header_now = CheckpointHeader::describe(desc, settings, o.defines);

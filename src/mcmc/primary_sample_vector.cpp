@@ -10,16 +10,15 @@ float PrimarySampleVector::perturb(float x, Rng& rng) const {
   const float u = rng.uniform();
   const bool up = u < 0.5f;
   const float v = up ? 2.0f * u : 2.0f * u - 1.0f;
-  const float step = sigma_ * std::exp(-std::log(64.0f) * v);
+  const float step = sigma_ * std::exp2(-6.0f * v);  // sigma 64^-v
   float y = up ? x + step : x - step;
   y -= std::floor(y);
   return y < 1.0f ? y : 0.0f;
 }
 
-float PrimarySampleVector::value(uint32_t index, Rng& rng) {
+float PrimarySampleVector::mutate(uint32_t index, Rng& rng) {
   if (index >= coordinates_.size()) coordinates_.resize(size_t(index) + 1);
   Coordinate& c = coordinates_[index];
-  if (c.modified == iteration_) return c.value;  // read before in this iteration
   // Not read since the last accepted large step (or never): its value is a fresh one.
   if (c.modified < last_large_ || c.modified == 0) {
     c.value = rng.uniform();
@@ -34,18 +33,17 @@ float PrimarySampleVector::value(uint32_t index, Rng& rng) {
     for (uint64_t i = 0; i < missed; ++i) c.value = perturb(c.value, rng);
   }
   c.modified = iteration_;
-  touched_.push_back(index);
   return c.value;
 }
 
 void PrimarySampleVector::reject(bool keep_one) {
-  for (const uint32_t index : touched_) {
-    if (keep_one && index == 0) continue;
+  // The coordinates this iteration read are those it stamped (a vector is a few dozen long).
+  for (size_t index = keep_one ? 1 : 0; index < coordinates_.size(); ++index) {
     Coordinate& c = coordinates_[index];
+    if (c.modified != iteration_) continue;
     c.value = c.saved_value;
     c.modified = c.saved_modified;
   }
-  touched_.clear();
   // The rejected iteration did not happen: the next small step perturbs from the same
   // count of missed steps.
   --iteration_;

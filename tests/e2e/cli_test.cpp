@@ -300,6 +300,35 @@ TEST(Cli, MltWritesStatisticsAndRejectsUnknownStrategies) {
                        "teleport", dir / "o.exr");
 }
 
+// pssmlt and mmlt: statistics per step kind (and per length for mmlt), and a one-line
+// refusal of what they do not support (checkpoints).
+TEST(Cli, PrimarySampleSpaceIntegratorsWriteStatisticsAndRefuseCheckpoints) {
+  const fs::path dir = test::scratch_dir("pss");
+  for (const std::string integrator : {"pssmlt", "mmlt"}) {
+    std::string text;
+    const fs::path stats_path = dir / (integrator + ".json");
+    ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / (integrator + ".pfm")).string() +
+                                            " --integrator " + integrator + " --pss-tracer bdpt --large-step 0.5"
+                                            " --mpp 4 --chains 64 --bootstrap 5000 --width 16 --height 16 --quiet"
+                                            " --stats " + stats_path.string()), &text)) << text;
+    std::ifstream in(stats_path);
+    const auto stats = nlohmann::json::parse(in);
+    EXPECT_GT(stats["b"].get<double>(), 0.0);
+    EXPECT_EQ(stats["mutations"].get<uint64_t>(), 4u * 16u * 16u);  // 1024 = 64 chains x 16
+    EXPECT_EQ(stats["strategies"][0]["name"], "large");
+    EXPECT_EQ(stats["strategies"][1]["name"], "small");
+    EXPECT_EQ(stats["strategies"][0]["proposed"].get<uint64_t>() +
+                  stats["strategies"][1]["proposed"].get<uint64_t>(),
+              4u * 16u * 16u);
+    if (integrator == "mmlt") {
+      EXPECT_EQ(stats["strategies"][2]["name"], "length 3");
+    }
+    expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() + " --integrator " +
+                             integrator + " --checkpoint " + (dir / "c.ckpt").string(),
+                         "cannot save or resume", dir / "o.exr");
+  }
+}
+
 TEST(Cli, EmltWritesEnsembleStatisticsAndTheAnisotropyMap) {
   const fs::path dir = test::scratch_dir("emlt");
   std::string text;

@@ -33,7 +33,8 @@ RenderSettings pss_settings(Variant v, int max_depth, bool direct_separate) {
   s.max_depth = max_depth;
   s.direct_separate = direct_separate;
   s.pss_bdpt = v == Variant::PssBdpt;
-  s.mutations_per_pixel = 1000;  // 16x16 image: 256k mutations
+  // 16x16 image: 256k mutations; BDPT's samples cost about three path tracer ones.
+  s.mutations_per_pixel = v == Variant::PssBdpt ? 400 : 1000;
   s.bootstrap_samples = 20000;
   s.chains = 64;
   s.direct_spp = 256;
@@ -76,7 +77,7 @@ const Image& cornell_reference() {
   static const Image reference = [] {
     RenderSettings r;
     r.progress = false;
-    r.spp = 2048;
+    r.spp = 1024;
     r.threads = 2;
     ProgressReporter progress(false);
     return PathTracer().render(*cornell(24), r, progress).image;
@@ -112,7 +113,7 @@ std::pair<double, double> cornell_deviation(const Image& image) {
 
 RenderSettings cornell_settings(Variant v) {
   RenderSettings s = pss_settings(v, -1, true);
-  s.mutations_per_pixel = 600;
+  s.mutations_per_pixel = v == Variant::PssBdpt ? 300 : 600;
   s.chains = 256;
   s.direct_spp = 1024;
   return s;

@@ -31,10 +31,13 @@ class PrimarySampleVector {
   void begin(bool large_step) {
     ++iteration_;
     large_step_ = large_step;
-    touched_.clear();
   }
   // Coordinate `index` of the proposal, mutated on first read in this iteration.
-  float value(uint32_t index, Rng& rng);
+  float value(uint32_t index, Rng& rng) {
+    if (index < coordinates_.size() && coordinates_[index].modified == iteration_)
+      return coordinates_[index].value;  // read before in this iteration
+    return mutate(index, rng);
+  }
   void accept() {
     if (large_step_) last_large_ = iteration_;
   }
@@ -49,9 +52,9 @@ class PrimarySampleVector {
     uint64_t modified = 0, saved_modified = 0;  // the iteration that last set it
   };
   float perturb(float x, Rng& rng) const;
+  float mutate(uint32_t index, Rng& rng);
 
   std::vector<Coordinate> coordinates_;
-  std::vector<uint32_t> touched_;  // read in this iteration
   uint64_t iteration_ = 0, last_large_ = 0;
   bool large_step_ = false;
   float sigma_;

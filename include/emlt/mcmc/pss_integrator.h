@@ -8,15 +8,15 @@
 //   - "mmlt": Hachisuka et al. 2014, Multiplexed MLT. Each chain keeps one path length k;
 //     a coordinate picks the BDPT strategy, f*_k = the luminance of that strategy's
 //     MIS-weighted contribution over its selection probability, and the chains of length k
-//     are normalised by b_k, the mean of f*_k over the bootstrap's samples of that length.
+//     are normalised by b_k, the image's mean luminance in paths of k segments.
 // Both use Kelemen's combined estimator: every step splats the proposal y with weight
 // (a + L) / (f*(y) / b + p_L) and the current state x with (1 - a) / (f*(x) / b + p_L),
 // L = 1 for a large step; it is unbiased for any b > 0 and p_L, and with p_L = 0 reduces to
 // the plain MLT estimator b F / f*.
 //
-// The driver is the MLT one's in structure: a bootstrap of N independent samples gives b
-// (b_k) and the chains' seeds (resampled in proportion to f*, so there is no start-up
-// bias), the chains run in a fixed partition of 64 blocks on TBB, splat into fixed-point
+// The driver is the MLT one's in structure: MLT's bootstrap (BDPT samples) gives b (b_k),
+// N independent primary samples the chains' seeds (resampled in proportion to f*, so
+// there is no start-up bias), the chains run in a fixed partition of 64 blocks on TBB, splat into fixed-point
 // films, and take whole sweeps of equal steps, so a seed gives the same bits at any thread
 // count. The direct light may be rendered separately (--direct separate) as for MLT.
 // Neither checkpoints nor MPI are supported (the command line refuses them).
