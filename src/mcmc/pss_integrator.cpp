@@ -366,10 +366,12 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
   progress.start(name().c_str(), timed ? 0 : planned_steps * uint64_t(chain_count),
                  settings.time_limit_s);
   uint64_t steps_done = 0, rounds = 1, next_snapshot = 1;
+  uint64_t logged = UINT64_MAX;  // the steps of the log's last row
   bool stopped = false;
   std::vector<uint64_t> chain_steps(static_cast<size_t>(chain_count), 0);
   while (steps_done < planned_steps) {
-    if (timed && elapsed() - snapshot_seconds >= settings.time_limit_s) break;
+    // (At least one sweep: a budget spent by the bootstrap still gives the chains a round.)
+    if (timed && steps_done > 0 && elapsed() - snapshot_seconds >= settings.time_limit_s) break;
     uint64_t sweep = timed ? rounds : planned_steps - steps_done;
     sweep = std::min(sweep, planned_steps - steps_done);
     // Up to the next power of two in mutations per pixel.
@@ -406,9 +408,10 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
     if (timed && elapsed() - sweep_start < std::min(0.05, settings.time_limit_s / 50.0))
       rounds *= 2;
     for (; steps_done * uint64_t(chain_count) >= next_snapshot * pixels; next_snapshot *= 2)
-      if (settings.snapshots) {
+      if (settings.snapshots && steps_done * uint64_t(chain_count) != logged) {
         const auto begin = std::chrono::steady_clock::now();
         const uint64_t done = steps_done * uint64_t(chain_count);
+        logged = done;
         settings.snapshots->snapshot(double(done) / double(pixels), elapsed() - snapshot_seconds,
                                      compose(done), acceptance_so_far());
         snapshot_seconds +=
@@ -420,6 +423,10 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
   // steps actually taken (exact for PSSMLT; MMLT's per-length scale assumes equal counts).
   const uint64_t done = std::accumulate(chain_steps.begin(), chain_steps.end(), uint64_t(0));
   result.image = compose(done);
+  // The log ends on the final image unless its last row already is that image.
+  if (settings.snapshots && done != logged)
+    settings.snapshots->snapshot(double(done) / double(pixels), elapsed() - snapshot_seconds,
+                                 result.image, acceptance_so_far());
   result.interrupted = stopped;
   if (stopped) result.stopped_in = "the chains";
   stats_.strategies.assign(stat_count, StrategyStats{});
