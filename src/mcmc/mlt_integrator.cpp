@@ -337,25 +337,8 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   // Paths of one and two segments (emitters seen directly, direct light) from the direct
   // integrator, as Mitsuba does by default; the chains then never visit them.
   if (settings.direct_separate) {
-    RenderSettings direct = settings;
-    const bool time_only = settings.time_limit_s > 0.0 && !(settings.mutations_per_pixel > 0.0);
-    // Under a pure time budget the direct image gets a fixed share of the time (whole
-    // passes, so at least one sample per pixel): with a fixed 16 samples per pixel its noise
-    // dominated the door scene's error (MSE 1.1-2.0e-4 in 5 s, against 1.0-1.5e-5 with
-    // a few hundred samples).
-    constexpr double kDirectTimeShare = 0.15;
-    direct.spp = settings.direct_spp > 0 ? settings.direct_spp
-                 : time_only             ? 0
-                             : std::max(1, int(std::ceil(settings.mutations_per_pixel)));
-    direct.time_limit_s =
-        time_only && settings.direct_spp <= 0 ? kDirectTimeShare * settings.time_limit_s : 0.0;
-    direct.snapshots = nullptr;  // the log follows the chains, not this pass
-    direct.control = nullptr;    // its state is part of this render's
-    ProgressReporter quiet(false);
-    const RenderResult direct_result = render_pixels(
-        scene, direct, quiet,
-        [&](const Ray& ray, Rng& rng) { return DirectIntegrator::radiance(scene, direct, ray, rng); },
-        direct_state, [&] { RenderControl::pause(control, save_before_chains); });
+    const RenderResult direct_result = render_direct_pass(
+        scene, settings, direct_state, [&] { RenderControl::pause(control, save_before_chains); });
     result.image = direct_result.image;
     result.invalid_samples = 0;
     stats_.direct_spp = direct_result.samples_per_pixel;

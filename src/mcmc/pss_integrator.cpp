@@ -92,26 +92,8 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
   result.image = Image(width, height);
   double snapshot_seconds = 0.0;
   if (settings.direct_separate) {
-    // As MLT does (mlt_integrator.cpp): paths of one and two segments from the direct
-    // integrator, with a fixed share of a pure time budget.
-    RenderSettings direct = settings;
-    const bool time_only = settings.time_limit_s > 0.0 && !(settings.mutations_per_pixel > 0.0);
-    constexpr double kDirectTimeShare = 0.15;
-    direct.spp = settings.direct_spp > 0 ? settings.direct_spp
-                 : time_only             ? 0
-                             : std::max(1, int(std::ceil(settings.mutations_per_pixel)));
-    direct.time_limit_s =
-        time_only && settings.direct_spp <= 0 ? kDirectTimeShare * settings.time_limit_s : 0.0;
-    direct.snapshots = nullptr;
-    direct.control = nullptr;
-    ProgressReporter quiet(false);
     PixelRenderState direct_state;
-    const RenderResult direct_result = render_pixels(
-        scene, direct, quiet,
-        [&](const Ray& ray, Rng& rng) {
-          return DirectIntegrator::radiance(scene, direct, ray, rng);
-        },
-        direct_state, [] {});
+    const RenderResult direct_result = render_direct_pass(scene, settings, direct_state, [] {});
     result.image = direct_result.image;
     stats_.direct_spp = direct_result.samples_per_pixel;
     stats_.direct_seconds = direct_result.seconds;

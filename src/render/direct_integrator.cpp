@@ -2,8 +2,12 @@
 // BSDF sampling). This is the EMLT paper's direct-lighting baseline.
 #include "emlt/render/direct_integrator.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "emlt/render/direct_lighting.h"
 #include "emlt/render/pixel_renderer.h"
+#include "emlt/render/progress.h"
 
 namespace emlt {
 
@@ -28,6 +32,25 @@ RenderResult DirectIntegrator::render(const Scene& scene, const RenderSettings& 
                                       ProgressReporter& progress) const {
   return render_pixels(scene, settings, progress,
                        [&](const Ray& ray, Rng& rng) { return radiance(scene, settings, ray, rng); });
+}
+
+RenderResult render_direct_pass(const Scene& scene, const RenderSettings& settings,
+                                PixelRenderState& state, const std::function<void()>& on_pause) {
+  RenderSettings direct = settings;
+  const bool time_only = settings.time_limit_s > 0.0 && !(settings.mutations_per_pixel > 0.0);
+  constexpr double kDirectTimeShare = 0.15;
+  direct.spp = settings.direct_spp > 0 ? settings.direct_spp
+               : time_only             ? 0
+                           : std::max(1, int(std::ceil(settings.mutations_per_pixel)));
+  direct.time_limit_s =
+      time_only && settings.direct_spp <= 0 ? kDirectTimeShare * settings.time_limit_s : 0.0;
+  direct.snapshots = nullptr;  // the log follows the chains, not this pass
+  direct.control = nullptr;    // its state is part of the outer render's
+  ProgressReporter quiet(false);
+  return render_pixels(
+      scene, direct, quiet,
+      [&](const Ray& ray, Rng& rng) { return DirectIntegrator::radiance(scene, direct, ray, rng); },
+      state, on_pause);
 }
 
 }  // namespace emlt
