@@ -45,7 +45,9 @@ void report_mlt_statistics(const std::string& name, const MltStatistics& st,
   nlohmann::json strategies = nlohmann::json::array();
   for (size_t i = 0; i < st.strategies.size(); ++i) {
     const StrategyStats& s = st.strategies[i];
-    if (chains_ran)
+    // MMLT lists every path length up to the depth limit; one the chains never reached says
+    // nothing.
+    if (chains_ran && s.proposed + s.not_applicable > 0)
       std::fprintf(stderr, "  %-16s %12llu %14llu %12llu %12llu %10.4f %10llu\n",
                    st.strategy_names[i].c_str(), static_cast<unsigned long long>(s.proposed),
                    static_cast<unsigned long long>(s.not_applicable),

@@ -211,11 +211,13 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   if (o.output.empty()) o.output = std::filesystem::path(o.scene).stem().string() + ".exr";
   check_output_path(o.output);
   const auto integrator = make_integrator(settings.integrator);
-  const bool mcmc = dynamic_cast<const MltIntegrator*>(integrator.get()) != nullptr;
+  const bool path_space_mcmc = dynamic_cast<const MltIntegrator*>(integrator.get()) != nullptr;
+  const bool mcmc =
+      path_space_mcmc || dynamic_cast<const PssMltIntegrator*>(integrator.get()) != nullptr;
   const bool primary_sample_space =
       dynamic_cast<const PssMltIntegrator*>(integrator.get()) != nullptr;
   if (!settings.aniso_map_path.empty()) {
-    if (!mcmc) throw Error("--aniso-map needs an MCMC integrator (mlt, gamlt or emlt)");
+    if (!path_space_mcmc) throw Error("--aniso-map needs an MCMC integrator (mlt, gamlt or emlt)");
     check_output_path(settings.aniso_map_path);
   }
   if (settings.integrator == "emlt" && given("--chains"))
@@ -354,9 +356,17 @@ int run_render(const CLI::App& command, RenderOptions& o) {
     return exit_status_for_stop();
   }
   const double rate = result.seconds > 0.0 ? double(result.samples) / result.seconds : 0.0;
-  fmt::print("{}: {}x{}, {} spp, {:.2f} s, {:.3f} M samples/s -> {}\n", integrator->name(),
-             result.image.width, result.image.height, result.samples_per_pixel, result.seconds,
-             rate * 1e-6, outputs);
+  // An MCMC render's work is counted in mutations (its samples_per_pixel is the mutations per
+  // pixel, rounded), not in camera samples.
+  if (mcmc)
+    fmt::print("{}: {}x{}, {:.4g} mutations per pixel, {:.2f} s, {:.3f} M mutations/s -> {}\n",
+               integrator->name(), result.image.width, result.image.height,
+               double(result.samples) / (double(result.image.width) * result.image.height),
+               result.seconds, rate * 1e-6, outputs);
+  else
+    fmt::print("{}: {}x{}, {} spp, {:.2f} s, {:.3f} M samples/s -> {}\n", integrator->name(),
+               result.image.width, result.image.height, result.samples_per_pixel, result.seconds,
+               rate * 1e-6, outputs);
   return 0;
 }
 
