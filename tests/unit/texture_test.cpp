@@ -83,6 +83,32 @@ TEST(BitmapTexture, PngIsDecodedFromSrgbUnlessRaw) {
   EXPECT_THROW(load_bitmap_texture((dir / "absent.png").string()), Error);
 }
 
+// 8-bit files are kept as their bytes (a quarter of float RGB's memory); every texel must
+// still read back exactly the float read_image decodes, sRGB or raw, at all 256 levels.
+TEST(BitmapTexture, EightBitTexelsReadBackExactlyAsDecoded) {
+  const auto dir = test::scratch_dir("texture-levels");
+  const auto decode = [](float v) {
+    return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+  };
+  Image levels(256, 1);
+  for (int i = 0; i < 256; ++i)
+    levels.at(i, 0) = Rgb(decode(float(i) / 255.0f), decode(float(255 - i) / 255.0f),
+                          decode(float((7 * i) % 256) / 255.0f));
+  const std::string path = (dir / "levels.png").string();
+  write_image(path, levels);
+  const Image decoded = read_image(path);
+  const TexturePtr srgb = load_bitmap_texture(path, false, {}, WrapMode::Clamp);
+  const TexturePtr raw = load_bitmap_texture(path, true, {}, WrapMode::Clamp);
+  const std::vector<unsigned char> bytes = to_srgb8(decoded);
+  for (int i = 0; i < 256; ++i) {
+    const Vec2 centre((float(i) + 0.5f) / 256.0f, 0.5f);  // bilinear weight 1 on texel i
+    EXPECT_EQ(srgb->eval(centre), decoded.at(i, 0)) << "level " << i;
+    const Rgb stored(float(bytes[3 * size_t(i)]) / 255.0f, float(bytes[3 * size_t(i) + 1]) / 255.0f,
+                     float(bytes[3 * size_t(i) + 2]) / 255.0f);
+    EXPECT_EQ(raw->eval(centre), stored) << "level " << i;
+  }
+}
+
 TEST(Checkerboard, MitsubaCellLayoutAndUvScale) {
   const Rgb c0(0.4f), c1(0.2f);
   const TexturePtr t = make_checkerboard_texture(c0, c1);
