@@ -637,33 +637,50 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   // weight not yet splatted (added to a copy: the chains go on untouched), scaled so the
   // image's mean luminance is b.
   uint64_t live = 0;  // chains with a seed (all, in practice): counted once every rank has them
-  const Image direct_image = result.image;
+  // Moved out rather than copied: result.image is set again from compose() at the end.
+  Image direct_image = std::move(result.image);
   // Complete on rank 0 (the films and the chains' unsplatted weights summed over ranks).
-  const auto compose = [&](uint64_t mutations_done) {
+  // It runs while the chains and films are held, at the render's peak memory: each buffer
+  // is released as soon as it is used, and the last call (`last`) takes the direct image
+  // instead of copying it.
+  const auto compose = [&](uint64_t mutations_done, bool last = false) {
     std::vector<DVec3> total(pixels, DVec3(0.0));
-    std::vector<int64_t> units;
-    if (!FixedPointFilm::total_units(films, units))
-      throw Error(
+    const auto overflowed = [] {
+      return Error(
           "the MCMC film overflowed: more than 4e10 mutations' worth of weight in one "
           "pixel (use fewer mutations per pixel or a larger image)");
-    std::vector<double> carried(kCarriedFields * chains.size(), 0.0);
-    for (size_t c = 0; c < chains.size(); ++c)
-      if (owns_chain(c))
-        put_carried(carried, c, chains[c].current.vertices.empty() ? Vec2(0.0f) : chains[c].current.raster(),
-                    chains[c].contribution, chains[c].target, chains[c].carried);
-    cluster::sum_to_root(units);
-    cluster::sum_to_root(carried);
-    for (uint64_t p = 0; p < pixels; ++p)
-      total[p] = DVec3(double(units[3 * p]), double(units[3 * p + 1]), double(units[3 * p + 2])) /
-                 FixedPointFilm::kUnitsPerValue;
-    for (size_t c = 0; c < chains.size(); ++c) {
-      const double* f = &carried[kCarriedFields * c];
-      splat(total, width, height, scene.camera().filter(), Vec2(float(f[0]), float(f[1])),
-            DVec3(f[2], f[3], f[4]), f[5], f[6]);
+    };
+    if (cluster::size() == 1) {
+      // One process: each pixel straight from the films (the same integer sums, converted
+      // the same way), without the whole image of them as integers beside `total`.
+      for (const FixedPointFilm& film : films)
+        if (film.overflowed()) throw overflowed();
+      for (uint64_t p = 0; p < pixels; ++p)
+        if (!FixedPointFilm::total(films, p, total[p])) throw overflowed();
+    } else {
+      std::vector<int64_t> units;
+      if (!FixedPointFilm::total_units(films, units)) throw overflowed();
+      cluster::sum_to_root(units);
+      for (uint64_t p = 0; p < pixels; ++p)
+        total[p] = DVec3(double(units[3 * p]), double(units[3 * p + 1]), double(units[3 * p + 2])) /
+                   FixedPointFilm::kUnitsPerValue;
+    }
+    {
+      std::vector<double> carried(kCarriedFields * chains.size(), 0.0);
+      for (size_t c = 0; c < chains.size(); ++c)
+        if (owns_chain(c))
+          put_carried(carried, c, chains[c].current.vertices.empty() ? Vec2(0.0f) : chains[c].current.raster(),
+                      chains[c].contribution, chains[c].target, chains[c].carried);
+      cluster::sum_to_root(carried);
+      for (size_t c = 0; c < chains.size(); ++c) {
+        const double* f = &carried[kCarriedFields * c];
+        splat(total, width, height, scene.camera().filter(), Vec2(float(f[0]), float(f[1])),
+              DVec3(f[2], f[3], f[4]), f[5], f[6]);
+      }
     }
     const double splatted = double(mutations_done) * double(live) / double(chain_count);
     const double scale = splatted > 0.0 ? double(pixels) * b / splatted : 0.0;
-    Image image = direct_image;
+    Image image = last ? std::move(direct_image) : direct_image;
     for (uint64_t p = 0; p < pixels; ++p) image.pixels[p] += Rgb(total[p] * scale);
     return image;
   };
@@ -955,7 +972,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   if (!stopped) RenderControl::finish(control, save_all);
   progress.finish();
 
-  result.image = compose(done);
+  result.image = compose(done, true);
   result.interrupted = stopped;
   if (record_moves) {
     std::vector<int64_t> units;
