@@ -669,7 +669,8 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
       std::vector<double> carried(kCarriedFields * chains.size(), 0.0);
       for (size_t c = 0; c < chains.size(); ++c)
         if (owns_chain(c))
-          put_carried(carried, c, chains[c].current.vertices.empty() ? Vec2(0.0f) : chains[c].current.raster(),
+          put_carried(carried, c,
+                      chains[c].current.vertices.empty() ? Vec2(0.0f) : chains[c].current.raster(),
                       chains[c].contribution, chains[c].target, chains[c].carried);
       cluster::sum_to_root(carried);
       for (size_t c = 0; c < chains.size(); ++c) {

@@ -68,9 +68,7 @@ class BitmapTexture final : public Texture {
     const float x0 = std::floor(x), y0 = std::floor(y);
     const float fx = x - x0, fy = y - y0;
     const int64_t ix = int64_t(x0), iy = int64_t(y0);
-    const auto texel = [&](int64_t i, int64_t j) {
-      return at(wrap(i, width_), wrap(j, height_));
-    };
+    const auto texel = [&](int64_t i, int64_t j) { return at(wrap(i, width_), wrap(j, height_)); };
     return (1.0f - fy) * ((1.0f - fx) * texel(ix, iy) + fx * texel(ix + 1, iy)) +
            fy * ((1.0f - fx) * texel(ix, iy + 1) + fx * texel(ix + 1, iy + 1));
   }
@@ -133,7 +131,8 @@ TexturePtr load_bitmap_texture(const std::string& path, bool raw, const UvTransf
                                WrapMode wrap) {
   Image image = read_image(path);
   std::string name = std::filesystem::path(path).filename().string();
-  if (!is_eight_bit_format(path)) return make_bitmap_texture(std::move(image), transform, wrap, name);
+  if (!is_eight_bit_format(path))
+    return make_bitmap_texture(std::move(image), transform, wrap, name);
   // read_image decoded the 8-bit values from sRGB; re-encoding returns exactly the stored
   // bytes (the decode is injective on the 256 levels).
   std::vector<unsigned char> bytes = to_srgb8(image);
