@@ -499,7 +499,11 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
     }
     hit.shading_normal = ns;
     hit.uv = g.uv_at(hit.primitive_id, u, v, hit.position);
-    if (g.uvs.empty())
+    // Only a bump map and an anisotropic BSDF read the derivatives; working them out for
+    // every hit cost a tenth of this function.
+    if (!g.bump && !g.anisotropic)
+      hit.dpdu = hit.dpdv = Vec3(0.0f);
+    else if (g.uvs.empty())
       hit.dpdu = p1 - p0, hit.dpdv = p2 - p0;  // uv are the barycentrics themselves
     else
       triangle_uv_derivatives(p0, p1, p2, g.uvs[tri[0]], g.uvs[tri[1]], g.uvs[tri[2]], ng,

@@ -21,6 +21,8 @@ struct SurfaceHit {
   Vec2 uv{0.0f};
   // Surface derivatives with respect to uv (not normalised; an arbitrary tangent pair
   // when the uv mapping is degenerate). Bump mapping tilts the shading frame with them.
+  // Filled on meshes whose material has a bump map or an anisotropic BSDF (the only
+  // readers); zero on other meshes. Spheres always have them.
   Vec3 dpdu{0.0f}, dpdv{0.0f};
   float t = kInfinity;
   const Bsdf* bsdf = nullptr;   // never null for a valid hit
