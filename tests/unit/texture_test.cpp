@@ -109,6 +109,39 @@ TEST(BitmapTexture, EightBitTexelsReadBackExactlyAsDecoded) {
   }
 }
 
+// The same between texels, in every wrap mode, under a uv transform and outside [0, 1):
+// the byte-stored texture against a float texture of the decoded image (WrapModes checks
+// the wrapping itself against expected texels).
+TEST(BitmapTexture, EightBitStorageReadsTheDecodedFloatsExactly) {
+  const auto dir = test::scratch_dir("texture-bytes");
+  Image levels(16, 16);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x) {
+      const float level = float(16 * y + x) / 255.0f;
+      levels.at(x, y) =
+          Rgb(level, float(255 - (16 * y + x)) / 255.0f, float((7 * x + y) % 16) / 15.0f);
+    }
+  const std::string path = (dir / "levels.png").string();
+  write_image(path, levels);
+  const Image decoded = read_image(path);
+  Image raw_values = decoded;
+  const std::vector<unsigned char> bytes = to_srgb8(decoded);
+  for (size_t i = 0; i < raw_values.pixels.size(); ++i)
+    for (int c = 0; c < 3; ++c) raw_values.pixels[i][c] = float(bytes[3 * i + size_t(c)]) / 255.0f;
+  for (const WrapMode wrap : {WrapMode::Repeat, WrapMode::Mirror, WrapMode::Clamp}) {
+    const UvTransform transform{Vec2(1.7f, 2.3f), Vec2(-0.4f, 0.15f)};
+    const TexturePtr stored = load_bitmap_texture(path, false, transform, wrap);
+    const TexturePtr floats = make_bitmap_texture(decoded, transform, wrap);
+    const TexturePtr stored_raw = load_bitmap_texture(path, true, transform, wrap);
+    const TexturePtr floats_raw = make_bitmap_texture(raw_values, transform, wrap);
+    for (int i = 0; i < 2000; ++i) {
+      const Vec2 uv(float(i % 50) / 17.0f - 1.0f, float(i / 50) / 13.0f - 1.0f);
+      ASSERT_EQ(stored->eval(uv), floats->eval(uv)) << "uv " << uv.x << " " << uv.y;
+      ASSERT_EQ(stored_raw->eval(uv), floats_raw->eval(uv)) << "raw, uv " << uv.x << " " << uv.y;
+    }
+  }
+}
+
 TEST(Checkerboard, MitsubaCellLayoutAndUvScale) {
   const Rgb c0(0.4f), c1(0.2f);
   const TexturePtr t = make_checkerboard_texture(c0, c1);
