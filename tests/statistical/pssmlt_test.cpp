@@ -88,27 +88,8 @@ const Image& cornell_reference() {
 // Luminance over 3 x 3 tiles of the Cornell box against the reference: the worst tile's relative
 // deviation (after the images' total ratio), and that ratio.
 std::pair<double, double> cornell_deviation(const Image& image) {
-  const Image& reference = cornell_reference();
-  double total = 0.0, total_reference = 0.0;
-  std::vector<double> sums, reference_sums;
-  for (int by = 0; by < 3; ++by)
-    for (int bx = 0; bx < 3; ++bx) {
-      double a = 0.0, r = 0.0;
-      for (int y = by * 8; y < by * 8 + 8; ++y)
-        for (int x = bx * 8; x < bx * 8 + 8; ++x) {
-          a += luminance(DVec3(image.at(x, y)));
-          r += luminance(DVec3(reference.at(x, y)));
-        }
-      sums.push_back(a);
-      reference_sums.push_back(r);
-      total += a;
-      total_reference += r;
-    }
-  const double scale = total / total_reference;
-  double deviation = 0.0;
-  for (size_t i = 0; i < sums.size(); ++i)
-    deviation = std::max(deviation, std::abs(sums[i] / (reference_sums[i] * scale) - 1.0));
-  return {deviation, scale};
+  const test::TileDeviation d = test::tile_deviation(image, cornell_reference(), 3);
+  return {d.worst, d.scale};
 }
 
 RenderSettings cornell_settings(Variant v) {

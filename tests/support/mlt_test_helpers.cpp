@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <numeric>
 
 #include "emlt/mcmc/bootstrap.h"
 #include "emlt/path/connection.h"
@@ -78,34 +79,45 @@ Image mlt_image(const Scene& scene, const std::string& mix, double mpp, MltStati
   return image;
 }
 
-void expect_converged_to(const Image& image, const Image& reference, int blocks,
-                         double tile_tolerance, double total_tolerance) {
+namespace {
+
+// Luminance sums over blocks x blocks tiles, row by row.
+std::vector<double> tile_sums(const Image& image, int blocks) {
   const int tile = image.width / blocks;
-  std::vector<double> sums, reference_sums;
-  double total = 0.0, total_reference = 0.0;
+  std::vector<double> sums;
   for (int by = 0; by < blocks; ++by)
     for (int bx = 0; bx < blocks; ++bx) {
-      double sum = 0.0, sum_reference = 0.0;
+      double sum = 0.0;
       for (int y = by * tile; y < (by + 1) * tile; ++y)
-        for (int x = bx * tile; x < (bx + 1) * tile; ++x) {
-          sum += luminance(DVec3(image.at(x, y)));
-          sum_reference += luminance(DVec3(reference.at(x, y)));
-        }
+        for (int x = bx * tile; x < (bx + 1) * tile; ++x) sum += luminance(DVec3(image.at(x, y)));
       sums.push_back(sum);
-      reference_sums.push_back(sum_reference);
-      total += sum;
-      total_reference += sum_reference;
     }
-  const double scale = total / total_reference;
-  EXPECT_NEAR(scale, 1.0, total_tolerance);
-  double worst = 0.0;
-  for (size_t i = 0; i < sums.size(); ++i) {
-    const double ratio = sums[i] / (reference_sums[i] * scale);
-    worst = std::max(worst, std::abs(ratio - 1.0));
-    EXPECT_NEAR(ratio, 1.0, tile_tolerance)
+  return sums;
+}
+
+}  // namespace
+
+TileDeviation tile_deviation(const Image& image, const Image& reference, int blocks) {
+  const std::vector<double> sums = tile_sums(image, blocks),
+                            reference_sums = tile_sums(reference, blocks);
+  TileDeviation d;
+  d.scale = std::accumulate(sums.begin(), sums.end(), 0.0) /
+            std::accumulate(reference_sums.begin(), reference_sums.end(), 0.0);
+  for (size_t i = 0; i < sums.size(); ++i)
+    d.worst = std::max(d.worst, std::abs(sums[i] / (reference_sums[i] * d.scale) - 1.0));
+  return d;
+}
+
+void expect_converged_to(const Image& image, const Image& reference, int blocks,
+                         double tile_tolerance, double total_tolerance) {
+  const std::vector<double> sums = tile_sums(image, blocks),
+                            reference_sums = tile_sums(reference, blocks);
+  const TileDeviation d = tile_deviation(image, reference, blocks);
+  EXPECT_NEAR(d.scale, 1.0, total_tolerance);
+  for (size_t i = 0; i < sums.size(); ++i)
+    EXPECT_NEAR(sums[i] / (reference_sums[i] * d.scale), 1.0, tile_tolerance)
         << "tile (" << i % size_t(blocks) << ", " << i / size_t(blocks) << ")";
-  }
-  std::printf("[ info     ] total ratio %.4f, worst tile deviation %.4f\n", scale, worst);
+  std::printf("[ info     ] total ratio %.4f, worst tile deviation %.4f\n", d.scale, d.worst);
 }
 
 Path floor_mirror_light_path(const Scene& scene, const Vec2& raster, const Vec3& up) {

@@ -24,13 +24,21 @@ Image render(const Integrator& integrator, const Scene& scene, RenderSettings se
 RenderSettings base_settings();
 Image bdpt_reference(const Scene& scene, int spp);
 // MLT with `mix` (64 chains, 50k bootstrap samples, 256-spp direct image).
-Image mlt_image(const Scene& scene, const std::string& mix, double mpp, MltStatistics* stats = nullptr);
+Image mlt_image(const Scene& scene, const std::string& mix, double mpp,
+                MltStatistics* stats = nullptr);
 // Luminance sums over blocks x blocks tiles and over the image. The image total must be
 // within total_tolerance of the reference (it carries the bootstrap's error in b, a global
 // scale), and each tile, divided by that total ratio, within tile_tolerance: the shape of
 // the image, which is what a wrong proposal density distorts.
-void expect_converged_to(const Image& image, const Image& reference, int blocks, double tile_tolerance,
-                         double total_tolerance);
+void expect_converged_to(const Image& image, const Image& reference, int blocks,
+                         double tile_tolerance, double total_tolerance);
+// The figures expect_converged_to checks: the image total over the reference's, and the
+// worst tile's relative deviation after dividing by that ratio.
+struct TileDeviation {
+  double scale = 1.0;
+  double worst = 0.0;
+};
+TileDeviation tile_deviation(const Image& image, const Image& reference, int blocks);
 // The L D E path from the centre of a small downward-facing light above the origin to the
 // floor point seen through `raster` (density tests on toy floors).
 Path light_floor_eye_path(const Scene& scene, const Vec2& raster);
