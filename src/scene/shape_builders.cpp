@@ -12,12 +12,17 @@ namespace emlt {
 
 namespace {
 
-void add_quad(MeshDesc& mesh, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-  // a b c d counter-clockwise seen from the side the quad faces.
+void add_quad(MeshDesc& mesh, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
+              bool clockwise = false) {
+  // a b c d at uv (0,0) (1,0) (1,1) (0,1), counter-clockwise seen from the side the quad
+  // faces (or clockwise, when `clockwise`: the quad then faces the other way).
   const auto base = uint32_t(mesh.positions.size());
   mesh.positions.insert(mesh.positions.end(), {a, b, c, d});
   mesh.uvs.insert(mesh.uvs.end(), {Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1)});
-  mesh.indices.insert(mesh.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+  if (clockwise)
+    mesh.indices.insert(mesh.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
+  else
+    mesh.indices.insert(mesh.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
 }
 
 }  // namespace
@@ -37,19 +42,24 @@ MeshDesc make_rectangle_mesh(const Mat4& to_world) {
 }
 
 MeshDesc make_cube_mesh(const Mat4& to_world) {
+  // Mitsuba 0.6's cube ([-1, 1]^3) parametrises each face with its own texture axes, which a
+  // textured or anisotropic cube shows: per face, the corner at uv (0, 0) and the directions
+  // of u and v (each spanning the face). E.g. on the top face u runs along -x and v along -z.
+  struct Face {
+    Vec3 outward, origin, u, v;
+  };
+  static const Face kFaces[] = {
+      {{0, -1, 0}, {-1, -1, -1}, {0, 0, 2}, {2, 0, 0}},
+      {{0, 1, 0}, {1, 1, 1}, {-2, 0, 0}, {0, 0, -2}},
+      {{1, 0, 0}, {1, -1, 1}, {0, 2, 0}, {0, 0, -2}},
+      {{0, 0, 1}, {-1, -1, 1}, {0, 2, 0}, {2, 0, 0}},
+      {{-1, 0, 0}, {-1, -1, -1}, {0, 2, 0}, {0, 0, 2}},
+      {{0, 0, -1}, {-1, 1, -1}, {0, -2, 0}, {2, 0, 0}},
+  };
   MeshDesc mesh;
-  // For each axis and sign, the face's two in-plane axes ordered so that
-  // cross(first, second) = outward normal.
-  for (int axis = 0; axis < 3; ++axis) {
-    for (float sign : {-1.0f, 1.0f}) {
-      Vec3 n(0.0f), u(0.0f), v(0.0f);
-      n[axis] = sign;
-      u[(axis + 1) % 3] = 1.0f;
-      v[(axis + 2) % 3] = 1.0f;
-      if (sign < 0.0f) std::swap(u, v);
-      add_quad(mesh, n - u - v, n + u - v, n + u + v, n - u + v);
-    }
-  }
+  for (const Face& f : kFaces)
+    add_quad(mesh, f.origin, f.origin + f.u, f.origin + f.u + f.v, f.origin + f.v,
+             glm::dot(glm::cross(f.u, f.v), f.outward) < 0.0f);
   transform_mesh(mesh, to_world, true);
   return mesh;
 }

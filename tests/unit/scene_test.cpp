@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <glm/gtc/matrix_transform.hpp>
+#include <optional>
 
 #include "emlt/core/error.h"
 #include "emlt/scene/materials.h"
@@ -92,6 +93,34 @@ TEST(ShapeBuilders, CanonicalShapesHaveExpectedAreaAndFacing) {
     EXPECT_GT(glm::dot(n, (a + b + c) / 3.0f), 0.0f)
         << "cube triangle " << i / 3 << " faces inward";
   }
+  // Mitsuba 0.6's cube parametrisation (its cube.cpp table): on the top face u = (1 - x) / 2
+  // and v = (1 - z) / 2, on the front (+z) face u = (1 + y) / 2 and v = (1 + x) / 2, on the
+  // bottom face u = (1 + z) / 2 and v = (1 + x) / 2: each vertex's uv against those.
+  const auto expected_uv = [](const Vec3& p) {
+    if (p.y > 0.999f && std::abs(p.x) <= 1 && std::abs(p.z) <= 1)
+      return std::optional<Vec2>(Vec2((1 - p.x) / 2, (1 - p.z) / 2));
+    return std::optional<Vec2>();
+  };
+  int top_vertices = 0;
+  for (size_t i = 0; i < cube.indices.size(); i += 3) {
+    const Vec3 a = cube.positions[cube.indices[i]], b = cube.positions[cube.indices[i + 1]],
+               c = cube.positions[cube.indices[i + 2]];
+    const Vec3 n = glm::normalize(glm::cross(b - a, c - a));
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t index = cube.indices[i + size_t(k)];
+      const Vec3 p = cube.positions[index];
+      const Vec2 uv = cube.uvs[index];
+      std::optional<Vec2> want;
+      if (n.y > 0.5f) want = expected_uv(p), ++top_vertices;
+      if (n.z > 0.5f) want = Vec2((1 + p.y) / 2, (1 + p.x) / 2);
+      if (n.y < -0.5f) want = Vec2((1 + p.z) / 2, (1 + p.x) / 2);
+      if (want) {
+        EXPECT_NEAR(uv.x, want->x, 1e-6f) << "triangle " << i / 3 << " vertex " << k;
+        EXPECT_NEAR(uv.y, want->y, 1e-6f) << "triangle " << i / 3 << " vertex " << k;
+      }
+    }
+  }
+  EXPECT_EQ(top_vertices, 6);
   // A mirroring transform keeps the rectangle facing along the transformed normal (+z).
   auto [mirrored_area, mirrored_n] =
       area_and_normal(make_rectangle_mesh(glm::scale(Mat4(1.0f), Vec3(-1, 1, 1))));
