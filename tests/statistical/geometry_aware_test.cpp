@@ -515,7 +515,11 @@ TEST(GeometryAwareUnbiased, FullMixConvergesToBdptOnTheDoorScene) {
   const Image reference = bdpt_reference(*scene, 4096);
   MltStatistics stats;
   const Image image = mlt_image(*scene, kGamltMix, 4000, &stats);
-  EXPECT_GT(share_of(stats, "ga-lens") + share_of(stats, "ga-caustic"), 0.2);
+  // A guard that the geometry-aware perturbations take a real part of the moves (they are
+  // 4/9 of the proposals): their accepted moves are 19 % of all proposals here (since the
+  // cube shapes took Mitsuba's triangulation; above 20 % before), nowhere near 0 as when
+  // they never apply.
+  EXPECT_GT(share_of(stats, "ga-lens") + share_of(stats, "ga-caustic"), 0.15);
   // 16 x 16 door scene: plain MLT at the same budget (next test) is off by 11 % in its
   // worst quadrant and 3.8 % in total (the bootstrap's b), so the tolerance is 15 %.
   expect_converged_to(image, reference, 2, 0.15, 0.05);
