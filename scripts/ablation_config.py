@@ -33,6 +33,17 @@ METHODS = {
     "pssmlt": (["--integrator", "pssmlt"], "--mpp"),  # Kelemen et al. 2002 over the path tracer (issue 22)
     "pssmlt-bdpt": (["--integrator", "pssmlt", "--pss-tracer", "bdpt"], "--mpp"),  # ... over BDPT
     "mmlt": (["--integrator", "mmlt"], "--mpp"),  # Hachisuka et al. 2014, Multiplexed MLT (issue 22)
+    # Issue 21, ensemble-informed ideas beyond the paper (docs/experiments.md, "Beyond the paper"):
+    # the ensemble driver with Veach's mix, then with the density jump and/or the
+    # spread-scaled perturbations in place of Veach's lens, caustic and multi-chain moves.
+    "emlt-veach": (["--integrator", "emlt", "--mutations", "mlt"], "--mpp"),
+    "emlt-jump": (["--integrator", "emlt", "--mutations",
+                   "bidir=3,lens=1,emlt-jump=1,caustic=2,multichain=2"], "--mpp"),
+    "emlt-spread": (["--integrator", "emlt", "--mutations",
+                     "bidir=3,emlt-spread-lens=2,emlt-spread-caustic=2,emlt-spread-multichain=2"], "--mpp"),
+    "emlt-jump-spread": (["--integrator", "emlt", "--mutations",
+                          "bidir=3,emlt-spread-lens=1,emlt-jump=1,emlt-spread-caustic=2,"
+                          "emlt-spread-multichain=2"], "--mpp"),
 }
 
 # "mlt:MIX" names an MLT run with the mutation mix MIX, e.g. "mlt:bidir=1,lens=1".

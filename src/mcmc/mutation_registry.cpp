@@ -3,10 +3,12 @@
 #include "mutations/bidirectional.h"
 #include "mutations/caustic_perturbation.h"
 #include "mutations/ensemble/anisotropic_path.h"
+#include "mutations/ensemble/density_jump_lens.h"
 #include "mutations/ensemble/environment_perturbation.h"
 #include "mutations/ensemble/guided_caustic.h"
 #include "mutations/ensemble/guided_lens.h"
 #include "mutations/ensemble/guided_multichain.h"
+#include "mutations/ensemble/spread_scaled_perturbation.h"
 #include "mutations/geometry_aware/ga_perturbations.h"
 #include "mutations/lens_perturbation.h"
 #include "mutations/multichain_perturbation.h"
@@ -15,7 +17,8 @@ namespace emlt {
 
 std::vector<std::string> mutation_names() {
   return {"bidir", "lens", "caustic", "multichain", "ga-lens", "ga-caustic", "ga-multichain",
-          "emlt-lens", "emlt-caustic", "emlt-multichain", "emlt-aniso", "emlt-env"};
+          "emlt-lens", "emlt-caustic", "emlt-multichain", "emlt-aniso", "emlt-env",
+          "emlt-jump", "emlt-spread-lens", "emlt-spread-caustic", "emlt-spread-multichain"};
 }
 
 std::unique_ptr<Mutation> make_mutation(const std::string& name) {
@@ -31,6 +34,14 @@ std::unique_ptr<Mutation> make_mutation(const std::string& name) {
   if (name == "emlt-multichain" || name == "emlt-multi-chain") return std::make_unique<GuidedMultiChainPerturbation>();
   if (name == "emlt-aniso") return std::make_unique<AnisotropicPathPerturbation>();
   if (name == "emlt-env") return std::make_unique<EnvironmentPerturbation>();
+  // Issue 21's ensemble-informed variants (docs/experiments.md).
+  if (name == "emlt-jump") return std::make_unique<DensityJumpLens>();
+  if (name == "emlt-spread-lens")
+    return std::make_unique<SpreadScaledPerturbation>(name, std::make_unique<LensPerturbation>());
+  if (name == "emlt-spread-caustic")
+    return std::make_unique<SpreadScaledPerturbation>(name, std::make_unique<CausticPerturbation>());
+  if (name == "emlt-spread-multichain")
+    return std::make_unique<SpreadScaledPerturbation>(name, std::make_unique<MultiChainPerturbation>());
   std::string known;
   for (const auto& n : mutation_names()) known += (known.empty() ? "" : ", ") + n;
   throw Error("unknown mutation '" + name + "' (available: " + known + ")");
