@@ -124,9 +124,14 @@ class Suite:
             cmd += ["--mpp", str(count), "--direct", "mlt", "--stats", stats]
         else:
             cmd += ["--spp", str(count)]
-        wall, rss, cpu, _ = median_run(self.args.repeat, cmd + list(extra), cwd=ROOT, log=self.log)
+        wall, rss, cpu, text = median_run(self.args.repeat, cmd + list(extra), cwd=ROOT, log=self.log)
         work = scene.width * scene.height * count
         result = {"wall_s": wall, "peak_mb": rss, "cpu_s": cpu, "work": work, "rate": work / wall}
+        # The render alone, as emlt's closing line gives it: without loading the scene and
+        # building the BVH, and without writing the image.
+        closing = re.search(r", ([0-9.]+) s, [0-9.]+ M ", text)
+        if closing:
+            result["render_s"] = float(closing.group(1))
         if integrator in MCMC:
             with open(stats) as f:
                 st = json.load(f)
@@ -170,6 +175,23 @@ class Suite:
         return {"instructions_per_mutation": total / mutations,
                 "share": {k: v / total for k, v in totals.items()}}
 
+    def concurrent_walls(self, scene, integrator, count, copies):
+        """Wall times of `copies` single-thread renders started together."""
+        procs = []
+        for i in range(copies):
+            cmd = [self.emlt, "render", scene.path, "--integrator", integrator, "--threads", "1",
+                   "--seed", "1", "-q", "-o", os.path.join(self.scratch, f"pair{i}.exr")] + \
+                self.size_flags(scene)
+            cmd += ["--mpp", str(count), "--direct", "mlt"] if integrator in MCMC else ["--spp", str(count)]
+            procs.append((time.monotonic(), subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.DEVNULL,
+                                                             stderr=subprocess.DEVNULL)))
+        walls = []
+        for start, proc in procs:
+            if proc.wait() != 0:
+                sys.exit(f"bench: a concurrent {integrator} render of {scene.name} failed")
+            walls.append(time.monotonic() - start)
+        return walls
+
     def mitsuba(self, scene, integrator, count, threads):
         xml = mitsuba_variant(scene.path, integrator, count, scene.width, scene.height,
                               os.path.join(self.scratch, f"{scene.name}-{integrator}.xml"))
@@ -201,15 +223,25 @@ class Suite:
         if a.scaling:
             fig["scaling"] = {}
             for integrator, count in (("pt", pt_spp), ("mlt", mpp)):
+                count *= a.scaling_work  # longer runs: the fixed serial parts weigh less
                 one = self.emlt_render(scene, integrator, count, 1)
                 many = self.emlt_render(scene, integrator, count, t)
-                fig["scaling"][integrator] = {
-                    "threads": t, "wall_1": one["wall_s"], "wall_2": many["wall_s"],
+                pair = self.concurrent_walls(scene, integrator, count, t)
+                entry = {
+                    "threads": t, "work_factor": a.scaling_work,
+                    "wall_1": one["wall_s"], "wall_2": many["wall_s"],
                     "cpu_1": one["cpu_s"], "cpu_2": many["cpu_s"],
                     "efficiency": one["wall_s"] / (t * many["wall_s"]),
                     # Extra CPU time the T-thread run spends (1 = none): contention or
                     # threads spinning, as opposed to the machine's other load.
-                    "cpu_ratio": many["cpu_s"] / one["cpu_s"]}
+                    "cpu_ratio": many["cpu_s"] / one["cpu_s"],
+                    # The machine's own ceiling: T single-thread renders at once, each
+                    # against one alone (1 = the cores do not slow each other down).
+                    "hardware_efficiency": one["wall_s"] / max(pair)}
+                if "render_s" in one and "render_s" in many and many["render_s"] > 0:
+                    entry["render_1"], entry["render_2"] = one["render_s"], many["render_s"]
+                    entry["render_efficiency"] = one["render_s"] / (t * many["render_s"])
+                fig["scaling"][integrator] = entry
         fig["load_after"] = load_average()
         return fig
 
@@ -389,12 +421,20 @@ def table(figures, args):
                      f"T{args.threads}), wall clock; CPU ratio = CPU time with {args.threads} threads over 1, "
                      "where 1.00 means no extra work):")
         lines.append("")
-        lines.append(f"| scene | integrator | T1 | T{args.threads} | efficiency | CPU ratio |")
-        lines.append("|---|---|---|---|---|---|")
+        lines.append(f"Render alone = the same from emlt's closing line (without loading, BVH build and "
+                     f"writing the image); machine ceiling = one 1-thread render's wall time over the "
+                     f"slowest of {args.threads} run at once (below 1: the cores slow each other down, "
+                     "whatever the program).")
+        lines.append("")
+        lines.append(f"| scene | integrator | T1 | T{args.threads} | efficiency | render alone | "
+                     "machine ceiling | CPU ratio |")
+        lines.append("|---|---|---|---|---|---|---|---|")
         for f in scaled:
             for k, s in f["scaling"].items():
+                render = f"{s['render_efficiency']:.2f}" if "render_efficiency" in s else "-"
+                ceiling = f"{s['hardware_efficiency']:.2f}" if "hardware_efficiency" in s else "-"
                 lines.append(f"| {f['scene']} | {k} | {s['wall_1']:.2f} s | {s['wall_2']:.2f} s | "
-                             f"{s['efficiency']:.2f} | {s['cpu_ratio']:.2f} |")
+                             f"{s['efficiency']:.2f} | {render} | {ceiling} | {s['cpu_ratio']:.2f} |")
     compared = [f for f in figures if f.get("mitsuba")]
     if compared:
         lines.append("")
@@ -443,6 +483,8 @@ def main():
     parser.add_argument("--profile-function", default="emlt::(anonymous namespace)::run_chain*",
                         help="callgrind collects inside this function only (the chains)")
     parser.add_argument("--scaling", action="store_true", help="also pt and mlt at 1 thread and at --threads, with the efficiency")
+    parser.add_argument("--scaling-work", type=int, default=4,
+                        help="the scaling runs do this many times the table's work (default 4)")
     parser.add_argument("--mitsuba", default=os.environ.get("MITSUBA"), help="Mitsuba 0.6 binary: side by side")
     parser.add_argument("--door", help="also the public Veach door (its door-mlt.xml), 384x256")
     parser.add_argument("--update-docs", action="store_true", help="write the table into docs/performance.md")
