@@ -39,6 +39,8 @@ METHODS = {
     "emlt-veach": (["--integrator", "emlt", "--mutations", "mlt"], "--mpp"),
     "emlt-jump": (["--integrator", "emlt", "--mutations",
                    "bidir=3,lens=1,emlt-jump=1,caustic=2,multichain=2"], "--mpp"),
+    "emlt-jump-near": (["--integrator", "emlt", "--mutations",
+                        "bidir=3,lens=1,emlt-jump-near=1,caustic=2,multichain=2"], "--mpp"),
     "emlt-spread": (["--integrator", "emlt", "--mutations",
                      "bidir=3,emlt-spread-lens=2,emlt-spread-caustic=2,emlt-spread-multichain=2"], "--mpp"),
     "emlt-jump-spread": (["--integrator", "emlt", "--mutations",

@@ -8,9 +8,18 @@
 
 namespace emlt::ensemble {
 
-GuideMixture fit_guide_mixture(std::span<const Vec2> centres, double min_bandwidth) {
+GuideMixture fit_guide_mixture(std::span<const Vec2> centres, double min_bandwidth,
+                               std::span<const double> weights) {
   GuideMixture mixture;
   mixture.centres = centres;
+  if (weights.size() == centres.size()) {
+    double total = 0.0;
+    for (const double w : weights) total += w;
+    if (total > 0.0 && std::isfinite(total)) {
+      mixture.weights = weights;
+      mixture.weight_total = total;
+    }
+  }
   const double scott =
       guide_spread(centres) * std::pow(double(std::max<size_t>(centres.size(), 1)), -1.0 / 6.0);
   mixture.bandwidth = std::max(scott, min_bandwidth);
@@ -18,7 +27,17 @@ GuideMixture fit_guide_mixture(std::span<const Vec2> centres, double min_bandwid
 }
 
 Vec2 sample_guide_mixture(const GuideMixture& mixture, Rng& rng) {
-  const Vec2 centre = mixture.centres[rng.uniform_index(uint32_t(mixture.centres.size()))];
+  size_t pick = rng.uniform_index(uint32_t(mixture.centres.size()));
+  if (!mixture.weights.empty()) {
+    double u = rng.uniform_double() * mixture.weight_total;
+    pick = mixture.centres.size() - 1;
+    for (size_t n = 0; n < mixture.centres.size(); ++n)
+      if ((u -= mixture.weights[n]) < 0.0) {
+        pick = n;
+        break;
+      }
+  }
+  const Vec2 centre = mixture.centres[pick];
   // Box-Muller in double; 1 - u keeps the logarithm finite.
   const double r = mixture.bandwidth * std::sqrt(-2.0 * std::log(1.0 - rng.uniform_double()));
   const double phi = 2.0 * M_PI * rng.uniform_double();
@@ -28,16 +47,21 @@ Vec2 sample_guide_mixture(const GuideMixture& mixture, Rng& rng) {
 
 double guide_mixture_log_density(const GuideMixture& mixture, const Vec2& u) {
   if (mixture.centres.empty()) return -std::numeric_limits<double>::infinity();
+  const bool weighted = !mixture.weights.empty();
   const double inv_two_h2 = 0.5 / (mixture.bandwidth * mixture.bandwidth);
-  const auto exponent = [&](const Vec2& centre) {
+  const auto exponent = [&](size_t n) {
+    const Vec2& centre = mixture.centres[n];
     const double dx = double(u.x) - double(centre.x), dy = double(u.y) - double(centre.y);
     return -(dx * dx + dy * dy) * inv_two_h2;
   };
   double largest = -std::numeric_limits<double>::infinity();
-  for (const Vec2& centre : mixture.centres) largest = std::max(largest, exponent(centre));
+  for (size_t n = 0; n < mixture.centres.size(); ++n)
+    if (!weighted || mixture.weights[n] > 0.0) largest = std::max(largest, exponent(n));
   double sum = 0.0;
-  for (const Vec2& centre : mixture.centres) sum += std::exp(exponent(centre) - largest);
-  return largest + std::log(sum / double(mixture.centres.size())) -
+  for (size_t n = 0; n < mixture.centres.size(); ++n)
+    sum += (weighted ? mixture.weights[n] : 1.0) * std::exp(exponent(n) - largest);
+  const double total = weighted ? mixture.weight_total : double(mixture.centres.size());
+  return largest + std::log(sum / total) -
          std::log(2.0 * M_PI * mixture.bandwidth * mixture.bandwidth);
 }
 

@@ -17,13 +17,21 @@
 
 namespace emlt::ensemble {
 
+// Weighted variant: component n drawn with probability w_n / Σ w (the bandwidth stays the
+// unweighted one). Valid under the same condition: the weights, like Υ, must be the same for
+// the forward and the reverse move, e.g. functions of a vertex the move keeps (DensityJumpLens
+// weighs the guides by the similarity of their vertex l to the fixed x_l).
 struct GuideMixture {
   std::span<const Vec2> centres;
   double bandwidth = 1.0;
+  std::span<const double> weights;  // empty: uniform
+  double weight_total = 0.0;
 };
 
-// The mixture over `centres` with Scott's bandwidth, at least min_bandwidth.
-GuideMixture fit_guide_mixture(std::span<const Vec2> centres, double min_bandwidth);
+// The mixture over `centres` with Scott's bandwidth, at least min_bandwidth; `weights`
+// (optional, one per centre, >= 0) are used when their sum is positive and finite.
+GuideMixture fit_guide_mixture(std::span<const Vec2> centres, double min_bandwidth,
+                               std::span<const double> weights = {});
 
 Vec2 sample_guide_mixture(const GuideMixture& mixture, Rng& rng);
 // log q(u) (log-sum-exp over the components: far from every guide it stays finite).

@@ -18,7 +18,7 @@ namespace emlt {
 std::vector<std::string> mutation_names() {
   return {"bidir", "lens", "caustic", "multichain", "ga-lens", "ga-caustic", "ga-multichain",
           "emlt-lens", "emlt-caustic", "emlt-multichain", "emlt-aniso", "emlt-env",
-          "emlt-jump", "emlt-spread-lens", "emlt-spread-caustic", "emlt-spread-multichain"};
+          "emlt-jump", "emlt-jump-near", "emlt-spread-lens", "emlt-spread-caustic", "emlt-spread-multichain"};
 }
 
 std::unique_ptr<Mutation> make_mutation(const std::string& name) {
@@ -36,6 +36,7 @@ std::unique_ptr<Mutation> make_mutation(const std::string& name) {
   if (name == "emlt-env") return std::make_unique<EnvironmentPerturbation>();
   // Issue 21's ensemble-informed variants (docs/experiments.md).
   if (name == "emlt-jump") return std::make_unique<DensityJumpLens>();
+  if (name == "emlt-jump-near") return std::make_unique<DensityJumpLens>(true);
   if (name == "emlt-spread-lens")
     return std::make_unique<SpreadScaledPerturbation>(name, std::make_unique<LensPerturbation>());
   if (name == "emlt-spread-caustic")

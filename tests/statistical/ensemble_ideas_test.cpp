@@ -1,5 +1,6 @@
 // Issue 21's ensemble-informed variants beyond the paper (docs/experiments.md, "Beyond the
-// paper"): the density jump (density_jump.h, strategy emlt-jump) and the perturbations whose
+// paper"): the density jump (density_jump.h, strategies emlt-jump and emlt-jump-near, the
+// latter weighing the guides by a vertex the move keeps) and the perturbations whose
 // range is the spread of the frozen ensemble (spread_scaled_perturbation.h, emlt-spread-*).
 //
 // First each kernel alone on the analytic 2-D target of ensemble_kernel_test.cpp (design
@@ -13,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 
@@ -41,12 +43,29 @@ std::span<const Vec2> upsilon(const std::vector<Vec2>& frozen, Rng& rng) {
   return std::span<const Vec2>(frozen).subspan(start, kGuides);
 }
 
+enum class JumpWeights {
+  Uniform,
+  Kept,       // drawn before looking at x: stands for weights from a vertex the move keeps
+  FromState,  // the injected bug: weights from the similarity of the moved state itself
+};
+
 struct JumpTestKernel {
   std::vector<Vec2> frozen;
   bool drop_ratio = false;
+  JumpWeights weighting = JumpWeights::Uniform;
 
   Step<Vec2> operator()(const Vec2& x, Rng& rng) const {
-    const auto mixture = ensemble::fit_guide_mixture(upsilon(frozen, rng), 0.05);
+    const auto guides = upsilon(frozen, rng);
+    std::array<double, kGuides> weights{};
+    for (size_t n = 0; n < kGuides; ++n) {
+      const Vec2 d = guides[n] - x;
+      weights[n] = weighting == JumpWeights::Kept ? 0.1 + rng.uniform_double()
+                                                  : std::exp(-2.0 * double(glm::dot(d, d)));
+    }
+    const auto mixture = ensemble::fit_guide_mixture(guides, 0.05,
+                                                     weighting == JumpWeights::Uniform
+                                                         ? std::span<const double>()
+                                                         : std::span<const double>(weights));
     const auto jump = ensemble::propose_jump(x, mixture, rng);
     return {jump.state, drop_ratio ? 0.0 : jump.log_density_ratio, true};
   }
@@ -115,6 +134,16 @@ TEST(EnsembleIdeaKernels, DensityJumpWithoutItsRatioIsDetected) {
   expect_detected(run_plane("density jump, bug: no q ratio", kernel));
 }
 
+TEST(EnsembleIdeaKernels, WeightedDensityJumpKeepsTarget) {
+  JumpTestKernel kernel{frozen_guides<Vec2>(plane_target(), 64, 13), false, JumpWeights::Kept};
+  expect_matches_target(run_plane("weighted density jump", kernel));
+}
+
+TEST(EnsembleIdeaKernels, WeightsFromTheMovedStateAreDetected) {
+  JumpTestKernel kernel{frozen_guides<Vec2>(plane_target(), 64, 13), false, JumpWeights::FromState};
+  expect_detected(run_plane("weighted density jump, bug: weights from x", kernel));
+}
+
 TEST(EnsembleIdeaKernels, SpreadScaledPerturbationKeepsTarget) {
   SpreadTestKernel kernel{frozen_guides<Vec2>(plane_target(), 64, 12)};
   expect_matches_target(run_plane("spread-scaled 1/r", kernel));
@@ -145,9 +174,9 @@ Image ensemble_image(const Scene& scene, std::shared_ptr<const StrategyMix> mix,
   return test::render(MltIntegrator(options), scene, s);
 }
 
-std::shared_ptr<const StrategyMix> jump_mix(bool drop_ratio) {
+std::shared_ptr<const StrategyMix> jump_mix(bool drop_ratio, bool near = false) {
   auto mix = std::make_shared<StrategyMix>(StrategyMix::parse("bidir=1"));
-  mix->add("emlt-jump", std::make_unique<DensityJumpLens>(drop_ratio), 4.0);
+  mix->add("emlt-jump", std::make_unique<DensityJumpLens>(near, drop_ratio), 4.0);
   return mix;
 }
 
@@ -164,6 +193,11 @@ TEST(EnsembleIdeasUnbiased, DensityJumpConvergesOnTheCornellBoxAndItsBugIsCaught
   EXPECT_LT(correct.worst, 0.08);
   EXPECT_NEAR(correct.scale, 1.0, 0.04);
   EXPECT_GT(buggy.worst, 0.15) << "density ratio dropped";
+  const auto near =
+      test::tile_deviation(ensemble_image(*scene, jump_mix(false, true), "", 2000), reference, 4);
+  std::printf("[ info     ] density jump near x_l: worst 4x4 tile %.4f\n", near.worst);
+  EXPECT_LT(near.worst, 0.08);
+  EXPECT_NEAR(near.scale, 1.0, 0.04);
 }
 
 TEST(EnsembleIdeasUnbiased, SpreadScaledMixConvergesOnTheCornellBox) {
