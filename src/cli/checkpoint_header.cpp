@@ -53,6 +53,9 @@ CheckpointHeader CheckpointHeader::describe(const SceneDescription& desc,
   add("--ensemble-alpha", number(s.ensemble_alpha));
   add("--ensemble-similarity-length", number(s.ensemble_similarity_length));
   add("--ensemble-aniso-fallback", s.ensemble_plane_fallback ? "plane" : "vmf");
+  add("--pss-tracer", s.pss_bdpt ? "bdpt" : "pt");
+  add("--large-step", number(s.large_step_probability));
+  add("--pss-sigma", number(s.pss_sigma));
   add("--bdpt-strategies", s.bdpt_strategies_dir.empty() ? "(none)" : "(a folder)");
   add("--aniso-map", s.aniso_map_path.empty() ? "(none)" : "(a file)");
   std::string joined;

@@ -246,9 +246,6 @@ int run_render(const CLI::App& command, RenderOptions& o) {
     if (std::filesystem::path(checkpoint_path) == std::filesystem::path(o.output))
       throw file_error(checkpoint_path, "the checkpoint and the output image are the same file");
   }
-  if (primary_sample_space && !checkpoint_path.empty())
-    throw Error("--checkpoint/--resume: " + settings.integrator +
-                " cannot save or resume its state (mlt, gamlt and emlt can)");
   if (primary_sample_space && cluster::size() > 1)
     throw Error(settings.integrator + " runs as one process only (not under mpirun)");
   if (given("--checkpoint-interval") && checkpoint_path.empty())

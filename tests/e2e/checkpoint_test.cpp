@@ -14,6 +14,7 @@
 #include <random>
 #include <thread>
 
+#include "emlt/render/checkpoint_file.h"
 #include "emlt/render/image.h"
 #include "support/test_support.h"
 
@@ -60,6 +61,7 @@ struct Case {
   // Work units of the whole render (samples, then mutations; MLT's separate direct image
   // takes as many samples per pixel as the chains take mutations).
   uint64_t units;
+  const char* label = nullptr;  // the test's name when the integrator's is not enough
 };
 
 class ResumeEveryIntegrator : public ::testing::TestWithParam<Case> {};
@@ -67,7 +69,7 @@ class ResumeEveryIntegrator : public ::testing::TestWithParam<Case> {};
 // Stopped early, midway and late, each resumed with another thread count: the same bits.
 TEST_P(ResumeEveryIntegrator, GivesTheBitsOfAnUninterruptedRender) {
   const Case c = GetParam();
-  const fs::path dir = test::scratch_dir(std::string("resume_") + c.integrator);
+  const fs::path dir = test::scratch_dir(std::string("resume_") + (c.label ? c.label : c.integrator));
   const std::string common = std::string("--integrator ") + c.integrator + " " + c.budget;
   const fs::path full = dir / "full.exr";
   std::string text;
@@ -97,8 +99,15 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"bdpt", "--spp 8", 8 * 1024},
                       Case{"mlt", "--mpp 16", 2 * 16 * 1024},
                       Case{"gamlt", "--mpp 16", 2 * 16 * 1024},
-                      Case{"emlt", "--mpp 16", 2 * 16 * 1024}),
-    [](const auto& info) { return std::string(info.param.integrator); });
+                      Case{"emlt", "--mpp 16", 2 * 16 * 1024},
+                      Case{"pssmlt", "--mpp 16", 2 * 16 * 1024},
+                      // Without the direct-light pass, every stop falls in the chains.
+                      Case{"pssmlt", "--pss-tracer bdpt --direct mlt --mpp 16", 16 * 1024,
+                           "pssmlt_bdpt"},
+                      Case{"mmlt", "--direct mlt --mpp 16", 16 * 1024}),
+    [](const auto& info) {
+      return std::string(info.param.label ? info.param.label : info.param.integrator);
+    });
 
 // A resumed render stopped again and resumed again still ends on the same bits, and a
 // render that writes checkpoints every few milliseconds (pausing each time) too.
@@ -315,6 +324,53 @@ TEST(Checkpoint, BadCheckpointsAreRefusedByNameWithNothingWritten) {
   EXPECT_TRUE(read_bytes(out) == output);
 }
 
+// Primary-sample-space checkpoints: one made by pssmlt (path tracer) is refused by a run of
+// another integrator or sampler or step setting, and a damaged state (behind a valid
+// checksum) by the state's own checks; each with one line naming the file.
+TEST(Checkpoint, PrimarySampleSpaceCheckpointsRefuseOtherSettingsAndDamage) {
+  const fs::path dir = test::scratch_dir("pss_refusals");
+  const fs::path out = dir / "out.exr", good = dir / "pss.ckpt";
+  const std::string common = "--integrator pssmlt --mpp 8";
+  std::string text;
+  ASSERT_EQ(130, render(common + " -o " + out.string() + " --checkpoint " + good.string(), &text,
+                        "EMLT_STOP_AFTER=" + std::to_string(8 * 1024 + 3000)))
+      << text;
+  const checkpoint_file::Contents contents = checkpoint_file::read(good.string());
+  const auto damaged = [&](const std::string& name, const std::string& state) {
+    const fs::path path = dir / name;
+    checkpoint_file::write(path.string(), contents.header, state);
+    return path;
+  };
+  // The chains' section ends with the schedule: steps done (8 bytes), whether a sweep is
+  // under way (1), its end (8), the timed sweeps' rounds (8), the log's last row (8).
+  std::string short_state = contents.state, no_sweep = contents.state, odd_rounds = contents.state;
+  short_state.resize(short_state.size() - 40);
+  no_sweep[no_sweep.size() - 25] = 2;
+  odd_rounds[odd_rounds.size() - 16] = 3;
+  const struct {
+    std::string args;
+    fs::path checkpoint;
+    std::string message;
+  } cases[] = {
+      {"--integrator mmlt --mpp 8", good,
+       "checkpoint was made with --integrator pssmlt, this run has mmlt"},
+      {common + " --pss-tracer bdpt", good, "checkpoint was made with --pss-tracer pt, this run has bdpt"},
+      {common + " --large-step 0.5", good, "checkpoint was made with --large-step 0.3, this run has 0.5"},
+      {common + " --pss-sigma 0.1", good, "checkpoint was made with --pss-sigma 0.015625, this run has 0.1"},
+      {common, damaged("short.ckpt", short_state), "cannot resume"},
+      {common, damaged("sweep.ckpt", no_sweep), "cannot resume: the saved chains' schedule is inconsistent"},
+      {common, damaged("rounds.ckpt", odd_rounds), "cannot resume: the saved chains' schedule is inconsistent"},
+      {"--integrator pssmlt --mpp 4", good, "may extend the budget, not cut it"},
+  };
+  for (const auto& c : cases) {
+    const int status = render(c.args + " -o " + out.string() + " --resume " + c.checkpoint.string(), &text);
+    EXPECT_NE(status, 0) << c.message;
+    EXPECT_EQ(count_lines(text), 1) << text;
+    EXPECT_NE(text.find("emlt: error: " + c.checkpoint.string()), std::string::npos) << text;
+    EXPECT_NE(text.find(c.message), std::string::npos) << "expected '" << c.message << "' in: " << text;
+  }
+}
+
 // The checkpoint written when a render finishes lets a later run extend the budget: for the
 // pass-based integrators, to the bits of a render that had the larger budget from the start.
 TEST(Checkpoint, AFinishedRenderExtendsItsBudget) {
@@ -345,6 +401,18 @@ TEST(Checkpoint, AFinishedRenderExtendsItsBudget) {
       << text;
   EXPECT_NE(read_bytes(dir / "b.json").find("\"mutations\": 8192"), std::string::npos)
       << read_bytes(dir / "b.json");
+  // PSSMLT and MMLT chains take their steps one after the other whatever the sweeps: with
+  // the chain count fixed, a budget extended on resume gives the larger budget's bits.
+  for (const std::string integrator : {"pssmlt", "mmlt"}) {
+    const std::string common = "--integrator " + integrator + " --chains 100 --direct-spp 4";
+    ASSERT_EQ(0, render(common + " --mpp 8 -o " + full.string(), &text)) << text;
+    fs::remove(ck);
+    ASSERT_EQ(0, render(common + " --mpp 4 -o " + out.string() + " --checkpoint " + ck.string(), &text))
+        << text;
+    ASSERT_EQ(0, render(common + " --mpp 8 -o " + out.string() + " --resume " + ck.string(), &text))
+        << text;
+    EXPECT_TRUE(read_bytes(full) == read_bytes(out)) << integrator;
+  }
 }
 
 // --log and --stats are written when a render stops, and a resumed render's log holds the

@@ -18,9 +18,9 @@
 
 namespace emlt::fuzz {
 
-// The integrators of input modes 1 .. 5.
-inline constexpr std::array<const char*, 5> kCheckpointIntegrators = {"pt", "bdpt", "mlt",
-                                                                      "gamlt", "emlt"};
+// The integrators of input modes 1 .. 8 ("pssmlt-bdpt": pssmlt with --pss-tracer bdpt).
+inline constexpr std::array<const char*, 8> kCheckpointIntegrators = {
+    "pt", "bdpt", "mlt", "gamlt", "emlt", "pssmlt", "pssmlt-bdpt", "mmlt"};
 
 class CheckpointFixture {
  public:
@@ -34,10 +34,12 @@ class CheckpointFixture {
 
   // What `emlt render scenes/cornell-box/scene.json --integrator NAME --spp 2 --mpp 2
   // --bootstrap 256 --chains 4 --ensemble-size 2 --threads 1 --width 4 --height 4 -q`
-  // renders with (cli/render_command.cpp).
+  // renders with (cli/render_command.cpp); for "pssmlt-bdpt", NAME is pssmlt with
+  // --pss-tracer bdpt.
   RenderSettings settings(const std::string& integrator) const {
     RenderSettings s = defaults_;
-    s.integrator = integrator;
+    s.integrator = integrator == "pssmlt-bdpt" ? "pssmlt" : integrator;
+    s.pss_bdpt = integrator == "pssmlt-bdpt";
     s.spp = 2;
     s.mutations_per_pixel = 2.0;
     s.bootstrap_samples = 256;
@@ -59,7 +61,7 @@ class CheckpointFixture {
     control.set_resume_state(std::move(state));
     s.control = &control;
     ProgressReporter progress(false);
-    make_integrator(integrator)->render(*scene_, s, progress);
+    make_integrator(s.integrator)->render(*scene_, s, progress);
   }
 
  private:

@@ -6,8 +6,8 @@ seeds must be states the current build writes:
 
     tests/fuzz/make_checkpoint_corpus.py [build/emlt]
 
-Each seed starts with the target's mode byte: 0 and a whole checkpoint file, or 1..5 and
-the integrator-state section alone (pt, bdpt, mlt, gamlt, emlt). EMLT_STOP_AFTER stops a
+Each seed starts with the target's mode byte: 0 and a whole checkpoint file, or 1..8 and
+the integrator-state section alone (pt, bdpt, mlt, gamlt, emlt, pssmlt, pssmlt-bdpt, mmlt). EMLT_STOP_AFTER stops a
 render as Ctrl-C would, so that the states cover a pass, the direct-light phase and a sweep
 cut short as well as finished renders. Regression inputs (regression-*) are left alone."""
 import os
@@ -18,7 +18,10 @@ import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 CORPUS = os.path.join(ROOT, "tests/fuzz/corpus/checkpoint")
-MODES = {"pt": 1, "bdpt": 2, "mlt": 3, "gamlt": 4, "emlt": 5}
+MODES = {"pt": 1, "bdpt": 2, "mlt": 3, "gamlt": 4, "emlt": 5, "pssmlt": 6, "pssmlt-bdpt": 7,
+         "mmlt": 8}
+# The command line of a mode's integrator (checkpoint_resume.h: "pssmlt-bdpt" is pssmlt over BDPT).
+INTEGRATOR_ARGS = {"pssmlt-bdpt": ["--integrator", "pssmlt", "--pss-tracer", "bdpt"]}
 # Must match CheckpointFixture::settings (checkpoint_resume.h).
 ARGS = ["--spp", "2", "--mpp", "2", "--bootstrap", "256", "--chains", "4", "--ensemble-size", "2",
         "--threads", "1", "--width", "4", "--height", "4", "-q"]
@@ -35,6 +38,11 @@ SEEDS = {
     "gamlt-mid-sweep": ("gamlt", 50, False),
     "emlt-mid-sweep": ("emlt", 50, False),
     "emlt-finished": ("emlt", None, False),
+    "pssmlt-mid-sweep": ("pssmlt", 45, True),
+    "pssmlt-finished": ("pssmlt", None, False),
+    "pssmlt-bdpt-mid-sweep": ("pssmlt-bdpt", 45, False),
+    "mmlt-mid-sweep": ("mmlt", 45, False),
+    "mmlt-finished": ("mmlt", None, False),
 }
 
 
@@ -58,7 +66,9 @@ def main():
             env.pop("EMLT_STOP_AFTER", None)
             if stop_after is not None:
                 env["EMLT_STOP_AFTER"] = str(stop_after)
-            run = subprocess.run([emlt, "render", scene, "--integrator", integrator, *ARGS, "-o",
+            run = subprocess.run([emlt, "render", scene,
+                                  *INTEGRATOR_ARGS.get(integrator, ["--integrator", integrator]),
+                                  *ARGS, "-o",
                                   os.path.join(tmp, name + ".exr"), "--checkpoint", checkpoint],
                                  env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
             if run.returncode != (0 if stop_after is None else 130):

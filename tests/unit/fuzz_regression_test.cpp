@@ -64,11 +64,12 @@ std::string read_bytes(const fs::path& path) {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
-// An input of the checkpoint target whose first byte picks an integrator (modes 1 .. 5 of
+// An input of the checkpoint target whose first byte picks an integrator (modes 1 .. 8 of
 // tests/fuzz/fuzz_checkpoint.cpp): that integrator's render resumed from the rest.
 void resume_checkpoint_input(const fs::path& path) {
   const std::string bytes = read_bytes(path);
-  const unsigned mode = bytes.empty() ? 0 : uint8_t(bytes[0]) % 6;
+  const unsigned mode =
+      bytes.empty() ? 0 : uint8_t(bytes[0]) % (fuzz::kCheckpointIntegrators.size() + 1);
   if (mode == 0) throw std::runtime_error(path.string() + ": not an integrator state");
   fuzz::CheckpointFixture::get().resume(fuzz::kCheckpointIntegrators[mode - 1], bytes.substr(1));
 }

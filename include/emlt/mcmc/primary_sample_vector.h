@@ -15,6 +15,7 @@
 
 #include "emlt/core/rng.h"
 #include "emlt/core/sample_source.h"
+#include "emlt/core/state_io.h"
 
 namespace emlt {
 
@@ -22,6 +23,8 @@ class PrimarySampleVector {
  public:
   static constexpr int kStreams = 3;
   static constexpr uint64_t kMaxCatchUp = 64;
+  // More than any path of kMaxPathVertices vertices reads (a checkpoint's bound).
+  static constexpr uint64_t kMaxCoordinates = uint64_t(1) << 16;
 
   // Kelemen's exponential perturbation: a step of s2 * (s1 / s2)^u in either direction,
   // with s2 = sigma and s1 = sigma / 64 (the paper's 1/64 and 1/1024 at sigma = 1/64).
@@ -45,6 +48,13 @@ class PrimarySampleVector {
   void reject(bool keep_one = false);
 
   size_t size() const { return coordinates_.size(); }
+
+  // Checkpoints, between iterations (after accept() or reject()): the coordinates with the
+  // iteration that last set each, the iteration count and the last accepted large step,
+  // which is all a later iteration reads. load() throws StateError for a state no chain
+  // could be in (a coordinate outside [0, 1), a stamp from the future).
+  void save(StateWriter& out) const;
+  void load(StateReader& in);
 
  private:
   struct Coordinate {

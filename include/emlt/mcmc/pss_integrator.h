@@ -18,8 +18,9 @@
 // N independent primary samples the chains' seeds (resampled in proportion to f*, so
 // there is no start-up bias), the chains run in a fixed partition of 64 blocks on TBB, splat into fixed-point
 // films, and take whole sweeps of equal steps, so a seed gives the same bits at any thread
-// count. The direct light may be rendered separately (--direct separate) as for MLT.
-// Neither checkpoints nor MPI are supported (the command line refuses them).
+// count. The direct light may be rendered separately (--direct separate) as for MLT, and
+// checkpoints save and resume the whole chain state to the same bits, as MLT's do. MPI is
+// not supported (the command line refuses it).
 #include "emlt/mcmc/mlt_integrator.h"
 #include "emlt/mcmc/primary_sample_tracer.h"
 #include "emlt/render/integrator.h"
