@@ -214,8 +214,6 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   const bool path_space_mcmc = dynamic_cast<const MltIntegrator*>(integrator.get()) != nullptr;
   const bool mcmc =
       path_space_mcmc || dynamic_cast<const PssMltIntegrator*>(integrator.get()) != nullptr;
-  const bool primary_sample_space =
-      dynamic_cast<const PssMltIntegrator*>(integrator.get()) != nullptr;
   if (!settings.aniso_map_path.empty()) {
     if (!path_space_mcmc) throw Error("--aniso-map needs an MCMC integrator (mlt, gamlt or emlt)");
     check_output_path(settings.aniso_map_path);
@@ -246,8 +244,6 @@ int run_render(const CLI::App& command, RenderOptions& o) {
     if (std::filesystem::path(checkpoint_path) == std::filesystem::path(o.output))
       throw file_error(checkpoint_path, "the checkpoint and the output image are the same file");
   }
-  if (primary_sample_space && cluster::size() > 1)
-    throw Error(settings.integrator + " runs as one process only (not under mpirun)");
   if (given("--checkpoint-interval") && checkpoint_path.empty())
     throw Error("--checkpoint-interval needs --checkpoint FILE (or --resume FILE)");
   // Only a render that checkpoints needs it: describing the run hashes every scene file

@@ -19,8 +19,9 @@
 // there is no start-up bias), the chains run in a fixed partition of 64 blocks on TBB, splat into fixed-point
 // films, and take whole sweeps of equal steps, so a seed gives the same bits at any thread
 // count. The direct light may be rendered separately (--direct separate) as for MLT, and
-// checkpoints save and resume the whole chain state to the same bits, as MLT's do. MPI is
-// not supported (the command line refuses it).
+// checkpoints save and resume the whole chain state to the same bits, as MLT's do. Under
+// MPI each rank runs a contiguous share of the blocks (and of the seeds' bootstrap) and the
+// integer films are summed: the image of one process, bit for bit.
 #include "emlt/mcmc/mlt_integrator.h"
 #include "emlt/mcmc/primary_sample_tracer.h"
 #include "emlt/render/integrator.h"
