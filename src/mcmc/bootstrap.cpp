@@ -91,6 +91,15 @@ size_t Bootstrap::choose(double u) const {
   return std::min(size_t(it - cumulative.begin()), candidates.size() - 1);
 }
 
+double Bootstrap::effective_candidates() const {
+  double sum = 0.0, sum_squares = 0.0;
+  for (const BootstrapCandidate& c : candidates) {
+    sum += c.weight;
+    sum_squares += double(c.weight) * double(c.weight);
+  }
+  return sum_squares > 0.0 ? sum * sum / sum_squares : 0.0;
+}
+
 Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& p) {
   const int blocks = 64;
   struct Block {

@@ -453,6 +453,9 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
       result.seconds = elapsed();
       return result;
     }
+    // (In --stats: on Veach's door the pool is worth some 8,800 candidates, and 16,384
+    // default chains of 2,300 steps gave 2.5x the variance of 1,024 chains; docs/performance.md.)
+    stats_.bootstrap_effective_candidates = bootstrap.effective_candidates();
     // Seeds: each chain resamples the bootstrap pool from its own stream (in EMLT, both
     // ensembles come from the one pool, §3.4).
     // In parallel: each chain has its own stream, so the order does not matter (serial, the

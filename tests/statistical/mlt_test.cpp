@@ -383,6 +383,17 @@ TEST(MltBootstrap, NormalisationMatchesTheBdptImage) {
   }
 }
 
+TEST(MltBootstrap, EffectiveCandidatesCountEqualWeightsOnceAndHeavyOnesAsFew) {
+  Bootstrap pool;
+  for (int i = 0; i < 8; ++i) pool.candidates.push_back({uint32_t(i), 1, 2, 0.5f});
+  EXPECT_NEAR(pool.effective_candidates(), 8.0, 1e-9);
+  // One candidate carrying nearly all the weight: the pool is worth little more than one.
+  pool.candidates.push_back({8, 1, 2, 1000.0f});
+  EXPECT_NEAR(pool.effective_candidates(), 1004.0 * 1004.0 / (1000.0 * 1000.0 + 8 * 0.25), 1e-6);
+  EXPECT_LT(pool.effective_candidates(), 1.01);
+  EXPECT_EQ(Bootstrap{}.effective_candidates(), 0.0);
+}
+
 TEST(MltBootstrap, SceneWhoseLightReachesNothingGivesABlackImage) {
   // An emitter facing away from everything: no bootstrap path carries light.
   SceneDescription d;

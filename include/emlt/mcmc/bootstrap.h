@@ -39,6 +39,9 @@ struct Bootstrap {
   bool interrupted = false;        // a stop signal cut it short: not to be used
 
   bool empty() const { return candidates.empty() || !(b > 0.0); }
+  // How many equally weighted candidates the pool is worth, (sum w)^2 / sum w^2: chains
+  // seeded from it repeat candidates once their count nears this.
+  double effective_candidates() const;
   // Candidate index for u in [0, 1), chosen in proportion to weight.
   size_t choose(double u) const;
 };
