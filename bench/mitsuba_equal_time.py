@@ -4,12 +4,13 @@
 
 Each seed: Mitsuba's `mlt` renders MPP mutations per pixel (direct light inside the chains,
 `directSamples` -1; its sampler's seed set to the seed) and its wall time is taken; then emlt's
-`mlt --direct mlt` renders for the same wall time. Both against a reference image (a long
-BDPT render, e.g. by Mitsuba: see --reference), MSE over all pixels, plus each image's mean
-ratio to the reference (the normalisation b's error shows there).
+`mlt --direct mlt` (with each --variant's flags) renders for the same wall time. Figures per
+method: the variance across seeds (every method is unbiased, so this is its MSE), the MSE
+against a reference image (a long BDPT render; it includes the reference's own noise) and
+each image's mean over the reference's (the normalisation's error shows there).
 
   MITSUBA=.../dist/mitsuba bench/mitsuba_equal_time.py SCENE.xml --reference REF.exr \
-      --out DIR [--mpp 384] [--seeds 1 2 3] [--size 384x256] [--emlt-args "..."]
+      --out DIR [--mpp 384] [--seeds 1 2 3] [--size 384x256] [--variant LABEL="FLAGS" ...]
 
 Mitsuba's MLT draws its luminance pass and seed paths from a fixed stream (its replayable
 sampler's own generator), whatever the sampler's seed: its normalisation error is one draw
@@ -46,8 +47,9 @@ def main():
     p.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
     p.add_argument("--size", default="384x256")
     p.add_argument("--threads", type=int, default=2)
-    p.add_argument("--emlt-args", default="", help="extra emlt render flags")
-    p.add_argument("--label", default="emlt")
+    p.add_argument("--variant", action="append", default=[], metavar='LABEL="FLAGS"',
+                   help='an emlt configuration to run at Mitsuba\'s time (repeatable); default: '
+                        'emlt="" (its defaults)')
     args = p.parse_args()
     mitsuba = os.environ.get("MITSUBA")
     if not mitsuba:
@@ -61,6 +63,9 @@ def main():
         ET.SubElement(sampler, "integer", name="seed", value="$seed")
     tree.write(variant)
 
+    variants = [v.split("=", 1) if "=" in v else (v, "") for v in args.variant] or [("emlt", "")]
+    images = {"mitsuba": []}
+    images.update({label: [] for label, _ in variants})
     rows = []
     for seed in args.seeds:
         mts_img = os.path.join(args.out, f"mitsuba-s{seed}.exr")
@@ -69,29 +74,44 @@ def main():
                         os.path.dirname(os.path.abspath(args.scene)), "-D", f"seed={seed}",
                         variant, "-o", mts_img], check=True, stdout=subprocess.DEVNULL)
         wall = time.time() - t0
-        emlt_img = os.path.join(args.out, f"{args.label}-s{seed}.exr")
-        cmd = [EMLT, "render", args.scene, "--integrator", "mlt", "--direct", "mlt",
-               "--width", str(w), "--height", str(h), "--threads", str(args.threads),
-               "--seed", str(seed), "--time", f"{wall:.2f}", "-o", emlt_img]
-        cmd += shlex.split(args.emlt_args)
-        t0 = time.time()
-        log = subprocess.run(cmd, check=True, capture_output=True, text=True)
-        emlt_wall = time.time() - t0
-        m, e = compare(args.reference, mts_img), compare(args.reference, emlt_img)
-        row = {"seed": seed, "mitsuba_s": wall, "emlt_s": emlt_wall,
-               "mitsuba_mse": m["mse"], "emlt_mse": e["mse"],
-               "mitsuba_mean_ratio": m["mean_ratio"], "emlt_mean_ratio": e["mean_ratio"],
-               "emlt_stats": log.stderr.strip().splitlines()[-6:]}
+        images["mitsuba"].append(mts_img)
+        row = {"seed": seed, "mitsuba_s": wall}
+        for label, flags in variants:
+            img = os.path.join(args.out, f"{label}-s{seed}.exr")
+            cmd = [EMLT, "render", args.scene, "--integrator", "mlt", "--direct", "mlt",
+                   "--width", str(w), "--height", str(h), "--threads", str(args.threads),
+                   "--seed", str(seed), "--time", f"{wall:.2f}", "-o", img] + shlex.split(flags)
+            t0 = time.time()
+            log = subprocess.run(cmd, check=True, capture_output=True, text=True)
+            row[label + "_s"] = time.time() - t0
+            row[label + "_stats"] = log.stderr.strip().splitlines()[:2]
+            images[label].append(img)
         rows.append(row)
-        print(f"seed {seed}: Mitsuba {wall:.1f} s MSE {m['mse']:.4g} (mean {m['mean_ratio']:.4f})"
-              f" | {args.label} {emlt_wall:.1f} s MSE {e['mse']:.4g} (mean {e['mean_ratio']:.4f})",
-              flush=True)
-    mm = sum(r["mitsuba_mse"] for r in rows) / len(rows)
-    em = sum(r["emlt_mse"] for r in rows) / len(rows)
-    print(f"mean MSE: Mitsuba {mm:.4g}, {args.label} {em:.4g}, ratio {em / mm:.3f}")
-    with open(os.path.join(args.out, f"results-{args.label}.json"), "w") as f:
-        json.dump({"scene": args.scene, "mpp": args.mpp, "rows": rows,
-                   "load": os.getloadavg()}, f, indent=1)
+        print(f"seed {seed}: Mitsuba {wall:.1f} s; " +
+              ", ".join(f"{label} {row[label + '_s']:.1f} s" for label, _ in variants), flush=True)
+
+    # Variance across seeds: the mean over every pair of half their mean squared difference
+    # is the per-pixel sample variance averaged over the image. Every method is unbiased but
+    # for Mitsuba's normalisation (fixed across seeds), whose error the mean ratio shows.
+    summary = {}
+    for label, imgs in images.items():
+        pairs = [compare(imgs[a], imgs[b])["mse"] / 2
+                 for a in range(len(imgs)) for b in range(a + 1, len(imgs))]
+        refs = [compare(args.reference, img) for img in imgs]
+        summary[label] = {
+            "variance": sum(pairs) / len(pairs) if pairs else float("nan"),
+            "mse_vs_reference": sum(r["mse"] for r in refs) / len(refs),
+            "mean_ratio": [r["mean_ratio"] for r in refs]}
+    print("| method | variance across seeds | / Mitsuba | MSE vs reference | mean / reference |")
+    print("|---|---|---|---|---|")
+    base = summary["mitsuba"]["variance"]
+    for label, sm in summary.items():
+        ratios = sm["mean_ratio"]
+        print(f"| {label} | {sm['variance']:.4g} | {sm['variance'] / base:.2f} | "
+              f"{sm['mse_vs_reference']:.4g} | {min(ratios):.3f}-{max(ratios):.3f} |")
+    with open(os.path.join(args.out, "results.json"), "w") as f:
+        json.dump({"scene": args.scene, "mpp": args.mpp, "seeds": args.seeds, "rows": rows,
+                   "summary": summary, "load": os.getloadavg()}, f, indent=1)
 
 
 if __name__ == "__main__":
