@@ -393,6 +393,43 @@ def build():
                                            '<float name="alpha" value="0.2"/></bsdf>')
     for name, (conv, bsdf) in bsdfs.items():
         s[name] = (conv, scene(sphere(bsdf)), pt_bdpt + (["mlt"] if name == "bsdf-dielectric" else []))
+    # Rough plastic seen and lit at grazing angles: a panel over the floor, a low camera.
+    # Mitsuba weights the base by the rough coating's transmittance, which at grazing
+    # angles is far above the smooth 1 - F (GGX alpha 0.12: 0.64 against 0.43 at cos 0.1).
+    low_camera = sensor(96, 48, 45, transform='<lookat origin="0, 0.3, 2.4" target="0, 0.12, -1" up="0, 1, 0"/>')
+    # A low lamp behind the camera lights the panel at grazing angles too.
+    grazing_light = ('  <shape type="rectangle">\n    <transform name="toWorld"><scale x="0.4" y="0.12"/>'
+                     '<rotate y="1" angle="180"/><translate y="0.14" z="2.6"/></transform>\n'
+                     '    <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf>\n'
+                     '    <emitter type="area"><rgb name="radiance" value="30, 27, 22"/></emitter>\n  </shape>\n')
+    floor_panel = '<scale value="0.99"/><rotate x="1" angle="-90"/><translate y="0.005"/>'
+    rough_floors = {
+        "bsdf-roughplastic-ggx-grazing": ("roughplastic, ggx alpha 0.12, intIOR 1.5, at grazing angles",
+            '<bsdf type="roughplastic"><string name="distribution" value="ggx"/><float name="alpha" value="0.12"/>'
+            '<float name="intIOR" value="1.5"/><rgb name="diffuseReflectance" value="0.55, 0.45, 0.3"/></bsdf>'),
+        "bsdf-roughplastic-ggx-rough-nonlinear": ("roughplastic, ggx alpha 0.5, nonlinear true, at grazing angles",
+            '<bsdf type="roughplastic"><string name="distribution" value="ggx"/><float name="alpha" value="0.5"/>'
+            '<boolean name="nonlinear" value="true"/><rgb name="diffuseReflectance" value="0.2, 0.5, 0.7"/></bsdf>'),
+        "bsdf-roughplastic-beckmann-defaults": ("roughplastic defaults (beckmann alpha 0.1, polypropylene, diffuse 0.5), at grazing angles",
+            '<bsdf type="roughplastic"/>'),
+        "bsdf-roughplastic-alpha-texture": ("roughplastic, ggx with a checkerboard alpha (0.02 and 0.3), at grazing angles",
+            '<bsdf type="roughplastic"><string name="distribution" value="ggx"/>'
+            '<texture type="checkerboard" name="alpha"><spectrum name="color0" value="0.02"/><spectrum name="color1" value="0.3"/>'
+            '<float name="uscale" value="3"/><float name="vscale" value="3"/></texture>'
+            '<rgb name="diffuseReflectance" value="0.6, 0.3, 0.2"/></bsdf>'),
+        # The same view of the rough conductor and of a rough dielectric interface over the
+        # diffuse floor: Mitsuba evaluates both without tables (a measurement, that they
+        # have no such difference).
+        "bsdf-roughconductor-grazing": ("roughconductor, ggx alpha 0.12, Cu, at grazing angles",
+            '<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha" value="0.12"/>'
+            '<string name="material" value="Cu"/></bsdf>'),
+        "bsdf-roughdielectric-grazing": ("roughdielectric, ggx alpha 0.12, intIOR 1.5, over a diffuse floor at grazing angles",
+            '<bsdf type="roughdielectric"><string name="distribution" value="ggx"/><float name="alpha" value="0.12"/>'
+            '<float name="intIOR" value="1.5"/></bsdf>'),
+    }
+    for name, (conv, bsdf) in rough_floors.items():
+        s[name] = (conv, scene(rect(bsdf, floor_panel), light=ROOM_LIGHT % DEFAULT_RADIANCE + grazing_light,
+                               cam=low_camera), pt_bdpt)
     # Anisotropy on a mesh follows dp/du of its uvs (turned 30 degrees off the panel's edges).
     s["bsdf-roughconductor-aniso-mesh"] = ("roughconductor, beckmann, alphaU 0.05 and alphaV 0.3 on an OBJ with uvs",
         scene(obj("panel_uv.obj", '<bsdf type="roughconductor"><string name="material" value="Cr"/>'

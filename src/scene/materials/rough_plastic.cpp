@@ -1,14 +1,19 @@
 // Plastic: a diffuse base under a dielectric coating (after Mitsuba 0.6 `roughplastic` /
 // `plastic`). The coating reflects through a microfacet lobe (or a delta when alpha == 0);
 // light refracted into the coating is scattered diffusely by the base, and the internal
-// reflections off the coating are accounted for by the average internal Fresnel
-// reflectance. Reflectances and roughness may be textures. One-sided.
+// reflections off the coating are accounted for by the average internal reflectance.
+// A smooth coating lets light through by the Fresnel transmittance 1 - F; a rough one, as
+// in Mitsuba's `roughplastic`, by the rough transmittance of its microfacet boundary (in
+// and out, and averaged over the inside for the internal reflectance), which at grazing
+// angles is far larger. Reflectances and roughness may be textures. One-sided.
+#include <optional>
 #include <utility>
 
 #include "emlt/core/warp.h"
 #include "emlt/scene/materials.h"
 #include "src/scene/materials/fresnel.h"
 #include "src/scene/materials/microfacet.h"
+#include "src/scene/materials/rough_transmittance.h"
 #include "src/scene/materials/texture_param.h"
 
 namespace emlt {
@@ -22,7 +27,16 @@ class RoughPlastic final : public Bsdf {
         specular_(std::move(specular)), eta_(eta), nonlinear_(nonlinear) {
     // A smooth coating is a delta lobe; that must be decided once, for the whole surface.
     smooth_ = alpha_.is_constant() && alpha_.average_at(Vec2(0.0f)) <= 0.0f;
-    internal_reflectance_ = fresnel_diffuse_reflectance(1.0f / eta_);
+    if (smooth_) {
+      internal_reflectance_ = fresnel_diffuse_reflectance(1.0f / eta_);
+    } else {
+      // A textured roughness is tabulated over [0, 1] (values beyond read as 1).
+      const float alpha = alpha_.is_constant() ? alpha_.average_at(Vec2(0.0f)) : 0.0f;
+      const float alpha_max = alpha_.is_constant() ? 0.0f : 1.0f;
+      entering_.emplace(type_, eta_, alpha, alpha_max);
+      leaving_.emplace(type_, 1.0f / eta_, alpha, alpha_max);
+      internal_reflectance_ = 1.0f - leaving_->diffuse(alpha);
+    }
   }
 
   Rgb eval(const BsdfContext& ctx, const Vec3& wo, const Vec3& wi) const override {
@@ -44,7 +58,7 @@ class RoughPlastic final : public Bsdf {
   // the delta lobe has no density.
   float pdf(const BsdfContext& ctx, const Vec3& wo, const Vec3& wi) const override {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
-    const float p_specular = specular_probability(ctx, wo.z);
+    const float p_specular = specular_probability(ctx, wo.z, roughness(ctx));
     float density = (1.0f - p_specular) * cosine_hemisphere_pdf(wi);
     if (!smooth_) density += p_specular * distribution(ctx).reflection_pdf(wo, wi);
     return density;
@@ -53,7 +67,7 @@ class RoughPlastic final : public Bsdf {
   std::optional<BsdfSample> sample(const BsdfContext& ctx, const Vec3& wo, float u_lobe,
                                    const Vec2& u) const override {
     if (wo.z <= 0.0f) return std::nullopt;
-    const float p_specular = specular_probability(ctx, wo.z);
+    const float p_specular = specular_probability(ctx, wo.z, roughness(ctx));
     BsdfSample s;
     if (smooth_ && u_lobe < p_specular) {
       s.wi = Vec3(-wo.x, -wo.y, wo.z);
@@ -92,33 +106,50 @@ class RoughPlastic final : public Bsdf {
   std::string name() const override { return smooth_ ? "plastic" : "rough_plastic"; }
 
  private:
+  // The roughness at a point, clamped as the microfacet distribution clamps it (Mitsuba
+  // looks its transmittance up at that value too).
+  float roughness(const BsdfContext& ctx) const {
+    return smooth_ ? 0.0f : glm::max(alpha_.average_at(ctx.uv), MicrofacetDistribution::kMinAlpha);
+  }
   MicrofacetDistribution distribution(const BsdfContext& ctx) const {
     return MicrofacetDistribution(type_, alpha_.average_at(ctx.uv));
   }
 
-  // Base seen through the coating: Kd' / pi * (1 - F(cos_i)) (1 - F(cos_o)) / eta^2, with
+  // Fraction of the light from direction cos_theta that the coating lets through.
+  float transmittance(float cos_theta, float alpha) const {
+    return smooth_ ? 1.0f - fresnel_dielectric(cos_theta, eta_) : (*entering_)(cos_theta, alpha);
+  }
+
+  // Base seen through the coating: Kd' / pi * T(cos_i) T(cos_o) / eta^2, with
   // Kd' = Kd / (1 - Fdr) (linear: with a white base the lobe then reflects exactly the
-  // 1 - F(cos_o) that the coating lets in) or Kd / (1 - Kd Fdr) (nonlinear).
+  // T(cos_o) that the coating lets in) or Kd / (1 - Kd Fdr) (nonlinear). Fdr is the
+  // coating's reflectance averaged over the inside: smooth, 1 minus the cosine-weighted
+  // mean of 1 - F; rough, of the rough transmittance (with a textured roughness, at the
+  // point's alpha; with a constant one, precomputed).
   Rgb diffuse_value(const BsdfContext& ctx, const Vec3& wo, const Vec3& wi) const {
     const Rgb kd = diffuse_.at(ctx.uv);
-    const Rgb base = nonlinear_ ? kd / glm::max(Rgb(1.0f) - kd * internal_reflectance_, Rgb(1e-6f))
-                                : kd / glm::max(1.0f - internal_reflectance_, 1e-6f);
-    const float transmit_in = 1.0f - fresnel_dielectric(wi.z, eta_);
-    const float transmit_out = 1.0f - fresnel_dielectric(wo.z, eta_);
+    const float alpha = roughness(ctx);
+    const float fdr = smooth_ || alpha_.is_constant() ? internal_reflectance_
+                                                      : 1.0f - leaving_->diffuse(alpha);
+    const Rgb base = nonlinear_ ? kd / glm::max(Rgb(1.0f) - kd * fdr, Rgb(1e-6f))
+                                : kd / glm::max(1.0f - fdr, 1e-6f);
+    const float transmit_in = transmittance(wi.z, alpha);
+    const float transmit_out = transmittance(wo.z, alpha);
     return base * (kInvPi * transmit_in * transmit_out / (eta_ * eta_));
   }
 
-  // Probability of sampling the coating lobe: its Fresnel-weighted albedo estimate against
-  // the base's, so that bright coatings at grazing angles get most samples.
-  float specular_probability(const BsdfContext& ctx, float cos_o) const {
+  // Probability of sampling the coating lobe: its albedo estimate (the light the coating
+  // does not let through) against the base's, so that bright coatings at grazing angles
+  // get most samples.
+  float specular_probability(const BsdfContext& ctx, float cos_o, float alpha) const {
     const Rgb ks = specular_.at(ctx.uv), kd = diffuse_.at(ctx.uv);
     const float specular_albedo = (ks.x + ks.y + ks.z) / 3.0f;
     const float diffuse_albedo = (kd.x + kd.y + kd.z) / 3.0f;
     const float total = specular_albedo + diffuse_albedo;
     const float specular_weight = total > 0.0f ? specular_albedo / total : 0.5f;
-    const float fresnel = fresnel_dielectric(cos_o, eta_);
-    const float specular = fresnel * specular_weight;
-    const float diffuse = (1.0f - fresnel) * (1.0f - specular_weight);
+    const float reflected = 1.0f - transmittance(cos_o, alpha);
+    const float specular = reflected * specular_weight;
+    const float diffuse = (1.0f - reflected) * (1.0f - specular_weight);
     return specular + diffuse > 0.0f ? specular / (specular + diffuse) : specular_weight;
   }
 
@@ -129,6 +160,8 @@ class RoughPlastic final : public Bsdf {
   bool nonlinear_;
   bool smooth_ = false;
   float internal_reflectance_ = 0.0f;
+  // Rough coatings only: transmittance into the coating, and out of it (for Fdr).
+  std::optional<RoughTransmittance> entering_, leaving_;
 };
 
 }  // namespace
