@@ -67,6 +67,7 @@ void PrimarySampleTracer::connect(int s, int t, Scratch& scratch, SampleSource& 
   if (is_black(value) || !is_finite(value)) return;
   out.splats.push_back({camera_side[0].raster, value});
   out.target += double(luminance(value));
+  out.length = std::max(out.length, s + t - 1);
 }
 
 void PrimarySampleTracer::evaluate(PrimarySampleVector& u, Rng& rng, int length,
@@ -108,10 +109,12 @@ void PrimarySampleTracer::evaluate(PrimarySampleVector& u, Rng& rng, int length,
   if (kind_ == PssTracer::PathTracer) {
     const Rgb value =
         PathTracer::radiance(scene_, path_tracer_settings_, camera.generate_ray(raster, u_lens),
-                             camera_stream, min_edges_);
+                             camera_stream, min_edges_, &out.length);
     if (!is_black(value) && is_finite(value)) {
       out.splats.push_back({raster, value});
       out.target = double(luminance(value));
+    } else {
+      out.length = 0;
     }
     give_back();
     return;

@@ -360,11 +360,14 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
   }
   stats_.chains = uint64_t(chain_count);
 
-  // Statistics: the step kinds, then (MMLT) the lengths; counted per block of chains.
+  // Statistics, counted per block of chains: the step kinds, then the path lengths: for
+  // MMLT the chain's, for PSSMLT the proposal's (its longest contributing path; a proposal
+  // that carries no light counts under "no light"), so that every proposal counts once.
   stats_.strategy_names = {"large", "small"};
-  if (multiplexed)
-    for (int k = min_edges; k <= max_edges; ++k)
-      stats_.strategy_names.push_back("length " + std::to_string(k));
+  for (int k = min_edges; k <= max_edges; ++k)
+    stats_.strategy_names.push_back("length " + std::to_string(k));
+  const size_t no_light_row = stats_.strategy_names.size();
+  if (!multiplexed) stats_.strategy_names.push_back("no light");
   const size_t stat_count = stats_.strategy_names.size();
   struct alignas(64) BlockStats {
     std::vector<StrategyStats> stats;
@@ -425,8 +428,9 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
     in.expect_end();
     // Every count that steers the loop is checked, so that a damaged state can neither
     // loop (nearly) forever nor promise a chain steps it cannot take.
+    // (2^40 steps per chain: weeks of rendering; a bound that keeps steps x chains in range.)
     bool consistent = sweep_active <= 1 && rounds > 0 && (rounds & (rounds - 1)) == 0 &&
-                      rounds <= (uint64_t(1) << 40);
+                      rounds <= (uint64_t(1) << 40) && steps_done <= (uint64_t(1) << 40);
     if (consistent && sweep_active)
       consistent = sweep_end > steps_done && sweep_end <= planned_steps &&
                    (!timed || sweep_end - steps_done <= rounds);
@@ -495,12 +499,12 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
     ++kind_stats.proposed;
     kind_stats.acceptance_sum += a;
     if (!(proposal.target > 0.0)) ++kind_stats.failed;
-    StrategyStats* length_stats =
-        multiplexed ? &stats[2 + size_t(chain.length - min_edges)] : nullptr;
-    if (length_stats) {
-      ++length_stats->proposed;
-      length_stats->acceptance_sum += a;
-    }
+    const int length = multiplexed ? chain.length : proposal.target > 0.0 ? proposal.length : 0;
+    StrategyStats& length_stats =
+        stats[length >= min_edges && length <= max_edges ? 2 + size_t(length - min_edges)
+                                                         : no_light_row];
+    ++length_stats.proposed;
+    length_stats.acceptance_sum += a;
     const double pb = p_large * chain.b;
     const double proposal_weight =
         (a + (large && !options_.drop_large_step_weight ? 1.0 : 0.0)) * chain.scale;
@@ -514,7 +518,7 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
       chain.carried = 0.0;
       chain.u.accept();
       ++kind_stats.accepted;
-      if (length_stats) ++length_stats->accepted;
+      ++length_stats.accepted;
     } else {
       chain.u.reject(options_.keep_coordinate_on_reject);
     }

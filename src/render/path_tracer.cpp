@@ -9,10 +9,11 @@ namespace {
 
 // Paths of fewer than `min_segments` segments add nothing (PSSMLT with the direct light
 // rendered separately); their samples are drawn all the same. With 1 it is the plain
-// path tracer.
+// path tracer. `longest` (PSSMLT's statistics, may be null): the segments of the longest
+// path that added light, 0 if none did.
 template <class Sampler>
 Rgb trace(const Scene& scene, const RenderSettings& settings, const Ray& camera_ray,
-          Sampler& rng, int min_segments) {
+          Sampler& rng, int min_segments, int* longest) {
   Rgb result(0.0f), throughput(1.0f);
   Ray ray = camera_ray;
   Vec3 previous_position = ray.origin;
@@ -24,22 +25,34 @@ Rgb trace(const Scene& scene, const RenderSettings& settings, const Ray& camera_
     SurfaceHit hit;
     const bool found = scene.intersect(ray, hit);
     if (!found) {
-      if (segments >= min_segments)
-        result += throughput * weighted_emission(scene, previous_position, ray.direction, nullptr,
-                                                 previous_pdf, previous_delta, settings.mis);
+      if (segments >= min_segments) {
+        const Rgb light = throughput * weighted_emission(scene, previous_position, ray.direction,
+                                                         nullptr, previous_pdf, previous_delta,
+                                                         settings.mis);
+        result += light;
+        if (longest && !is_black(light)) *longest = segments;
+      }
       break;
     }
-    if (hit.light && segments >= min_segments)
-      result += throughput * weighted_emission(scene, previous_position, ray.direction, &hit,
-                                               previous_pdf, previous_delta, settings.mis);
+    if (hit.light && segments >= min_segments) {
+      const Rgb light = throughput * weighted_emission(scene, previous_position, ray.direction,
+                                                       &hit, previous_pdf, previous_delta,
+                                                       settings.mis);
+      result += light;
+      if (longest && !is_black(light)) *longest = segments;
+    }
     if (settings.max_depth >= 0 && segments >= settings.max_depth) break;
 
     const Vec3 wo = -ray.direction;
     const float u_select = rng.uniform();
     const Vec2 u_light = rng.uniform2();
-    if (segments + 1 >= min_segments)
-      result += throughput * sample_light_contribution(scene, hit, wo, TransportMode::Radiance,
-                                                       u_select, u_light, settings.mis);
+    if (segments + 1 >= min_segments) {
+      const Rgb light = throughput * sample_light_contribution(scene, hit, wo,
+                                                               TransportMode::Radiance, u_select,
+                                                               u_light, settings.mis);
+      result += light;
+      if (longest && !is_black(light)) *longest = segments + 1;
+    }
 
     const Vec3 wo_local = hit.shading.to_local(wo);
     const float u_lobe = rng.uniform();
@@ -68,12 +81,12 @@ Rgb trace(const Scene& scene, const RenderSettings& settings, const Ray& camera_
 
 Rgb PathTracer::radiance(const Scene& scene, const RenderSettings& settings, const Ray& ray,
                          Rng& rng) {
-  return trace(scene, settings, ray, rng, 1);
+  return trace(scene, settings, ray, rng, 1, nullptr);
 }
 
 Rgb PathTracer::radiance(const Scene& scene, const RenderSettings& settings, const Ray& ray,
-                         SampleSource& samples, int min_segments) {
-  return trace(scene, settings, ray, samples, min_segments);
+                         SampleSource& samples, int min_segments, int* longest) {
+  return trace(scene, settings, ray, samples, min_segments, longest);
 }
 
 RenderResult PathTracer::render(const Scene& scene, const RenderSettings& settings,

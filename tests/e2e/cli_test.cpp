@@ -300,15 +300,17 @@ TEST(Cli, MltWritesStatisticsAndRejectsUnknownStrategies) {
                        "teleport", dir / "o.exr");
 }
 
-// pssmlt and mmlt: statistics per step kind (and per length for mmlt), and a one-line
-// refusal of what they do not support (checkpoints).
+// pssmlt (over BDPT and over the path tracer) and mmlt: statistics per step kind and per
+// path length.
 TEST(Cli, PrimarySampleSpaceIntegratorsWriteStatistics) {
   const fs::path dir = test::scratch_dir("pss");
-  for (const std::string integrator : {"pssmlt", "mmlt"}) {
+  for (const auto& [integrator, tracer] :
+       {std::pair<std::string, std::string>{"pssmlt", "bdpt"}, {"pssmlt", "pt"}, {"mmlt", "bdpt"}}) {
+    SCOPED_TRACE(integrator + " " + tracer);
     std::string text;
-    const fs::path stats_path = dir / (integrator + ".json");
+    const fs::path stats_path = dir / (integrator + "-" + tracer + ".json");
     ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / (integrator + ".pfm")).string() +
-                                            " --integrator " + integrator + " --pss-tracer bdpt --large-step 0.5"
+                                            " --integrator " + integrator + " --pss-tracer " + tracer + " --large-step 0.5"
                                             " --mpp 4 --chains 64 --bootstrap 5000 --width 16 --height 16 --quiet"
                                             " --stats " + stats_path.string()), &text)) << text;
     std::ifstream in(stats_path);
@@ -320,9 +322,32 @@ TEST(Cli, PrimarySampleSpaceIntegratorsWriteStatistics) {
     EXPECT_EQ(stats["strategies"][0]["proposed"].get<uint64_t>() +
                   stats["strategies"][1]["proposed"].get<uint64_t>(),
               4u * 16u * 16u);
-    if (integrator == "mmlt") {
-      EXPECT_EQ(stats["strategies"][2]["name"], "length 3");
+    // Then one row per path length (MMLT: the chain's; PSSMLT: the proposal's longest
+    // contributing path, and "no light"): every proposal and acceptance counted once.
+    EXPECT_EQ(stats["strategies"][2]["name"], "length 3");
+    uint64_t proposed = 0, accepted = 0, by_length_proposed = 0, by_length_accepted = 0;
+    for (size_t i = 0; i < stats["strategies"].size(); ++i) {
+      const auto& row = stats["strategies"][i];
+      const std::string name = row["name"].get<std::string>();
+      uint64_t& p = i < 2 ? proposed : by_length_proposed;
+      uint64_t& a = i < 2 ? accepted : by_length_accepted;
+      p += row["proposed"].get<uint64_t>();
+      a += row["accepted"].get<uint64_t>();
+      if (i >= 2) {
+        EXPECT_TRUE(name.starts_with("length ") || name == "no light") << name;
+      }
     }
+    EXPECT_EQ(by_length_proposed, proposed);
+    EXPECT_EQ(by_length_accepted, accepted);
+    EXPECT_GT(accepted, 0u);
+    const auto& last = stats["strategies"][stats["strategies"].size() - 1];
+    EXPECT_EQ(last["name"] == "no light", integrator == "pssmlt") << last;
+    // Light arrives on paths of several lengths (the Cornell box's indirect light).
+    int lit_lengths = 0;
+    for (size_t i = 2; i < stats["strategies"].size(); ++i)
+      lit_lengths += stats["strategies"][i]["name"] != "no light" &&
+                     stats["strategies"][i]["accepted"].get<uint64_t>() > 0;
+    EXPECT_GE(lit_lengths, 3);
   }
 }
 

@@ -27,13 +27,16 @@ struct PssSplat {
   Rgb value;
 };
 
-// One evaluation: its splats and f* = the sum of their luminances.
+// One evaluation: its splats and f* = the sum of their luminances; `length`, the segments
+// of the longest path among its contributions (0: none), for the statistics.
 struct PssSample {
   std::vector<PssSplat> splats;
   double target = 0.0;
+  int length = 0;
   void clear() {
     splats.clear();
     target = 0.0;
+    length = 0;
   }
 };
 

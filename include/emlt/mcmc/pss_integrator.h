@@ -42,8 +42,10 @@ class PssMltIntegrator final : public Integrator {
   std::string name() const override { return options_.multiplexed ? "mmlt" : "pssmlt"; }
   RenderResult render(const Scene& scene, const RenderSettings& settings,
                       ProgressReporter& progress) const override;
-  // Filled by the last render: strategies "large" and "small" (step kinds), and for MMLT
-  // "length k" per path length (their proposals and acceptances).
+  // Filled by the last render: strategies "large" and "small" (step kinds), then "length k"
+  // per path length (their proposals and acceptances): for MMLT the chain's length, for
+  // PSSMLT the proposal's longest contributing path, and "no light" for a proposal without
+  // any.
   const MltStatistics& statistics() const { return stats_; }
 
  private:

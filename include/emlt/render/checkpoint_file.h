@@ -12,7 +12,8 @@
 namespace emlt::checkpoint_file {
 
 // Raised whenever the layout of any integrator's state or of the header changes.
-inline constexpr uint32_t kVersion = 1;
+// 2: PSSMLT's per-length counters.
+inline constexpr uint32_t kVersion = 2;
 
 struct Contents {
   std::string header;

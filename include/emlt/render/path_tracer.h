@@ -14,9 +14,10 @@ class PathTracer final : public Integrator {
                       ProgressReporter& progress) const override;
   static Rgb radiance(const Scene& scene, const RenderSettings& settings, const Ray& ray, Rng& rng);
   // The same estimate from a primary-sample vector (PSSMLT), counting only paths of at
-  // least `min_segments` segments.
+  // least `min_segments` segments; `longest` (if given): the segments of the longest path
+  // that added light, 0 if none did.
   static Rgb radiance(const Scene& scene, const RenderSettings& settings, const Ray& ray,
-                      SampleSource& samples, int min_segments);
+                      SampleSource& samples, int min_segments, int* longest = nullptr);
 };
 
 }  // namespace emlt
