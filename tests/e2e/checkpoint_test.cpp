@@ -457,14 +457,16 @@ TEST(Checkpoint, TimeBudgetCountsTheEarlierRuns) {
                       &text))
       << text;
   const double first = reported_seconds(text);
-  EXPECT_GE(first, 1.0) << text;
+  // The closing line prints hundredths and its clock starts a little after the budget's
+  // (0.99 s was seen under load): a budget ignored would show far less.
+  EXPECT_GE(first, 0.98) << text;
   const auto begin = std::chrono::steady_clock::now();
   ASSERT_EQ(0, render("--integrator pt --time 2 -o " + out.string() + " --resume " + ck.string(), &text))
       << text;
   const double resumed_wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   const double total = reported_seconds(text);
-  EXPECT_GE(total, 2.0) << text;
+  EXPECT_GE(total, 1.98) << text;
   // --time renders whole passes, so each run overshoots by up to one pass, which takes longer
   // on a loaded machine. A resume that ignored the saved seconds would render 2 s more, so its
   // total would be at least first + 2; a correct one ends within a pass of 2 s. The margins
