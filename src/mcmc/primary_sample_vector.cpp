@@ -1,40 +1,6 @@
 #include "emlt/mcmc/primary_sample_vector.h"
 
-#include <algorithm>
-#include <cmath>
-
 namespace emlt {
-
-float PrimarySampleVector::perturb(float x, Rng& rng) const {
-  // One uniform: its half gives the direction, its position within the half the size.
-  const float u = rng.uniform();
-  const bool up = u < 0.5f;
-  const float v = up ? 2.0f * u : 2.0f * u - 1.0f;
-  const float step = sigma_ * std::exp2(-6.0f * v);  // sigma 64^-v
-  float y = up ? x + step : x - step;
-  y -= std::floor(y);
-  return y < 1.0f ? y : 0.0f;
-}
-
-float PrimarySampleVector::mutate(uint32_t index, Rng& rng) {
-  if (index >= coordinates_.size()) coordinates_.resize(size_t(index) + 1);
-  Coordinate& c = coordinates_[index];
-  // Not read since the last accepted large step (or never): its value is a fresh one.
-  if (c.modified < last_large_ || c.modified == 0) {
-    c.value = rng.uniform();
-    c.modified = std::max<uint64_t>(last_large_, 1);
-  }
-  c.saved_value = c.value;
-  c.saved_modified = c.modified;
-  if (large_step_) {
-    c.value = rng.uniform();
-  } else {
-    const uint64_t missed = std::min(iteration_ - c.modified, kMaxCatchUp);
-    for (uint64_t i = 0; i < missed; ++i) c.value = perturb(c.value, rng);
-  }
-  c.modified = iteration_;
-  return c.value;
-}
 
 void PrimarySampleVector::reject(bool keep_one) {
   // The coordinates this iteration read are those it stamped (a vector is a few dozen long).
