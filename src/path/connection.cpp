@@ -101,8 +101,12 @@ Rgb connect_vertices(const Scene& scene, const PathVertex* y_prev, const PathVer
   return f_light_end * g * f_eye_end;
 }
 
-float pdf_towards_along(const Scene& scene, const PathVertex* before, const PathVertex& from,
-                        const PathVertex& to, const Segment& out, const Vec3* back) {
+namespace {
+
+// pdf_towards_along; `smooth`: `from` evaluated by its smooth lobes even if a walk went on
+// from it through a Dirac lobe (a connection end).
+float pdf_along(const Scene& scene, const PathVertex* before, const PathVertex& from,
+                const PathVertex& to, const Segment& out, const Vec3* back, bool smooth) {
   if (to.is_camera()) return 0.0f;  // no walk can hit the lens
   const Vec3& w = out.w;
   if (from.is_camera()) {
@@ -121,7 +125,7 @@ float pdf_towards_along(const Scene& scene, const PathVertex* before, const Path
   if (!from.is_surface() || !from.bsdf) return 0.0f;
   const Vec3& w_before = *back;
   float pdf = 0.0f;
-  if (from.delta) {
+  if (from.delta && !smooth) {
     // Crossing from side a (towards `before`) to side b (towards `to`): the density carries
     // the crossing factor g(a -> b) (vertex.h).
     const auto ior = [&](const Vec3& dir) {
@@ -137,6 +141,18 @@ float pdf_towards_along(const Scene& scene, const PathVertex* before, const Path
     pdf = from.bsdf->pdf(BsdfContext{from.uv, TransportMode::Radiance}, before_local, to_local);
   }
   return solid_angle_along(pdf, to, out);
+}
+
+}  // namespace
+
+float pdf_towards_along(const Scene& scene, const PathVertex* before, const PathVertex& from,
+                        const PathVertex& to, const Segment& out, const Vec3* back) {
+  return pdf_along(scene, before, from, to, out, back, false);
+}
+
+float smooth_pdf_towards_along(const Scene& scene, const PathVertex* before, const PathVertex& from,
+                               const PathVertex& to, const Segment& out, const Vec3* back) {
+  return pdf_along(scene, before, from, to, out, back, true);
 }
 
 float pdf_towards(const Scene& scene, const PathVertex* before, const PathVertex& from,

@@ -58,20 +58,49 @@ void connection_densities(const Scene& scene, std::span<const PathVertex> light,
   if (t >= 1) out[size_t(s)].delta = false;
 
   if (s == 0) {
-    PathVertex emitter = camera[size_t(t - 1)];
-    emitter.delta = false;
+    // (Neither density of an emitter end reads its `delta`.)
+    const PathVertex& emitter = camera[size_t(t - 1)];
     out[0].from_light = pdf_light_origin(scene, emitter);
     if (t >= 2) out[1].from_light = pdf_towards(scene, nullptr, emitter, camera[size_t(t - 2)]);
     return;
   }
-  PathVertex y = light[size_t(s - 1)], z = camera[size_t(t - 1)];
-  y.delta = z.delta = false;
+  const PathVertex &y = light[size_t(s - 1)], &z = camera[size_t(t - 1)];
   const PathVertex* y_previous = s >= 2 ? &light[size_t(s - 2)] : nullptr;
   const PathVertex* z_previous = t >= 2 ? &camera[size_t(t - 2)] : nullptr;
-  out[size_t(s)].from_light = pdf_towards(scene, y_previous, y, z);
-  if (z_previous) out[size_t(s + 1)].from_light = pdf_towards(scene, &y, z, *z_previous);
-  out[size_t(s - 1)].from_eye = pdf_towards(scene, z_previous, z, y);
-  if (y_previous) out[size_t(s - 2)].from_eye = pdf_towards(scene, &z, y, *y_previous);
+  if (y.is_environment() && z.is_environment()) {
+    // No segment joins two sky directions (and the shared segments below would not be
+    // each other's reverse): the plain evaluation, ends made smooth by copies.
+    PathVertex y_smooth = y, z_smooth = z;
+    y_smooth.delta = z_smooth.delta = false;
+    out[size_t(s)].from_light = pdf_towards(scene, y_previous, y_smooth, z_smooth);
+    if (z_previous)
+      out[size_t(s + 1)].from_light = pdf_towards(scene, &y_smooth, z_smooth, *z_previous);
+    out[size_t(s - 1)].from_eye = pdf_towards(scene, z_previous, z_smooth, y_smooth);
+    if (y_previous)
+      out[size_t(s - 2)].from_eye = pdf_towards(scene, &z_smooth, y_smooth, *y_previous);
+    return;
+  }
+  // The three segments the four densities use, each computed once: pdf_towards would
+  // compute each of them two or three times, with the same arithmetic (connection.h:
+  // the reverse of a segment is exactly -w; a zero-length one keeps the zero vector).
+  const Segment yz = segment_between(y, z);
+  const Segment zy{yz.distance_squared > 0.0f || y.is_environment() || z.is_environment()
+                       ? -yz.w
+                       : direction_between(z, y),
+                   yz.distance_squared};
+  Segment y_back{}, z_back{};
+  if (y_previous) y_back = segment_between(y, *y_previous);
+  if (z_previous) z_back = segment_between(z, *z_previous);
+  out[size_t(s)].from_light =
+      smooth_pdf_towards_along(scene, y_previous, y, z, yz, y_previous ? &y_back.w : nullptr);
+  if (z_previous)
+    out[size_t(s + 1)].from_light =
+        smooth_pdf_towards_along(scene, &y, z, *z_previous, z_back, &zy.w);
+  out[size_t(s - 1)].from_eye =
+      smooth_pdf_towards_along(scene, z_previous, z, y, zy, z_previous ? &z_back.w : nullptr);
+  if (y_previous)
+    out[size_t(s - 2)].from_eye =
+        smooth_pdf_towards_along(scene, &z, y, *y_previous, y_back, &yz.w);
 }
 
 }  // namespace emlt

@@ -58,9 +58,14 @@ inline float solid_angle_along(float pdf_solid_angle, const PathVertex& to, cons
 // (w_light / w_eye: unit directions from v towards its light- / eye-side neighbour, null
 // where vertex_factor's neighbour is null; `out` from `from` to `to`, `back` from `from` to
 // `before`). The same arithmetic as the plain versions, for loops that meet every edge twice.
-Rgb vertex_factor_along(const Scene& scene, const PathVertex& v, const Vec3* w_light, const Vec3* w_eye);
+Rgb vertex_factor_along(const Scene& scene, const PathVertex& v, const Vec3* w_light,
+                        const Vec3* w_eye);
 float pdf_towards_along(const Scene& scene, const PathVertex* before, const PathVertex& from,
                         const PathVertex& to, const Segment& out, const Vec3* back);
+// pdf_towards_along with `from` evaluated by its smooth lobes, as if its `delta` were false:
+// the density a connection end has inside the connected path (path_density.h).
+float smooth_pdf_towards_along(const Scene& scene, const PathVertex* before, const PathVertex& from,
+                               const PathVertex& to, const Segment& out, const Vec3* back);
 
 // Unoccluded straight segment between two vertices (one may be the sky).
 bool mutually_visible(const Scene& scene, const PathVertex& a, const PathVertex& b);
