@@ -487,13 +487,29 @@ std::string preview_path_for(const std::string& path) {
 }
 
 std::vector<unsigned char> to_srgb8(const Image& image, float exposure) {
+  // The bytes of the values met so far, by their bits (direct-mapped): an image decoded from
+  // an 8-bit file, which every 8-bit texture re-encodes on loading (bitmap_texture.cpp), has
+  // at most 256 values per channel, and one pow per texel channel was two thirds of loading
+  // the public Veach door's textures. A memo of the function itself, so every byte is the
+  // one the conversion gives.
+  constexpr uint32_t kMemoBits = 12;
+  struct Memo {
+    uint32_t key;
+    bool valid;
+    unsigned char byte;
+  };
+  std::vector<Memo> memo(size_t(1) << kMemoBits, Memo{0, false, 0});
   std::vector<unsigned char> bytes(image.pixels.size() * 3);
   for (size_t i = 0; i < image.pixels.size(); ++i) {
     for (int c = 0; c < 3; ++c) {
       const float linear = image.pixels[i][c] * exposure;
       // NaN and negatives map to black, overflow to white.
       const float clamped = linear > 0.0f ? std::min(linear, 1.0f) : 0.0f;
-      bytes[3 * i + c] = static_cast<unsigned char>(linear_to_srgb(clamped) * 255.0f + 0.5f);
+      const uint32_t key = std::bit_cast<uint32_t>(clamped);
+      Memo& m = memo[(key * 2654435761u) >> (32 - kMemoBits)];
+      if (!m.valid || m.key != key)
+        m = {key, true, static_cast<unsigned char>(linear_to_srgb(clamped) * 255.0f + 0.5f)};
+      bytes[3 * i + c] = m.byte;
     }
   }
   return bytes;

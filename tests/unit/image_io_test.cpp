@@ -278,3 +278,26 @@ TEST(ImageIo, PreviewPathAndSrgbEncoding) {
   // Exposure multiplies before the curve: 0.25 at exposure 2 encodes like 0.5.
   EXPECT_EQ(to_srgb8(image, 2.0f)[9], 188);
 }
+
+// to_srgb8 keeps the bytes of the values it has met (a memo by the float's bits): a value
+// whose slot another value took must still get its own byte. Every value of the image,
+// encoded alone (a fresh memo), against the same value inside a 120 000-value image, where
+// values share slots.
+TEST(ImageIo, SrgbEncodingOfManyValuesMatchesEachValueAlone) {
+  Image image(40000, 1);
+  uint32_t state = 12345u;
+  for (Rgb& pixel : image.pixels)
+    for (int c = 0; c < 3; ++c) {
+      state = state * 1664525u + 1013904223u;
+      pixel[c] = float(state >> 8) * 0x1p-24f;
+    }
+  const std::vector<unsigned char> bytes = to_srgb8(image);
+  int mismatches = 0;
+  for (size_t i = 0; i < image.pixels.size(); ++i) {
+    Image one(1, 1);
+    one.pixels[0] = image.pixels[i];
+    const std::vector<unsigned char> alone = to_srgb8(one);
+    for (size_t c = 0; c < 3; ++c) mismatches += alone[c] != bytes[3 * i + c];
+  }
+  EXPECT_EQ(mismatches, 0);
+}
