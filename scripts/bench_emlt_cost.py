@@ -14,10 +14,14 @@ Two measurements per scene, both single-threaded:
   libc, Embree) in the category of its callers, in proportion to what each call costs.
 
   tree rebuild   EnsembleGuides::build, PathTypeIndex::build (once per swap)
-  similarity     eq. 8/9 similarities, guide choice and its selection ratio, the Υ lookup
+  guide lookup   finding Υ for a step (EnsembleGuides::upsilon, the type's window)
+  similarity     eq. 8/9 similarities, guide choice and its selection ratio
   kernel fits    the rest of emlt::ensemble: fitting, sampling and evaluating the kernels
   tracing        Scene::intersect / Scene::visible and Embree under them
+  allocation     malloc / free / operator new / delete, whoever calls them
   rest           everything else (path construction, BSDFs, densities, MH, splatting)
+
+A last row gives EMLT's extra instructions per mutation over MLT's, by category.
 
 Per strategy it also prints instructions per proposal (inclusive of everything the
 proposal does, tracing included).
@@ -39,15 +43,20 @@ import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
-CATEGORIES = ["tree rebuild", "similarity", "kernel fits", "tracing", "rest"]
+CATEGORIES = ["tree rebuild", "guide lookup", "similarity", "kernel fits", "tracing",
+              "allocation", "rest"]
 TREE = re.compile(r"emlt::(EnsembleGuides::build|PathTypeIndex::build)\b")
 SIMILARITY = re.compile(
     r"emlt::ensemble::(\(anonymous namespace\)::)?(path_similarities|vertex_similarities|"
     r"similarities_to_guides|far_similarity_row|choose_similar_guide|log_selection_ratio|"
     r"choose_guide|guide_log_probability|normalise_weights|normalise_log_weights|guide_weights|"
     r"plain_total|logs_of|log_similarities_to_guides|log_vertex_similarity|log_path_similarity|"
-    r"guides_for|guides_for_next_step|guide_vertex|similarity_params)\b"
-    r"|emlt::(EnsembleGuides::upsilon|PathTypeIndex::(window|find))\b")
+    r"guide_vertex|similarity_params)\b")
+LOOKUP = re.compile(r"emlt::ensemble::(guides_for|guides_for_next_step)\b"
+                    r"|emlt::(EnsembleGuides::upsilon|PathTypeIndex::(window|find))\b")
+ALLOCATION = re.compile(r"^(malloc|free|calloc|realloc|_int_malloc|_int_free|"
+                        r"malloc_consolidate|_int_free_merge_chunk|unlink_chunk[.\w]*|"
+                        r"tcache_[\w]*|cfree[@.\w]*|operator new|operator delete)\b")
 KERNELS = re.compile(r"emlt::ensemble::")
 TRACING = re.compile(r"emlt::Scene::(intersect|visible|occluded)\b")
 PROPOSE = re.compile(r"emlt::(\w+)::propose\(")
@@ -56,6 +65,8 @@ PROPOSE = re.compile(r"emlt::(\w+)::propose\(")
 def category_of(name):
     if TREE.search(name):
         return "tree rebuild"
+    if LOOKUP.search(name):
+        return "guide lookup"
     if SIMILARITY.search(name):
         return "similarity"
     if KERNELS.search(name):
@@ -125,10 +136,14 @@ def breakdown(path, engine_object):
             callers[callee].append((caller, cost))
     functions = set(self_cost) | {f for e in edges for f in e}
     own = {f: f[0] == engine_object for f in functions}
-    # Category shares: fixed for the engine's functions, callers' weighted mix for libraries.
+    # Category shares: fixed for the engine's functions and the allocator, callers' weighted
+    # mix for the other library functions.
     share = {}
     for f in functions:
-        if own[f]:
+        if ALLOCATION.search(f[1] or ""):
+            share[f] = {"allocation": 1.0}
+            own[f] = True
+        elif own[f]:
             share[f] = {category_of(f[1]): 1.0}
     for _ in range(64):
         changed = False
@@ -188,6 +203,11 @@ def main():
     parser.add_argument("--callgrind-mpp", type=int, default=4)
     parser.add_argument("--no-cpu", action="store_true")
     parser.add_argument("--no-callgrind", action="store_true")
+    parser.add_argument("--only", action="append", metavar="NAME",
+                        help="measure only these methods (mlt is measured anyway: the ratios "
+                             "are to it)")
+    parser.add_argument("--keep", metavar="DIR",
+                        help="keep the callgrind profiles in DIR (SCENE-METHOD.cg)")
     args = parser.parse_args()
     scenes = args.scene or [os.path.join(ROOT, "scenes", s, "scene.json")
                             for s in ("cornell-box", "door-ajar")]
@@ -197,6 +217,8 @@ def main():
     for m in args.method or []:
         name, _, method_args = m.partition("=")
         methods.append((name, method_args))
+    if args.only:
+        methods = [m for m in methods if m[0] == "mlt" or m[0] in args.only]
     pixels = args.size * args.size
     engine = os.path.realpath(args.emlt)
     with tempfile.TemporaryDirectory() as tmp:
@@ -220,7 +242,7 @@ def main():
                 continue
             per_mutation = {}
             for name, method_args in methods:
-                cg = os.path.join(tmp, f"{name}.cg")
+                cg = os.path.join(args.keep or tmp, f"{label}-{name}.cg")
                 command = (["valgrind", "--tool=callgrind", f"--callgrind-out-file={cg}",
                             "--toggle-collect=*run_chain*",
                             "--toggle-collect=emlt::EnsembleGuides::build*"] +
@@ -241,6 +263,11 @@ def main():
                 total = sum(cats.values())
                 print("  " + f"{name:12s}" + "".join(f"{cats[c]:14.0f}" for c in CATEGORIES) +
                       f"{total:10.0f}{total / mlt_total:8.2f}")
+            if "emlt" in per_mutation:
+                extra = {c: per_mutation["emlt"][0][c] - per_mutation["mlt"][0][c]
+                         for c in CATEGORIES}
+                print("  " + f"{'emlt - mlt':12s}" + "".join(f"{extra[c]:14.0f}" for c in CATEGORIES) +
+                      f"{sum(extra.values()):10.0f}")
             print("Instructions per proposal, by strategy (share of proposals):")
             for name, _ in methods:
                 props = per_mutation[name][1]
