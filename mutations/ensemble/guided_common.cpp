@@ -52,6 +52,10 @@ void vertex_similarities(const PathVertex& a, const GuideView& guides, int i,
                          const SimilarityParams& params, std::span<double> out) {
   assert(out.size() == guides.size());
   const size_t count = guides.size();
+  if (guides.same_point(i) && !a.is_environment()) {
+    std::fill(out.begin(), out.end(), vertex_similarity(a.position, guides.position(0, i), params));
+    return;
+  }
   // A sky vertex is a direction: compare directions (unit vectors) instead of points.
   if (guides.has_environment()) {
     const std::span<const Vec3> sky = guides.sky_directions(i);
@@ -83,10 +87,19 @@ void path_similarities(const Path& x, const GuideView& guides, int first, int la
   GuideBuffer<double> scratch(count);
   if (kept) kept->assign(x, first, last, count);
   for (int i = first; i <= last; ++i) {
+    const PathVertex& v = x.vertices[size_t(i)];
+    if (guides.same_point(i) && !v.is_environment()) {
+      // One similarity for every guide (the row's value in each entry). Where it is 1 (the
+      // usual case: the same lens point), multiplying by it would change nothing.
+      const double s = vertex_similarity(v.position, guides.position(0, i), params);
+      if (s != 1.0)
+        for (size_t n = 0; n < count; ++n) out[n].multiply(s);
+      continue;
+    }
     std::span<const double> row = reuse ? reuse->reusable_row(x, i) : std::span<const double>();
     if (row.empty()) {
       const std::span<double> computed = kept ? kept->row(i) : scratch.span();
-      vertex_similarities(x.vertices[size_t(i)], guides, i, params, computed);
+      vertex_similarities(v, guides, i, params, computed);
       row = computed;
     }
     for (size_t n = 0; n < count; ++n) out[n].multiply(row[n]);

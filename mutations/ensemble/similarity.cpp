@@ -168,10 +168,20 @@ namespace {
 std::optional<double> plain_total(std::span<const SimilarityProduct> weights) {
   std::array<double, 4> partial{};
   bool plain = true;
-  for (size_t n = 0; n < weights.size(); ++n) {
-    plain &= weights[n].is_plain() && weights[n].plain() > 0.0;
-    partial[n % 4] += weights[n].plain();
+  const auto add = [&](size_t n, size_t lane) {
+    plain &= weights[n].is_plain() & (weights[n].plain() > 0.0);
+    partial[lane] += weights[n].plain();
+  };
+  // Unrolled by the four partial sums (partial[n % 4] gets the same terms in the same
+  // order): the loop with n % 4 took 15 instructions a weight.
+  const size_t count = weights.size(), quads = count & ~size_t(3);
+  for (size_t n = 0; n < quads; n += 4) {
+    add(n, 0);
+    add(n + 1, 1);
+    add(n + 2, 2);
+    add(n + 3, 3);
   }
+  for (size_t n = quads; n < count; ++n) add(n, n - quads);
   if (!plain) return std::nullopt;
   return (partial[0] + partial[1]) + (partial[2] + partial[3]);
 }

@@ -67,6 +67,21 @@ void EnsembleGuides::build(std::span<const Path* const> paths, int width, int he
       rasters_[block.first + k] = raster[member] = path->raster();  // the last vertex, just read
     }
   }
+  // The vertices at which every guide of a type is the same point (no sky vertex): a
+  // pinhole camera's lens point, in every guided lens perturbation's similarity.
+  same_point_.clear();
+  for (size_t g = 0; g < blocks_.size(); ++g) {
+    Block& block = blocks_[g];
+    block.same_point_data = same_point_.size();
+    for (size_t i = 0; i < index_.group_type(g).vertices; ++i) {
+      bool same = !block.has_environment;
+      for (size_t axis = 0; axis < 3 && same; ++axis) {
+        const double* row = &coordinates_[3 * block.vertex_data + (3 * i + axis) * block.stride];
+        same = std::all_of(row, row + block.stride, [&](double c) { return c == row[0]; });
+      }
+      same_point_.push_back(uint8_t(same));
+    }
+  }
   alpha_ = params.adaptive_alpha
                ? ensemble::adaptive_alpha(ensemble::image_coverage(raster, width, height))
                : params.alpha_fixed;
@@ -107,6 +122,7 @@ GuideView EnsembleGuides::upsilon(const PathType& type, uint64_t chain, uint64_t
     view.sky_directions_ = sky_directions_.data() + block.sky_data + window.start;
     view.environment_ = environment_.data() + block.sky_data + window.start;
   }
+  view.same_point_ = same_point_.data() + block.same_point_data;
   view.stride_ = block.stride;
   return view;
 }

@@ -13,6 +13,7 @@
 #include "emlt/core/rng.h"
 #include "emlt/mcmc/ensemble_guides.h"
 #include "emlt/path/path_state.h"
+#include "mutations/ensemble/guided_common.h"
 #include "mutations/ensemble/similarity.h"
 
 using namespace emlt;
@@ -217,6 +218,55 @@ TEST(EnsembleGuideView, HoldsTheGuidePathsOwnDataForEveryWindow) {
   PathType absent;
   absent.vertices = 9;
   EXPECT_TRUE(ensemble.upsilon(absent, 0, 0).empty());
+}
+
+// A vertex at which every guide of the type is the same point (a pinhole camera's lens
+// point) has its similarity computed once instead of a row; the products must be those of
+// the rows, bit for bit, whether that similarity is 1 (skipped) or not.
+TEST(EnsembleGuideView, OneSimilarityWhereEveryGuideIsTheSamePoint) {
+  Rng rng(13, 1);
+  const Vec3 lens(1.0f, 2.0f, 3.0f);
+  std::vector<Path> paths;
+  for (int i = 0; i < 40; ++i) {
+    // Type A (4 vertices): every lens point the same. Type B (5 vertices): one differs.
+    Path path = i % 2 ? synthetic_path(rng, 4, 0, false) : synthetic_path(rng, 5, 0, false);
+    path.vertices.back().position = i == 6 ? lens + Vec3(0.0f, 0.0f, 1e-3f) : lens;
+    paths.push_back(path);
+  }
+  std::vector<const Path*> pointers;
+  for (const Path& p : paths) pointers.push_back(&p);
+  EnsembleGuides ensemble;
+  EnsembleParams params;
+  ensemble.build(pointers, 64, 64, 3, params);
+  const GuideView a = ensemble.upsilon(paths[1].type, 0, 0);
+  const GuideView b = ensemble.upsilon(paths[0].type, 0, 0);
+  ASSERT_EQ(a.size(), 8u);
+  EXPECT_TRUE(a.same_point(3));
+  for (int i = 0; i < 3; ++i) EXPECT_FALSE(a.same_point(i));
+  for (int i = 0; i < 5; ++i) EXPECT_FALSE(b.same_point(i));
+
+  const SimilarityParams similarity;
+  for (const Vec3 offset : {Vec3(0.0f), Vec3(0.3f, 0.0f, 0.0f), Vec3(0.0f, 40.0f, 0.0f)}) {
+    Path x = synthetic_path(rng, 4, 0, false);
+    x.vertices[2].position = a.position(0, 2) + Vec3(0.2f, 0.1f, 0.0f);
+    x.vertices[3].position = lens + offset;
+    std::vector<double> row(a.size());
+    vertex_similarities(x.vertices[3], a, 3, similarity, row);
+    std::vector<SimilarityProduct> products(a.size());
+    path_similarities(x, a, 1, 3, similarity, products);
+    for (size_t n = 0; n < a.size(); ++n) {
+      const Path& guide = *a[n];
+      EXPECT_EQ(row[n],
+                vertex_similarity(x.vertices[3].position, guide.vertices[3].position, similarity));
+      SimilarityProduct expected;
+      for (int i = 1; i <= 3; ++i)
+        expected.multiply(vertex_similarity(x.vertices[size_t(i)].position,
+                                            guide.vertices[size_t(i)].position, similarity));
+      EXPECT_EQ(products[n].is_plain(), expected.is_plain());
+      EXPECT_EQ(products[n].plain(), expected.plain());
+      EXPECT_EQ(products[n].log(), expected.log());
+    }
+  }
 }
 
 // Under MPI a rank holds the other ranks' paths as guide copies (PathCodec's guide form):

@@ -65,6 +65,9 @@ class GuideView {
     return has_environment() ? std::span<const uint8_t>(environment_ + size_t(i) * stride_, size())
                              : std::span<const uint8_t>();
   }
+  // Whether every guide's vertex i is the same surface point (a pinhole camera's lens
+  // point): then a vertex has one similarity to all of them, computed once.
+  bool same_point(int i) const { return same_point_ && same_point_[i]; }
 
  private:
   friend class EnsembleGuides;
@@ -74,6 +77,7 @@ class GuideView {
   const double* coordinates_ = nullptr;   // row (i, axis) starts at (3 i + axis) * stride_
   const Vec3* sky_directions_ = nullptr;  // row i starts at i * stride_
   const uint8_t* environment_ = nullptr;  // likewise
+  const uint8_t* same_point_ = nullptr;   // one entry per vertex
   size_t stride_ = 0;
 };
 
@@ -97,10 +101,11 @@ class EnsembleGuides {
   // cyclically by its first entries, so that every Υ (M consecutive members, cyclically) is
   // one contiguous range of each array.
   struct Block {
-    size_t first = 0;        // of the block's entries in guide_paths_ and rasters_
-    size_t stride = 0;       // entries per row: members + extension
-    size_t vertex_data = 0;  // offset of the block's rows in coordinates_, in units of 3 rows
-    size_t sky_data = 0;     // offset of the block's rows in sky_directions_ / environment_
+    size_t first = 0;            // of the block's entries in guide_paths_ and rasters_
+    size_t stride = 0;           // entries per row: members + extension
+    size_t vertex_data = 0;      // offset of the block's rows in coordinates_, in units of 3 rows
+    size_t sky_data = 0;         // offset of the block's rows in sky_directions_ / environment_
+    size_t same_point_data = 0;  // offset of the block's entries in same_point_
     bool has_environment = false;
   };
 
@@ -115,6 +120,7 @@ class EnsembleGuides {
   std::vector<double> coordinates_;
   std::vector<Vec3> sky_directions_;
   std::vector<uint8_t> environment_;
+  std::vector<uint8_t> same_point_;  // per block and vertex: GuideView::same_point
 };
 
 }  // namespace emlt
