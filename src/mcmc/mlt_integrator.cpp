@@ -15,6 +15,7 @@
 #include "emlt/core/error.h"
 #include "emlt/mcmc/bootstrap.h"
 #include "emlt/mcmc/fixed_point_film.h"
+#include "emlt/mcmc/mcmc_phase_state.h"
 #include "emlt/render/bdpt.h"
 #include "emlt/render/direct_integrator.h"
 #include "emlt/render/image.h"
@@ -33,7 +34,6 @@ constexpr uint64_t kSeedStream = 0x5eedull << 40;
 constexpr int kMaxBlocks = 64;
 constexpr int kMaxFilms = 16;
 // The phase a checkpoint falls in.
-constexpr uint8_t kPhaseDirect = 0, kPhaseChains = 1;
 
 double luminance(const DVec3& c) {
   return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
@@ -304,31 +304,16 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   // the time so far, the direct image's pass state and then the chains' section.
   RenderControl* control = settings.control;
   double snapshot_seconds = 0.0;
-  PixelRenderState direct_state;
-  uint8_t resumed_phase = kPhaseDirect;
-  std::string chain_section;  // a resumed chains section, until it is loaded
+  McmcPhaseState phase_state;  // the phase, the direct pass and a resumed chains section
+  PixelRenderState& direct_state = phase_state.direct;
+  std::string& chain_section = phase_state.chain_section;
   if (control && !control->resume_state().empty()) {
-    StateReader in(control->resume_state());
-    resumed_phase = in.get<uint8_t>();
-    if (resumed_phase != kPhaseDirect && resumed_phase != kPhaseChains)
-      throw StateError("the saved render is in no known phase");
-    earlier_seconds = in.get<double>();
-    if (settings.direct_separate) direct_state.load(in, width, height);
-    if (resumed_phase == kPhaseChains) chain_section = std::string(in.get_block());
-    in.expect_end();
+    phase_state.load(control->resume_state(), settings.direct_separate, width, height);
+    earlier_seconds = phase_state.earlier_seconds;
   }
   // `chains` writes the chains' section (null: the chains have not started).
   const auto save_state = [&](StateWriter& out, const std::function<void(StateWriter&)>& chains) {
-    out.put<uint8_t>(chains || !chain_section.empty() ? kPhaseChains : kPhaseDirect);
-    out.put<double>(elapsed() - snapshot_seconds);
-    if (settings.direct_separate) direct_state.save(out);
-    if (chains) {
-      StateWriter section;
-      chains(section);
-      out.put_block(section.data());
-    } else if (!chain_section.empty()) {
-      out.put_block(chain_section);
-    }
+    phase_state.save(out, elapsed() - snapshot_seconds, settings.direct_separate, chains);
   };
   const auto save_before_chains = [&](StateWriter& out) { save_state(out, nullptr); };
 

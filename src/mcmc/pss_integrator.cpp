@@ -13,6 +13,7 @@
 #include "emlt/core/error.h"
 #include "emlt/mcmc/bootstrap.h"
 #include "emlt/mcmc/fixed_point_film.h"
+#include "emlt/mcmc/mcmc_phase_state.h"
 #include "emlt/render/bdpt.h"
 #include "emlt/render/direct_integrator.h"
 #include "emlt/render/interruption.h"
@@ -31,7 +32,6 @@ constexpr int kBlocks = 64;
 constexpr int kMaxFilms = 16;
 constexpr size_t kLarge = 0, kSmall = 1;  // the step kinds' statistics
 // The phase a checkpoint falls in.
-constexpr uint8_t kPhaseDirect = 0, kPhaseChains = 1;
 // More splats than any evaluation makes (BDPT's: one per strategy of a path up to
 // kMaxPathVertices vertices); a checkpoint's bound.
 constexpr uint64_t kMaxSplats = uint64_t(1) << 16;
@@ -100,30 +100,16 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
   // time so far, the direct image's pass state and then the chains' section.
   RenderControl* control = settings.control;
   double snapshot_seconds = 0.0;
-  PixelRenderState direct_state;
-  std::string chain_section;  // a resumed chains section, until it is loaded
+  McmcPhaseState phase_state;  // the phase, the direct pass and a resumed chains section
+  PixelRenderState& direct_state = phase_state.direct;
+  std::string& chain_section = phase_state.chain_section;
   if (control && !control->resume_state().empty()) {
-    StateReader in(control->resume_state());
-    const uint8_t phase = in.get<uint8_t>();
-    if (phase != kPhaseDirect && phase != kPhaseChains)
-      throw StateError("the saved render is in no known phase");
-    earlier_seconds = in.get<double>();
-    if (settings.direct_separate) direct_state.load(in, width, height);
-    if (phase == kPhaseChains) chain_section = std::string(in.get_block());
-    in.expect_end();
+    phase_state.load(control->resume_state(), settings.direct_separate, width, height);
+    earlier_seconds = phase_state.earlier_seconds;
   }
   // `chains` writes the chains' section (null: the chains have not started).
   const auto save_state = [&](StateWriter& out, const std::function<void(StateWriter&)>& chains) {
-    out.put<uint8_t>(chains || !chain_section.empty() ? kPhaseChains : kPhaseDirect);
-    out.put<double>(elapsed() - snapshot_seconds);
-    if (settings.direct_separate) direct_state.save(out);
-    if (chains) {
-      StateWriter section;
-      chains(section);
-      out.put_block(section.data());
-    } else if (!chain_section.empty()) {
-      out.put_block(chain_section);
-    }
+    phase_state.save(out, elapsed() - snapshot_seconds, settings.direct_separate, chains);
   };
   const auto save_before_chains = [&](StateWriter& out) { save_state(out, nullptr); };
 
