@@ -67,7 +67,6 @@ void report_mlt_statistics(const std::string& name, const MltStatistics& st,
       {"b", st.b},
       {"b_standard_error", st.b_standard_error},
       {"bootstrap_samples", st.bootstrap_samples},
-      {"bootstrap_effective_candidates", st.bootstrap_effective_candidates},
       {"chains", st.chains},
       {"mutations", st.mutations},
       {"seconds", st.seconds},
@@ -77,6 +76,9 @@ void report_mlt_statistics(const std::string& name, const MltStatistics& st,
       {"direct_spp", st.direct_spp},
       {"bootstrap_seconds", st.bootstrap_seconds},
       {"strategies", strategies}};
+  // Known only to the run that made the pool (a resumed run does not save it).
+  if (st.bootstrap_effective_candidates > 0.0)
+    j["bootstrap_effective_candidates"] = st.bootstrap_effective_candidates;
   if (st.ensemble_size > 0)
     j["ensemble"] = {{"size", st.ensemble_size},
                      {"neighbours", st.ensemble_neighbours},

@@ -273,7 +273,7 @@ TEST(Checkpoint, BadCheckpointsAreRefusedByNameWithNothingWritten) {
     std::string scene = read_bytes(other_scene / "scene.json");
     const size_t at = scene.find("\"spp\"");
     ASSERT_NE(at, std::string::npos);
-    scene.insert(at, " ");
+    scene.insert(at, 1, ' ');
     std::ofstream(other_scene / "scene.json", std::ios::binary) << scene;
   }
 

@@ -28,7 +28,8 @@ struct MltStatistics {
   double direct_seconds = 0.0;     // the separate direct-lighting pass (--direct separate)
   int direct_spp = 0;              // its samples per pixel (0 with --direct mlt)
   double bootstrap_seconds = 0.0;  // bootstrap and chain seeding
-  // What the seed pool is worth in equally weighted candidates (0 after a resume: not saved).
+  // What the seed pool is worth in equally weighted candidates (0 after a resume: not saved,
+  // and then left out of --stats).
   double bootstrap_effective_candidates = 0.0;
   // Mutations per second of the chains alone (what the benchmark calls "chain only").
   double chain_mutations_per_second() const {
