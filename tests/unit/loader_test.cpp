@@ -409,6 +409,25 @@ TEST(ObjLoader, FansPolygonsAndHandlesNormals) {
   EXPECT_EQ(ridge_vertices, 2);
 }
 
+TEST(ObjLoader, PutsBackNonFiniteCoordinatesWhateverTheLineEndings) {
+  // tinyobjloader reads "nan", "inf" and overflowing numbers as 0; the loader's own scan of
+  // the v/vn/vt lines puts them back. CRLF endings, tabs, a word glued to its newline and a
+  // last line without one must split as a stream would split them.
+  const auto dir = test::scratch_dir("obj-nonfinite");
+  const std::string path = write_file(dir, "mesh.obj",
+                                      "# nan inf in a comment\r\n"
+                                      "v 0 0 0\r\nv\t1 0 nan\r\nv 1 1 0\nvt 0 0\nvt 1e999 1\n"
+                                      "vt 1 1\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/3/1\nv 0 -INF 2");
+  const MeshDesc mesh = load_obj_mesh(path, Mat4(1.0f), false);
+  // The transform spreads a non-finite coordinate over the whole position.
+  int non_finite_positions = 0, infinite_u = 0;
+  for (const Vec3& p : mesh.positions) non_finite_positions += !std::isfinite(p.x + p.y + p.z);
+  for (const Vec2& uv : mesh.uvs) infinite_u += std::isinf(uv.x) && uv.x > 0.0f;
+  EXPECT_EQ(mesh.positions.size(), 4u);
+  EXPECT_EQ(non_finite_positions, 2);  // "nan" on the tabbed CRLF line, "-INF" on the last
+  EXPECT_EQ(infinite_u, 1);            // 1e999 overflows
+}
+
 TEST(ShippedScenes, LoadAndBuildWithoutWarnings) {
   for (const char* file : {"scenes/cornell-glass/scene.json", "scenes/env-sky/scene.json",
                            "scenes/env-sky/scene.xml", "scenes/staircase/scene.json",
