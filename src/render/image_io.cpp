@@ -370,7 +370,7 @@ Image read_hdr(const std::string& path) {
   return image;
 }
 
-Image read_ldr(const std::string& path) {
+Image8 read_ldr_bytes(const std::string& path) {
   check_stb_file(path, format_of(path));
   check_stb_image_size(path);
   int width = 0, height = 0, components = 0;
@@ -379,14 +379,21 @@ Image read_ldr(const std::string& path) {
     const char* why = stbi_failure_reason();
     throw file_error(path, std::string("cannot decode image (") + (why ? why : "?") + ")");
   }
-  std::array<float, 256> to_linear{};
-  for (int i = 0; i < 256; ++i) to_linear[i] = srgb_to_linear(float(i) / 255.0f);
-  Image image(width, height);
-  for (size_t i = 0; i < image.pixels.size(); ++i) {
-    image.pixels[i] = Rgb(to_linear[data[3 * i]], to_linear[data[3 * i + 1]],
-                          to_linear[data[3 * i + 2]]);
-  }
+  Image8 image;
+  image.width = width, image.height = height;
+  image.bytes.assign(data, data + 3 * size_t(width) * size_t(height));
   stbi_image_free(data);
+  return image;
+}
+
+Image read_ldr(const std::string& path) {
+  const Image8 bytes = read_ldr_bytes(path);
+  const std::array<float, 256>& to_linear = srgb8_levels();
+  Image image(bytes.width, bytes.height);
+  for (size_t i = 0; i < image.pixels.size(); ++i) {
+    image.pixels[i] = Rgb(to_linear[bytes.bytes[3 * i]], to_linear[bytes.bytes[3 * i + 1]],
+                          to_linear[bytes.bytes[3 * i + 2]]);
+  }
   return image;
 }
 
@@ -432,12 +439,52 @@ void write_atomically(const std::string& path,
 
 }  // namespace
 
-Image read_image(const std::string& path) {
+namespace {
+
+// What every read checks first: a known extension and a file (not a folder) there.
+Format check_readable(const std::string& path) {
   const Format format = format_of(path);
   if (format == Format::Unknown) throw unknown_format(path);
   std::error_code error;
   if (!fs::exists(path, error)) throw file_error(path, "file not found");
   if (fs::is_directory(path, error)) throw file_error(path, "is a directory, not an image");
+  return format;
+}
+
+}  // namespace
+
+const std::array<float, 256>& srgb8_levels() {
+  static const std::array<float, 256> levels = [] {
+    std::array<float, 256> table{};
+    for (int i = 0; i < 256; ++i) table[size_t(i)] = srgb_to_linear(float(i) / 255.0f);
+    return table;
+  }();
+  return levels;
+}
+
+bool is_eight_bit_image(const std::string& path) {
+  const Format format = format_of(path);
+  return format == Format::Png || format == Format::Jpeg;
+}
+
+Image8 read_image8(const std::string& path) {
+  if (!is_eight_bit_image(path)) throw file_error(path, "not an 8-bit image format (.png, .jpg)");
+  check_readable(path);
+  Image8 image;
+  try {
+    image = read_ldr_bytes(path);
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {  // allocation failures
+    throw file_error(path, std::string("cannot read image: ") + e.what());
+  }
+  if (image.width <= 0 || image.height <= 0 || image.bytes.empty())
+    throw file_error(path, "image has zero size");
+  return image;
+}
+
+Image read_image(const std::string& path) {
+  const Format format = check_readable(path);
 
   Image image;
   try {
@@ -488,10 +535,9 @@ std::string preview_path_for(const std::string& path) {
 
 std::vector<unsigned char> to_srgb8(const Image& image, float exposure) {
   // The bytes of the values met so far, by their bits (direct-mapped): an image decoded from
-  // an 8-bit file, which every 8-bit texture re-encodes on loading (bitmap_texture.cpp), has
-  // at most 256 values per channel, and one pow per texel channel was two thirds of loading
-  // the public Veach door's textures. A memo of the function itself, so every byte is the
-  // one the conversion gives.
+  // an 8-bit file has at most 256 values per channel, and a render's black background and
+  // clipped highlights repeat too; one pow per channel is the cost otherwise. A memo of the
+  // function itself, so every byte is the one the conversion gives.
   constexpr uint32_t kMemoBits = 12;
   struct Memo {
     uint32_t key;

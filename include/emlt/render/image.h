@@ -2,6 +2,7 @@
 // A float RGB image, and reading/writing it by file extension. Writes are atomic: the data
 // goes to a temporary file in the same directory which is then renamed over the target, so
 // a crash never leaves a truncated image behind.
+#include <array>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,18 @@ struct Image {
 // to linear). Throws emlt::Error "<path>: <problem>" on a missing/malformed file or on
 // NaN/Inf texels.
 Image read_image(const std::string& path);
+
+// An 8-bit file (.png, .jpg) as it stores its texels: 3 bytes per pixel (RGB, a grey or
+// alpha file expanded as read_image expands it), row-major, row 0 at the top. read_image
+// decodes byte b of such a file to srgb8_levels()[b].
+struct Image8 {
+  int width = 0, height = 0;
+  std::vector<unsigned char> bytes;
+};
+bool is_eight_bit_image(const std::string& path);  // by extension
+// Throws as read_image does (and for a file of another format).
+Image8 read_image8(const std::string& path);
+const std::array<float, 256>& srgb8_levels();
 
 // Writes by extension: .exr (half-free float RGB), .pfm, .png (tone-mapped sRGB preview),
 // .hdr. Throws emlt::Error for an unknown extension or an I/O failure.

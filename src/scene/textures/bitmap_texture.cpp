@@ -14,12 +14,6 @@
 namespace emlt {
 namespace {
 
-bool is_eight_bit_format(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".png" || ext == ".jpg" || ext == ".jpeg";
-}
-
 // Texels of an 8-bit file as the file stores them: one byte per channel and the 256 float
 // levels the bytes decode to. A quarter of float RGB's memory (the public Veach door's
 // textures take 5.5 MB instead of 22 MB), and every lookup returns exactly the float that
@@ -28,17 +22,6 @@ struct EightBitTexels {
   std::vector<uint8_t> bytes;  // 3 per texel, row-major like Image::pixels
   std::array<float, 256> levels{};
 };
-
-// The image as bytes and levels when every channel value of it is levels[byte] for the byte
-// `bytes` gives; nullopt (keep the floats) otherwise.
-std::optional<EightBitTexels> as_eight_bit(const Image& image, std::vector<unsigned char> bytes,
-                                           const std::array<float, 256>& levels) {
-  if (bytes.size() != 3 * image.pixels.size()) return std::nullopt;
-  for (size_t i = 0; i < image.pixels.size(); ++i)
-    for (int c = 0; c < 3; ++c)
-      if (levels[bytes[3 * i + size_t(c)]] != image.pixels[i][c]) return std::nullopt;
-  return EightBitTexels{std::move(bytes), levels};
-}
 
 class BitmapTexture final : public Texture {
  public:
@@ -134,28 +117,20 @@ TexturePtr make_bitmap_texture(Image image, const UvTransform& transform, WrapMo
 
 TexturePtr load_bitmap_texture(const std::string& path, bool raw, const UvTransform& transform,
                                WrapMode wrap) {
-  Image image = read_image(path);
   std::string name = std::filesystem::path(path).filename().string();
-  if (!is_eight_bit_format(path))
-    return make_bitmap_texture(std::move(image), transform, wrap, name);
-  // read_image decoded the 8-bit values from sRGB; re-encoding returns exactly the stored
-  // bytes (the decode is injective on the 256 levels).
-  std::vector<unsigned char> bytes = to_srgb8(image);
-  std::array<float, 256> levels{};
-  if (raw) {
-    for (int b = 0; b < 256; ++b) levels[size_t(b)] = float(b) / 255.0f;
-    for (size_t i = 0; i < image.pixels.size(); ++i)
-      for (int c = 0; c < 3; ++c) image.pixels[i][c] = levels[bytes[3 * i + size_t(c)]];
-  } else {
-    // The decoded level of each byte, taken from the image itself; as_eight_bit checks that
-    // every texel agrees.
-    for (size_t i = 0; i < image.pixels.size(); ++i)
-      for (int c = 0; c < 3; ++c) levels[bytes[3 * i + size_t(c)]] = image.pixels[i][c];
-  }
-  std::optional<EightBitTexels> texels = as_eight_bit(image, std::move(bytes), levels);
-  if (!texels || image.width <= 0 || image.height <= 0)
-    return make_bitmap_texture(std::move(image), transform, wrap, name);
-  return std::make_shared<BitmapTexture>(image.width, image.height, std::move(*texels), transform,
+  if (!is_eight_bit_image(path))
+    return make_bitmap_texture(read_image(path), transform, wrap, name);
+  // The file's own bytes, never decoded to floats and encoded back (that round trip was
+  // a third of loading the public Veach door's textures). A raw (linear) texture reads
+  // byte b as b / 255, an sRGB one as read_image would decode it.
+  Image8 image = read_image8(path);
+  EightBitTexels texels;
+  texels.bytes = std::move(image.bytes);
+  if (raw)
+    for (int b = 0; b < 256; ++b) texels.levels[size_t(b)] = float(b) / 255.0f;
+  else
+    texels.levels = srgb8_levels();
+  return std::make_shared<BitmapTexture>(image.width, image.height, std::move(texels), transform,
                                          wrap, std::move(name));
 }
 
