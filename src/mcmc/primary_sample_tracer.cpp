@@ -4,7 +4,7 @@
 
 #include "emlt/path/connection.h"
 #include "emlt/path/random_walk.h"
-#include "emlt/render/path_tracer.h"
+#include "emlt/render/path_tracer_estimate.h"
 
 namespace emlt {
 
@@ -108,7 +108,7 @@ void PrimarySampleTracer::evaluate(PrimarySampleVector& u, Rng& rng, int length,
   const Vec2 u_lens = camera_stream.uniform2();
   if (kind_ == PssTracer::PathTracer) {
     const Rgb value =
-        PathTracer::radiance(scene_, path_tracer_settings_, camera.generate_ray(raster, u_lens),
+        path_tracer_estimate(scene_, path_tracer_settings_, camera.generate_ray(raster, u_lens),
                              camera_stream, min_edges_, &out.length);
     if (!is_black(value) && is_finite(value)) {
       out.splats.push_back({raster, value});

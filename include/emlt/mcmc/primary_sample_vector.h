@@ -74,7 +74,12 @@ class PrimarySampleVector {
     const float v = up ? 2.0f * u : 2.0f * u - 1.0f;
     const float step = sigma_ * std::exp2(-6.0f * v);  // sigma 64^-v
     float y = up ? x + step : x - step;
-    y -= std::floor(y);
+    // y - floor(y) without the floor (SSE2 has no rounding instruction): a step is at most
+    // 1/2, so y lies in (-1/2, 3/2), and y - (-1) is y + 1 to the bit.
+    if (y < 0.0f)
+      y += 1.0f;
+    else if (y >= 1.0f)
+      y -= 1.0f;
     return y < 1.0f ? y : 0.0f;
   }
   float mutate(Coordinate& c, Rng& rng) {
@@ -106,7 +111,7 @@ class PrimaryStream final : public SampleSource {
  public:
   PrimaryStream(PrimarySampleVector& vector, Rng& rng, int stream)
       : vector_(vector), rng_(rng), stream_(uint32_t(stream)) {}
-  float uniform() override {
+  float uniform() final {
     return vector_.value(stream_ + uint32_t(PrimarySampleVector::kStreams) * next_++, rng_);
   }
 
