@@ -24,7 +24,9 @@
 
 namespace emlt {
 
-class FixedPointFilm {
+// Cache-line aligned: the driver keeps one film per thread side by side in a vector, and a
+// film's header (the pointer every splat reads) must not share a line with its neighbour's.
+class alignas(64) FixedPointFilm {
  public:
   static constexpr double kUnitsPerValue = 16777216.0;  // 2^24, for splats of colour
 
@@ -49,7 +51,10 @@ class FixedPointFilm {
       if (overflow) std::atomic_ref<int64_t>(overflows_).fetch_add(1, std::memory_order_relaxed);
     } else {
       for (int c = 0; c < 3; ++c) overflow |= __builtin_add_overflow(sum[c], units[c], &sum[c]);
-      overflows_ += overflow;
+      // Written only when it happens: a store on every splat made the films' headers
+      // ping-pong between the cores (2 threads: 7 % more CPU time for the same chains).
+      if (overflow) [[unlikely]]
+        ++overflows_;
     }
   }
 
