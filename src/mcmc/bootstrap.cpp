@@ -102,7 +102,9 @@ double Bootstrap::effective_candidates() const {
 
 Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& p) {
   const int blocks = 64;
-  struct Block {
+  // A line each: neighbouring blocks run on different threads, and each sample writes its
+  // block's sums and the pool's end pointer.
+  struct alignas(64) Block {
     std::vector<BootstrapCandidate> candidates;
     double sum = 0.0, sum_squares = 0.0;
   };
