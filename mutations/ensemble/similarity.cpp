@@ -28,32 +28,58 @@ double log_path_similarity(std::span<const Vec3> path_vertices,
 
 namespace {
 
-// The floored squared distances, and the far range's series for every guide, without
-// branches (a branch around the division would keep the loop from vectorising).
+// Four guides at a time (GCC's vector extensions: one SSE register of floats on x86-64's
+// baseline). Each lane runs exactly the operations of the scalar forms in similarity.h in
+// the same order, so a row equals vertex_similarity bit for bit (the unit test checks it).
+using Float4 = float __attribute__((vector_size(16)));
+using Bits4 = uint32_t __attribute__((vector_size(16)));
+
+Float4 splat4(float value) {
+  return Float4{value, value, value, value};
+}
+// mask ? a : b, for a mask of all-ones / all-zeros lanes (a vector comparison's result).
+Float4 select4(Bits4 mask, Float4 a, Float4 b) {
+  return Float4((Bits4(a) & mask) | (Bits4(b) & ~mask));
+}
+
+Float4 far_similarity4(Float4 floored) {
+  const Float4 half_d = 0.5f * (1.0f / floored);
+  const Float4 y2 = half_d * half_d;
+  return half_d * (1.0f + y2 * (-1.0f / 3.0f + y2 * (2.0f / 15.0f)));
+}
+
+Float4 middle_similarity4(Float4 floored) {
+  const Float4 x = -1.0f / floored;
+  constexpr float kInverseLn2 = 1.44269504f;
+  constexpr float kLn2High = 0.693359375f;
+  constexpr float kLn2Low = -2.12194440e-4f;
+  constexpr float kRoundShift = 0x1.8p23f;
+  const Float4 shifted = x * kInverseLn2 + kRoundShift;
+  const Float4 k = shifted - kRoundShift;
+  const Float4 r = (x - k * kLn2High) - k * kLn2Low;
+  const Float4 q =
+      1.0f / 2 +
+      r * (1.0f / 6 + r * (1.0f / 24 + r * (1.0f / 120 + r * (1.0f / 720 + r * (1.0f / 5040)))));
+  const Float4 expm1_r = r + r * r * q;
+  const Bits4 k_bits = Bits4(shifted) - std::bit_cast<uint32_t>(kRoundShift);
+  const Float4 power = Float4((k_bits + 127) << 23);
+  const Float4 t = power * expm1_r + (power - 1.0f);
+  return -t / (t + 2.0f);
+}
+
+// The floored squared distances as vertex_similarity computes them (in double; glm::dot
+// sums (x^2 + y^2) + z^2), rounded to float; the loop vectorises.
 template <bool kScaled>
-void far_similarity_row(const DVec3& point, std::span<const double> x, std::span<const double> y,
-                        std::span<const double> z, const SimilarityParams& params,
-                        std::span<double> floored, std::span<double> out) {
+void floored_row(const DVec3& point, const double* x, const double* y, const double* z,
+                 const SimilarityParams& params, float* floored, size_t count) {
   const double length_squared = params.length_scale * params.length_scale;
   const double epsilon = params.epsilon;
-  const size_t count = out.size();
   for (size_t n = 0; n < count; ++n) {
-    // As vertex_similarity: glm::dot sums (x^2 + y^2) + z^2.
     const double dx = point.x - x[n], dy = point.y - y[n], dz = point.z - z[n];
     const double squared = dx * dx + dy * dy + dz * dz;
     const double scaled = kScaled ? squared / length_squared : squared;
-    const double f = scaled < epsilon ? epsilon : scaled;  // std::max(scaled, epsilon)
-    floored[n] = f;
-    out[n] = far_similarity(f);
+    floored[n] = float(scaled < epsilon ? epsilon : scaled);  // std::max(scaled, epsilon)
   }
-}
-
-// The middle range's form for every guide, without branches or selects, so that it
-// vectorises (GCC 12 did not with either); meaningless outside the middle range, where the
-// caller does not use it.
-void middle_similarity_row(std::span<const double> floored, std::span<double> out) {
-  const size_t count = out.size();
-  for (size_t n = 0; n < count; ++n) out[n] = middle_similarity(floored[n]);
 }
 
 }  // namespace
@@ -62,20 +88,33 @@ void similarities_to_guides(const Vec3& point, std::span<const double> x, std::s
                             std::span<const double> z, const SimilarityParams& params,
                             std::span<double> out) {
   assert(x.size() == out.size() && y.size() == out.size() && z.size() == out.size());
-  GuideBuffer<double> floored(out.size());
+  const size_t count = out.size(), groups = (count + 3) / 4;
+  // Whole groups of four; the lanes past the end hold f = 1 (any value would do).
+  GuideBuffer<Float4> floored_groups(groups), similarity_groups(groups);
+  float* floored = reinterpret_cast<float*>(floored_groups.span().data());
+  float* similarity = reinterpret_cast<float*>(similarity_groups.span().data());
+  for (size_t n = count; n < 4 * groups; ++n) floored[n] = 1.0f;
   if (params.length_scale * params.length_scale == 1.0)
-    far_similarity_row<false>(DVec3(point), x, y, z, params, floored.span(), out);
+    floored_row<false>(DVec3(point), x.data(), y.data(), z.data(), params, floored, count);
   else
-    far_similarity_row<true>(DVec3(point), x, y, z, params, floored.span(), out);
-  // The near and middle ranges, if any guide is in them: most guides are when paths run
-  // close to each other (a door's gap, a small light), few otherwise.
-  bool all_far = true;
-  for (size_t n = 0; n < out.size(); ++n) all_far &= floored[n] > kFarSimilarity;
-  if (all_far) return;
-  GuideBuffer<double> middle(out.size());
-  middle_similarity_row(floored.span(), middle.span());
-  for (size_t n = 0; n < out.size(); ++n)
-    if (!(floored[n] > kFarSimilarity)) out[n] = floored[n] < kNearSimilarity ? 1.0 : middle[n];
+    floored_row<true>(DVec3(point), x.data(), y.data(), z.data(), params, floored, count);
+  // The far range first: when paths do not run close to each other it holds every guide.
+  Bits4 not_far = {0, 0, 0, 0};
+  for (size_t g = 0; g < groups; ++g) {
+    const Float4 f = floored_groups[g];
+    similarity_groups[g] = far_similarity4(f);
+    not_far |= ~Bits4(f > kFarSimilarity);  // NaN counts as not far, as in the scalar form
+  }
+  if ((not_far[0] | not_far[1] | not_far[2] | not_far[3]) != 0) {
+    for (size_t g = 0; g < groups; ++g) {
+      const Float4 f = floored_groups[g];
+      const Float4 near_or_middle =
+          select4(Bits4(f < kNearSimilarity), splat4(1.0f), middle_similarity4(f));
+      similarity_groups[g] =
+          select4(Bits4(f > kFarSimilarity), similarity_groups[g], near_or_middle);
+    }
+  }
+  for (size_t n = 0; n < count; ++n) out[n] = double(similarity[n]);
 }
 
 void log_similarities_to_guides(const Vec3& point, std::span<const Vec3> guides,

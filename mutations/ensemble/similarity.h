@@ -77,73 +77,62 @@ struct SimilarityParams {
   double length_scale = 1.0;                 // distances are divided by it; 1 = paper literal
 };
 
-// S for two vertices a squared distance apart (eq. 8), in [0, 1]. It is tanh(d / 2) to
-// double rounding: 1 exactly where tanh rounds to 1, a Taylor series where d is small
-// enough for it to agree with tanh to 2e-16 (far vertices, the common case), and an
-// exp-based form in between, all cheaper than libm's tanh. Computed from
-// f = max(|x - v|^2 / l^2, eps) = 1 / d in three ranges:
+// S for two vertices a squared distance apart (eq. 8), in [0, 1]: tanh(d / 2) to single
+// precision (within 3e-7 relative), evaluated in float from f = max(|x - v|^2 / l^2, eps)
+// = 1 / d rounded to float. Single precision is ample for a weight (the acceptance ratios
+// need the same function of the state in both directions, not a precise one), and a row of
+// guides then takes four lanes a vector operation instead of two: the double-precision
+// form, tanh to double rounding, cost 85 instructions a guide, most of EMLT's similarity
+// time (issue 21). The distance itself is computed in double, as before.
 inline double floored_scaled_distance(double squared_distance, const SimilarityParams& params) {
   const double length_squared = params.length_scale * params.length_scale;
   const double scaled =
       length_squared == 1.0 ? squared_distance : squared_distance / length_squared;
   return std::max(scaled, params.epsilon);
 }
-// f < kNearSimilarity: d/2 > 25, where tanh(d/2) rounds to 1 (it does from 19.07 on).
-inline constexpr double kNearSimilarity = 0.02;
-// f > kFarSimilarity: d/2 <= 2^-6, where the series below is exact to double rounding.
-inline constexpr double kFarSimilarity = 32.0;
-// tanh(y) = y (1 - y^2/3 + 2y^4/15 - 17y^6/315 + 62y^8/2835 - ...); the first omitted term
-// is below 1e-20 relative for y <= 2^-6.
-inline double far_similarity(double floored) {
-  const double half_d = 0.5 * (1.0 / floored);
-  const double y2 = half_d * half_d;
-  return half_d * (1.0 + y2 * (-1.0 / 3.0 +
-                               y2 * (2.0 / 15.0 + y2 * (-17.0 / 315.0 + y2 * (62.0 / 2835.0)))));
+// Three ranges of f, y = d / 2 = 1 / (2 f):
+// f < kNearSimilarity: y > 9.1, where tanh(y) rounds to 1 in float (it does from 9.01 on).
+inline constexpr float kNearSimilarity = 0.0549f;
+// f > kFarSimilarity: y < 1/16, where the series below is exact to float rounding.
+inline constexpr float kFarSimilarity = 8.0f;
+// tanh(y) = y (1 - y^2/3 + 2y^4/15 - 17y^6/315 + ...); the first omitted term is below
+// 4e-9 relative for y <= 1/16.
+inline float far_similarity(float floored) {
+  const float half_d = 0.5f * (1.0f / floored);
+  const float y2 = half_d * half_d;
+  return half_d * (1.0f + y2 * (-1.0f / 3.0f + y2 * (2.0f / 15.0f)));
 }
-// The middle range, kNearSimilarity <= f <= kFarSimilarity, i.e. y = d/2 in [2^-6, 25]:
-// tanh(y) = -t / (t + 2) with t = expm1(-2y), and expm1 computed here rather than by libm
-// (whose tanh took 80 instructions a call, a tenth of EMLT's time on scenes whose paths
-// pass close to each other). -2y = k ln 2 + r with |r| <= ln 2 / 2 (Cody-Waite, so k ln 2
-// is exact), expm1(r) by its Taylor series to r^13 / 13! (the rest is below 5e-18 of r),
-// then expm1(-2y) = 2^k expm1(r) + (2^k - 1), both terms exact but for one rounding of
-// their sum. Within 3 units in the last place of libm's tanh (the unit test sweeps the
-// range); 1 exactly where tanh rounds to 1. No branch and no library call, so that rows of
-// guides vectorise.
-inline double middle_similarity(double floored) {
-  const double x = -1.0 / floored;  // -2y
-  constexpr double kInverseLn2 = 1.4426950408889634;
-  constexpr double kLn2High = 0x1.62e42fefa3800p-1;  // 43 significant bits: k ln2_high is exact
-  constexpr double kLn2Low = 0x1.ef35793c76730p-45;
-  constexpr double kRoundShift = 0x1.8p52;  // adding and subtracting it rounds to an integer
-  const double shifted = x * kInverseLn2 + kRoundShift;
-  const double k = shifted - kRoundShift;
-  const double r = (x - k * kLn2High) - k * kLn2Low;
-  const double q =
-      1.0 / 2 +
-      r * (1.0 / 6 +
-           r * (1.0 / 24 +
-                r * (1.0 / 120 +
-                     r * (1.0 / 720 +
-                          r * (1.0 / 5040 +
-                               r * (1.0 / 40320 +
-                                    r * (1.0 / 362880 +
-                                         r * (1.0 / 3628800 +
-                                              r * (1.0 / 39916800 +
-                                                   r * (1.0 / 479001600 +
-                                                        r * (1.0 / 6227020800.0)))))))))));
-  const double expm1_r = r + r * r * q;
-  // 2^k, k in [-73, 0]: k is also the difference of the bit patterns of `shifted` and
+// The middle range, y in [1/16, 9.1]: tanh(y) = -t / (t + 2) with t = expm1(-2y).
+// -2y = k ln 2 + r with |r| <= ln 2 / 2 (Cody-Waite: ln 2's high part has 9 significant
+// bits, so k ln2_high is exact for the |k| <= 27 here), expm1(r) by its Taylor series to
+// r^7 / 7! (the rest is below 2e-8 of r), then expm1(-2y) = 2^k expm1(r) + (2^k - 1). No
+// branch and no library call, so that rows of guides vectorise.
+inline float middle_similarity(float floored) {
+  const float x = -1.0f / floored;  // -2y
+  constexpr float kInverseLn2 = 1.44269504f;
+  constexpr float kLn2High = 0.693359375f;
+  constexpr float kLn2Low = -2.12194440e-4f;
+  constexpr float kRoundShift = 0x1.8p23f;  // adding and subtracting it rounds to an integer
+  const float shifted = x * kInverseLn2 + kRoundShift;
+  const float k = shifted - kRoundShift;
+  const float r = (x - k * kLn2High) - k * kLn2Low;
+  const float q =
+      1.0f / 2 +
+      r * (1.0f / 6 + r * (1.0f / 24 + r * (1.0f / 120 + r * (1.0f / 720 + r * (1.0f / 5040)))));
+  const float expm1_r = r + r * r * q;
+  // 2^k, k in [-27, 0]: k is also the difference of the bit patterns of `shifted` and
   // kRoundShift (one unit in the last place of both is 1), integer arithmetic that
   // vectorises where a conversion of k to an integer would not.
-  const uint64_t k_bits = std::bit_cast<uint64_t>(shifted) - std::bit_cast<uint64_t>(kRoundShift);
-  const double power = std::bit_cast<double>((k_bits + 1023) << 52);
-  const double t = power * expm1_r + (power - 1.0);
-  return -t / (t + 2.0);
+  const uint32_t k_bits = std::bit_cast<uint32_t>(shifted) - std::bit_cast<uint32_t>(kRoundShift);
+  const float power = std::bit_cast<float>((k_bits + 127) << 23);
+  const float t = power * expm1_r + (power - 1.0f);
+  return -t / (t + 2.0f);
 }
 inline double similarity_from_floored(double floored) {
-  if (floored < kNearSimilarity) return 1.0;
-  if (floored > kFarSimilarity) return far_similarity(floored);
-  return middle_similarity(floored);
+  const float f = float(floored);
+  if (f < kNearSimilarity) return 1.0;
+  if (f > kFarSimilarity) return double(far_similarity(f));
+  return double(middle_similarity(f));
 }
 inline double similarity_from_squared_distance(double squared_distance,
                                                const SimilarityParams& params) {

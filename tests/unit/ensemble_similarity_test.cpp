@@ -33,7 +33,7 @@ Vec3 random_point(Rng& rng, float scale) {
 
 }  // namespace
 
-TEST(EnsembleSimilarityShortcuts, EqualTanhToDoubleRoundingOverEveryRange) {
+TEST(EnsembleSimilarityShortcuts, EqualTanhToFloatRoundingOverEveryRange) {
   for (double length : {1.0, 0.3, 7.0}) {
     const SimilarityParams params{kPaperSimilarityEpsilon, length};
     // Squared distances from below the floor (S = 1) through the middle range (tanh) to far
@@ -42,7 +42,8 @@ TEST(EnsembleSimilarityShortcuts, EqualTanhToDoubleRoundingOverEveryRange) {
       const double squared = std::pow(10.0, exponent);
       const double expected = reference_similarity(squared, params);
       const double actual = similarity_from_squared_distance(squared, params);
-      ASSERT_NEAR(actual, expected, 1e-15 * expected) << "squared distance " << squared;
+      // Single precision (similarity.h): f rounded to float, then a few float roundings.
+      ASSERT_NEAR(actual, expected, 3e-7 * expected) << "squared distance " << squared;
       if (expected == 1.0) {
         ASSERT_EQ(actual, 1.0);
       }
