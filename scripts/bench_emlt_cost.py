@@ -51,7 +51,8 @@ SIMILARITY = re.compile(
     r"similarities_to_guides|far_similarity_row|choose_similar_guide|log_selection_ratio|"
     r"choose_guide|guide_log_probability|normalise_weights|normalise_log_weights|guide_weights|"
     r"plain_total|logs_of|log_similarities_to_guides|log_vertex_similarity|log_path_similarity|"
-    r"guide_vertex|similarity_params)\b")
+    r"guide_vertex|similarity_params|normalise_row_products|plain_path_similarities|plain_sum|"
+    r"choose_guide_from_plain|guide_log_probability_from_plain)\b")
 LOOKUP = re.compile(r"emlt::ensemble::(guides_for|guides_for_next_step)\b"
                     r"|emlt::(EnsembleGuides::upsilon|PathTypeIndex::(window|find))\b")
 ALLOCATION = re.compile(r"^(malloc|free|calloc|realloc|_int_malloc|_int_free|"

@@ -83,6 +83,16 @@ NormalisedWeights guide_weights(const Vec3& point, const GuideSet& guides,
                                 const SimilarityParams* similarity, std::span<double> weights) {
   const size_t count = guides.points.size();
   assert(weights.size() == count);
+  if (!guides.context_row.empty()) {
+    assert(guides.context.empty() && guides.log_context_weights.empty());
+    if (!similarity) return normalise_row_products(guides.context_row, {}, weights);
+    if (!guides.similarity_to_centre.empty())
+      return normalise_row_products(guides.context_row, guides.similarity_to_centre, weights);
+    GuideBuffer<double> to_centre(count);
+    for (size_t n = 0; n < count; ++n)
+      to_centre[n] = vertex_similarity(point, guides.points[n], *similarity);
+    return normalise_row_products(guides.context_row, to_centre.span(), weights);
+  }
   // Products of similarities underflow: kept as SimilarityProducts, normalised as such.
   GuideBuffer<SimilarityProduct> products(count);
   for (size_t n = 0; n < count; ++n) {

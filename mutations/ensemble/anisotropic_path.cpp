@@ -53,21 +53,16 @@ struct SimilarityRow {
 
 // Guide points and weights for a fit: the context is the similarity of one vertex of the
 // path to the guides'; `centre` (when the fit weighs by similarity) that of the vertex the
-// fit is centred on.
+// fit is centred on. Both rows are passed as they are (GuideSet::context_row).
 struct GuideData {
   std::span<const Vec3> points;
-  ensemble::GuideBuffer<ensemble::SimilarityProduct> context;
-  std::span<const double> centre;
+  std::span<const double> context, centre;
   GuideData(std::span<const Vec3> guide_points, const SimilarityRow& context_row,
             const SimilarityRow* centre_row = nullptr)
-      : points(guide_points), context(guide_points.size()) {
-    for (size_t n = 0; n < points.size(); ++n) {
-      context[n] = ensemble::SimilarityProduct{};
-      context[n].multiply(context_row.values.span()[n]);
-    }
+      : points(guide_points), context(context_row.values.span()) {
     if (centre_row) centre = centre_row->values.span();
   }
-  ensemble::GuideSet set() const { return {points, {}, context.span(), centre}; }
+  ensemble::GuideSet set() const { return {points, {}, {}, centre, context}; }
 };
 
 // The guides' points for a fit: their image points (on the plane z = 0), or their vertex j.

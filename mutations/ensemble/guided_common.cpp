@@ -106,6 +106,49 @@ void path_similarities(const Path& x, const GuideView& guides, int first, int la
   }
 }
 
+// path_similarities as plain doubles: out[n] = ((1 * S_first) * S_first+1) * ... formed as
+// SimilarityProduct::multiply forms them, true when every product stayed plain (every factor
+// and every partial product >= kRenormalise, so that the products' log parts are 0 and their
+// values are out[n]); false when some did not (out is then meaningless). The products cost
+// more than the rows they multiply (issue 21).
+bool plain_path_similarities(const Path& x, const GuideView& guides, int first, int last,
+                             const SimilarityParams& params, std::span<double> out,
+                             SimilarityRows* kept, const SimilarityRows* reuse) {
+  assert(out.size() == guides.size());
+  constexpr double kRenormalise = SimilarityProduct::kRenormalise;
+  std::fill(out.begin(), out.end(), 1.0);
+  const size_t count = guides.size();
+  GuideBuffer<double> scratch(count);
+  if (kept) kept->assign(x, first, last, count);
+  bool plain = true;
+  for (int i = first; i <= last; ++i) {
+    const PathVertex& v = x.vertices[size_t(i)];
+    if (guides.same_point(i) && !v.is_environment()) {
+      const double s = vertex_similarity(v.position, guides.position(0, i), params);
+      if (s != 1.0) {
+        plain &= s >= kRenormalise;
+        for (size_t n = 0; n < count; ++n) {
+          out[n] *= s;
+          plain &= out[n] >= kRenormalise;
+        }
+      }
+      continue;
+    }
+    std::span<const double> row = reuse ? reuse->reusable_row(x, i) : std::span<const double>();
+    if (row.empty()) {
+      const std::span<double> computed = kept ? kept->row(i) : scratch.span();
+      vertex_similarities(v, guides, i, params, computed);
+      row = computed;
+    }
+    for (size_t n = 0; n < count; ++n) {
+      plain &= row[n] >= kRenormalise;
+      out[n] *= row[n];
+      plain &= out[n] >= kRenormalise;
+    }
+  }
+  return plain;
+}
+
 }  // namespace
 
 void SimilarityRows::assign(const Path& path, int first, int last, size_t guides) {
@@ -139,8 +182,12 @@ void path_similarities(const Path& x, const GuideView& guides, int first, int la
 
 GuideChoice choose_similar_guide(const Path& x, const GuideView& guides, int first, int last,
                                  const MutationContext& ctx, Rng& rng, SimilarityRows* rows) {
+  const SimilarityParams params = similarity_params(ctx);
+  GuideBuffer<double> plain(guides.size());
+  if (plain_path_similarities(x, guides, first, last, params, plain.span(), rows, nullptr))
+    return choose_guide_from_plain(plain.span(), rng);
   GuideBuffer<SimilarityProduct> weights(guides.size());
-  path_similarities(x, guides, first, last, similarity_params(ctx), weights.span(), rows, nullptr);
+  path_similarities(x, guides, first, last, params, weights.span(), rows, nullptr);
   return choose_guide(std::span<const SimilarityProduct>(weights.span()), rng);
 }
 
@@ -154,9 +201,12 @@ double log_selection_ratio(const Path& y, const GuideView& guides, uint32_t inde
   if (index >= reverse_guides.size()) return 0.0;
   // x's rows hold for y's unmoved vertices only against the same Υ.
   const SimilarityRows* reuse = bugs.upsilon_from_proposal ? nullptr : rows_x;
+  const SimilarityParams params = similarity_params(ctx);
+  GuideBuffer<double> plain(reverse_guides.size());
+  if (plain_path_similarities(y, reverse_guides, first, last, params, plain.span(), nullptr, reuse))
+    return guide_log_probability_from_plain(plain.span(), index) - log_probability_x;
   GuideBuffer<SimilarityProduct> weights(reverse_guides.size());
-  path_similarities(y, reverse_guides, first, last, similarity_params(ctx), weights.span(), nullptr,
-                    reuse);
+  path_similarities(y, reverse_guides, first, last, params, weights.span(), nullptr, reuse);
   return guide_log_probability(std::span<const SimilarityProduct>(weights.span()), index) -
          log_probability_x;
 }

@@ -112,6 +112,10 @@ struct GuideSet {
   // S(centre, points[n]) when the caller has it already (it must be that value: the fit uses
   // it in place of computing it); empty: computed.
   std::span<const double> similarity_to_centre = {};
+  // A context given as one row of similarities (weight n gets the factor context_row[n]), in
+  // place of `context` and `log_context_weights`, which must then be empty: the weights are
+  // then formed without SimilarityProducts where they can be (normalise_row_products).
+  std::span<const double> context_row = {};
 };
 
 // The normalised weights of eq. 11, w(n) proportional to S(point, points[n]) * context(n)

@@ -249,6 +249,63 @@ NormalisedWeights normalise_weights(std::span<const SimilarityProduct> weights,
   return {1.0 / sum_of_squares, true};
 }
 
+namespace {
+
+// plain_total's sum for weights given as doubles: the same four partial sums, the same order.
+double plain_sum(std::span<const double> weights) {
+  std::array<double, 4> partial{};
+  const size_t count = weights.size(), quads = count & ~size_t(3);
+  for (size_t n = 0; n < quads; n += 4) {
+    partial[0] += weights[n];
+    partial[1] += weights[n + 1];
+    partial[2] += weights[n + 2];
+    partial[3] += weights[n + 3];
+  }
+  for (size_t n = quads; n < count; ++n) partial[n - quads] += weights[n];
+  return (partial[0] + partial[1]) + (partial[2] + partial[3]);
+}
+
+}  // namespace
+
+NormalisedWeights normalise_row_products(std::span<const double> first,
+                                         std::span<const double> second,
+                                         std::span<double> probabilities) {
+  const size_t count = first.size();
+  assert(probabilities.size() == count && (second.empty() || second.size() == count));
+  constexpr double kRenormalise = SimilarityProduct::kRenormalise;
+  // The weights into `probabilities` first; plain as SimilarityProduct::multiply keeps a
+  // product plain: every factor and the product >= kRenormalise (false for NaN).
+  bool plain = true;
+  if (second.empty()) {
+    for (size_t n = 0; n < count; ++n) {
+      probabilities[n] = first[n];
+      plain &= first[n] >= kRenormalise;
+    }
+  } else {
+    for (size_t n = 0; n < count; ++n) {
+      const double product = first[n] * second[n];
+      probabilities[n] = product;
+      plain &= (first[n] >= kRenormalise) & (second[n] >= kRenormalise) & (product >= kRenormalise);
+    }
+  }
+  if (!plain) {
+    GuideBuffer<SimilarityProduct> products(count);
+    for (size_t n = 0; n < count; ++n) {
+      products[n] = SimilarityProduct{};
+      products[n].multiply(first[n]);
+      if (!second.empty()) products[n].multiply(second[n]);
+    }
+    return normalise_weights(std::span<const SimilarityProduct>(products.span()), probabilities);
+  }
+  const double total = plain_sum(probabilities);
+  double sum_of_squares = 0.0;
+  for (size_t n = 0; n < count; ++n) {
+    probabilities[n] = probabilities[n] / total;
+    sum_of_squares += probabilities[n] * probabilities[n];
+  }
+  return {1.0 / sum_of_squares, true};
+}
+
 GuideChoice choose_guide(std::span<const SimilarityProduct> weights, Rng& rng) {
   assert(!weights.empty());
   const std::optional<double> total = plain_total(weights);
@@ -278,6 +335,26 @@ double guide_log_probability(std::span<const SimilarityProduct> weights, size_t 
     return guide_log_probability(log_weights.span(), index);
   }
   return std::log(weights[index].plain()) - std::log(*total);
+}
+
+GuideChoice choose_guide_from_plain(std::span<const double> weights, Rng& rng) {
+  assert(!weights.empty());
+  const double total = plain_sum(weights);
+  // As choose_guide's plain branch: inverse CDF, the last guide absorbing rounding.
+  const double target = rng.uniform_double() * total;
+  double cumulative = 0.0;
+  uint32_t chosen = 0;
+  for (size_t n = 0; n < weights.size(); ++n) {
+    chosen = static_cast<uint32_t>(n);
+    cumulative += weights[n];
+    if (target < cumulative) break;
+  }
+  return {chosen, std::log(weights[chosen]) - std::log(total)};
+}
+
+double guide_log_probability_from_plain(std::span<const double> weights, size_t index) {
+  assert(index < weights.size());
+  return std::log(weights[index]) - std::log(plain_sum(weights));
 }
 
 }  // namespace emlt::ensemble

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -144,6 +145,66 @@ TEST(EnsembleSimilarityShortcuts, SelectionFromProductsEqualsSelectionFromLogs) 
   std::vector<double> probabilities(4);
   EXPECT_FALSE(normalise_weights(none, probabilities).usable);
   EXPECT_NEAR(guide_log_probability(none, 2), std::log(0.25), 1e-12);
+}
+
+// The anisotropic fits and the guide choice form their weights as plain doubles where every
+// SimilarityProduct would stay plain (issue 21): the probabilities, the effective count, the
+// chosen guide and its log probability must be the products' bit for bit, and the products'
+// rule must decide wherever one would not stay plain (a factor or a product below
+// kRenormalise, a zero, a NaN).
+TEST(EnsembleSimilarityShortcuts, WeightsWithoutProductsEqualTheProductsBitForBit) {
+  const auto bits = [](double v) { return std::bit_cast<uint64_t>(v); };
+  Rng rng(17, 3);
+  for (size_t count : {8u, 7u, 13u, 2u}) {
+    for (int variant = 0; variant < 6; ++variant) {
+      std::vector<double> first(count), second(count);
+      for (size_t n = 0; n < count; ++n) {
+        first[n] = std::pow(10.0, -14.0 * rng.uniform_double());
+        second[n] = std::pow(10.0, -3.0 * rng.uniform_double());
+      }
+      if (variant == 1) first[1] = 1e-160;                     // a factor below kRenormalise
+      if (variant == 2) first[0] = 1e-100, second[0] = 1e-60;  // their product below it
+      if (variant == 3) second[count - 1] = 0.0;
+      if (variant == 4) first[1] = std::numeric_limits<double>::quiet_NaN();
+      if (variant == 5)
+        first[0] = SimilarityProduct::kRenormalise, second[0] = 1.0;  // exactly at it
+      std::vector<SimilarityProduct> products(count), alone(count);
+      for (size_t n = 0; n < count; ++n) {
+        products[n].multiply(first[n]);
+        products[n].multiply(second[n]);
+        alone[n].multiply(first[n]);
+      }
+      for (bool with_second : {true, false}) {
+        const std::vector<SimilarityProduct>& expected_products = with_second ? products : alone;
+        std::vector<double> expected(count), actual(count);
+        const NormalisedWeights e = normalise_weights(expected_products, expected);
+        const NormalisedWeights a = normalise_row_products(
+            first, with_second ? std::span<const double>(second) : std::span<const double>(),
+            actual);
+        ASSERT_EQ(a.usable, e.usable) << count << " " << variant;
+        ASSERT_EQ(bits(a.effective_guides), bits(e.effective_guides)) << count << " " << variant;
+        for (size_t n = 0; n < count; ++n)
+          ASSERT_EQ(bits(actual[n]), bits(expected[n])) << count << " " << variant << " " << n;
+      }
+      const bool plain = std::all_of(products.begin(), products.end(),
+                                     [](auto& p) { return p.is_plain() && p.plain() > 0.0; });
+      EXPECT_EQ(plain, variant == 0 || variant == 5) << variant;
+      if (!plain) continue;
+      std::vector<double> weights(count);
+      for (size_t n = 0; n < count; ++n) weights[n] = products[n].plain();
+      for (size_t n = 0; n < count; ++n)
+        ASSERT_EQ(bits(guide_log_probability_from_plain(weights, n)),
+                  bits(guide_log_probability(products, n)));
+      for (int draw = 0; draw < 50; ++draw) {
+        Rng a(100 + uint64_t(draw), 0), b(100 + uint64_t(draw), 0);
+        const GuideChoice from_plain = choose_guide_from_plain(weights, a);
+        const GuideChoice from_products =
+            choose_guide(std::span<const SimilarityProduct>(products), b);
+        ASSERT_EQ(from_plain.index, from_products.index);
+        ASSERT_EQ(bits(from_plain.log_probability), bits(from_products.log_probability));
+      }
+    }
+  }
 }
 
 namespace {
