@@ -5,8 +5,10 @@
 //
 // First records the rays a path tracer would trace: per pixel, the camera ray, then up to
 // three cosine-distributed bounces from the surfaces hit (incoherent across neighbouring
-// queries, as in a real render). Then times rtcIntersect1 alone on that buffer (no hit
-// reconstruction, no shading) and, separately, rtcOccluded1 on shadow rays from each hit
+// queries, as in a real render). Then times the closest-hit query alone on that buffer
+// (Scene::closest_hit: rtcIntersect1 plus the few analytic spheres Scene tests outside the
+// BVH; no hit reconstruction, no shading) and, separately, Scene::occluded (rtcOccluded1
+// and those spheres) on shadow rays from each hit
 // towards a point on the scene's bounding sphere; both on N threads, repeated for about S
 // seconds. Prints one line of key=value pairs for the suite to read.
 #include <tbb/blocked_range.h>
@@ -70,15 +72,6 @@ RayBuffers record_rays(const Scene& scene) {
   return all;
 }
 
-RTCRay to_embree(const Ray& ray) {
-  RTCRay r;
-  r.org_x = ray.origin.x, r.org_y = ray.origin.y, r.org_z = ray.origin.z;
-  r.dir_x = ray.direction.x, r.dir_y = ray.direction.y, r.dir_z = ray.direction.z;
-  r.tnear = ray.tmin, r.tfar = ray.tmax, r.time = 0.0f;
-  r.mask = ~0u, r.id = 0, r.flags = 0;
-  return r;
-}
-
 // Rays per second of `query` over `rays`, repeated for at least `seconds`, on `threads`.
 template <typename Query>
 double rate(const std::vector<Ray>& rays, int threads, double seconds, Query query) {
@@ -137,23 +130,15 @@ int main(int argc, char** argv) {
   try {
     const std::unique_ptr<Scene> scene = Scene::build(load_scene_description(path, defines));
     const RayBuffers rays = record_rays(*scene);
-    RTCScene embree = scene->embree_scene();
-    const double closest = rate(rays.intersect, threads, seconds, [embree](const Ray& ray) {
-      RTCIntersectContext context;
-      rtcInitIntersectContext(&context);
+    // Scene's own ray queries, without hit reconstruction or shading: Embree's BVH plus
+    // the few analytic spheres that Scene tests outside it.
+    const Scene& queries = *scene;
+    const double closest = rate(rays.intersect, threads, seconds, [&queries](const Ray& ray) {
       RTCRayHit query;
-      query.ray = to_embree(ray);
-      query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-      query.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-      rtcIntersect1(embree, &context, &query);
-      return query.hit.geomID != RTC_INVALID_GEOMETRY_ID ? 1 : 0;
+      return queries.closest_hit(ray, query) ? 1 : 0;
     });
-    const double shadow = rate(rays.occlusion, threads, seconds, [embree](const Ray& ray) {
-      RTCIntersectContext context;
-      rtcInitIntersectContext(&context);
-      RTCRay query = to_embree(ray);
-      rtcOccluded1(embree, &context, &query);
-      return query.tfar < 0.0f ? 1 : 0;  // Embree sets tfar to -inf on a hit
+    const double shadow = rate(rays.occlusion, threads, seconds, [&queries](const Ray& ray) {
+      return queries.occluded(ray) ? 1 : 0;
     });
     std::printf(
         "scene=%s threads=%d triangles=%zu rays=%zu intersect_rays_per_s=%.0f "

@@ -10,6 +10,7 @@
 #include "emlt/core/error.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/shape_builders.h"
+#include "emlt/scene/sphere_intersection.h"
 #include "emlt/scene/texture.h"
 #include "src/scene/parameter_ranges.h"
 
@@ -45,6 +46,26 @@ struct Scene::Geometry {
     if (uvs.empty()) return {b1, b2};
     const uint32_t* tri = &indices[3 * size_t(primitive)];
     return (1.0f - b1 - b2) * uvs[tri[0]] + b1 * uvs[tri[1]] + b2 * uvs[tri[2]];
+  }
+
+  // The alpha test (Mitsuba's mask) on a candidate hit at distance t: true when the ray
+  // passes through it. Embree calls it through a filter function on triangles; the sphere
+  // callbacks call it themselves.
+  bool lets_through(const Vec3& origin, const Vec3& direction, float t, uint32_t geometry_id,
+                    uint32_t primitive, float b1, float b2) const;
+
+  // The nearest root of this sphere in [tnear, tfar] that the alpha test keeps.
+  bool sphere_hit(const Vec3& origin, const Vec3& direction, float tnear, float tfar,
+                  uint32_t geometry_id, float* t) const {
+    SphereRoots roots;
+    if (!sphere_roots(center, radius, origin, direction, &roots)) return false;
+    for (const float root : {roots.near, roots.far}) {
+      if (!(root >= tnear && root <= tfar)) continue;
+      if (opacity && lets_through(origin, direction, root, geometry_id, 0, 0.0f, 0.0f)) continue;
+      *t = root;
+      return true;
+    }
+    return false;
   }
 };
 
@@ -179,6 +200,15 @@ void validate_emission(const SceneDescription& desc, const std::string& shape, c
 }
 
 }  // namespace
+
+bool Scene::Geometry::lets_through(const Vec3& origin, const Vec3& direction, float t,
+                                   uint32_t geometry_id, uint32_t primitive, float b1,
+                                   float b2) const {
+  const float alpha = opacity->eval_luminance(uv_at(primitive, b1, b2, origin + t * direction));
+  if (alpha >= 1.0f) return false;
+  return !(alpha > 0.0f) ||
+         alpha_test_threshold(origin, direction, geometry_id, primitive) >= alpha;
+}
 
 std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
   std::unique_ptr<Scene> scene(new Scene());
@@ -371,8 +401,72 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
   // (glass and closed meshes rely on it); the cost is small.
   rtcSetSceneFlags(s.rtc_scene_, RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(s.rtc_scene_, RTC_BUILD_QUALITY_HIGH);
+  // The sphere callbacks. Lambdas in a member function may name the private Geometry type;
+  // Embree passes N = 1 from rtcIntersect1/rtcOccluded1, the loops serve any N.
+  const RTCBoundsFunction sphere_bounds = [](const RTCBoundsFunctionArguments* args) {
+    const auto* sphere = static_cast<const Geometry*>(args->geometryUserPtr);
+    // A relative margin of a few float spacings, so that rounding in the box cannot cut
+    // off a grazing hit that the root finding accepts.
+    const Vec3 extent = Vec3(sphere->radius) + 1e-6f * (glm::abs(sphere->center) + sphere->radius);
+    const Vec3 lower = sphere->center - extent, upper = sphere->center + extent;
+    *args->bounds_o = RTCBounds{lower.x, lower.y, lower.z, 0.0f, upper.x, upper.y, upper.z, 0.0f};
+  };
+  const RTCIntersectFunctionN sphere_intersect = [](const RTCIntersectFunctionNArguments* args) {
+    const auto* sphere = static_cast<const Geometry*>(args->geometryUserPtr);
+    RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, args->N);
+    RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, args->N);
+    const unsigned n = args->N;
+    for (unsigned i = 0; i < n; ++i) {
+      if (args->valid[i] != -1) continue;
+      const Vec3 origin(RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i),
+                        RTCRayN_org_z(ray, n, i));
+      const Vec3 direction(RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i),
+                           RTCRayN_dir_z(ray, n, i));
+      float t;
+      if (!sphere->sphere_hit(origin, direction, RTCRayN_tnear(ray, n, i), RTCRayN_tfar(ray, n, i),
+                              args->geomID, &t))
+        continue;
+      // Scene::intersect re-derives the point, normal and uv from t; the normal here is
+      // for other callers of the Embree scene (unnormalised, as Embree's own).
+      const Vec3 normal = origin + t * direction - sphere->center;
+      RTCRayN_tfar(ray, n, i) = t;
+      RTCHitN_Ng_x(hit, n, i) = normal.x;
+      RTCHitN_Ng_y(hit, n, i) = normal.y;
+      RTCHitN_Ng_z(hit, n, i) = normal.z;
+      RTCHitN_u(hit, n, i) = 0.0f;
+      RTCHitN_v(hit, n, i) = 0.0f;
+      RTCHitN_primID(hit, n, i) = args->primID;
+      RTCHitN_geomID(hit, n, i) = args->geomID;
+      RTCHitN_instID(hit, n, i, 0) = args->context->instID[0];
+    }
+  };
+  const RTCOccludedFunctionN sphere_occluded = [](const RTCOccludedFunctionNArguments* args) {
+    const auto* sphere = static_cast<const Geometry*>(args->geometryUserPtr);
+    RTCRayN* ray = args->ray;
+    const unsigned n = args->N;
+    for (unsigned i = 0; i < n; ++i) {
+      if (args->valid[i] != -1) continue;
+      const Vec3 origin(RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i),
+                        RTCRayN_org_z(ray, n, i));
+      const Vec3 direction(RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i),
+                           RTCRayN_dir_z(ray, n, i));
+      float t;
+      if (sphere->sphere_hit(origin, direction, RTCRayN_tnear(ray, n, i), RTCRayN_tfar(ray, n, i),
+                             args->geomID, &t))
+        RTCRayN_tfar(ray, n, i) = -kInfinity;  // Embree's mark of an occluded ray
+    }
+  };
+  // A handful of spheres costs less tested one by one in Scene::intersect and occluded
+  // than through any Embree geometry (see kMaxDirectSpheres); more go into the BVH.
+  size_t sphere_count = 0;
+  for (const Geometry& g : s.geometries_) sphere_count += g.kind == Geometry::Kind::Sphere;
+  const bool spheres_direct = sphere_count <= kMaxDirectSpheres;
   for (size_t id = 0; id < s.geometries_.size(); ++id) {
     const Geometry& g = s.geometries_[id];
+    if (g.kind == Geometry::Kind::Sphere && spheres_direct) {
+      s.direct_spheres_.push_back(uint32_t(id));
+      continue;
+    }
     RTCGeometry geometry;
     if (g.kind == Geometry::Kind::Triangles) {
       geometry = rtcNewGeometry(s.device_, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -387,17 +481,20 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
         std::copy_n(&g.positions[i].x, 3, vertices + 3 * i);
       std::copy(g.indices.begin(), g.indices.end(), triangles);
     } else {
-      geometry = rtcNewGeometry(s.device_, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-      auto* sphere = static_cast<float*>(rtcSetNewGeometryBuffer(
-          geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
-      if (!sphere) throw file_error(d.source, "out of memory building the BVH");
-      sphere[0] = g.center.x, sphere[1] = g.center.y, sphere[2] = g.center.z, sphere[3] = g.radius;
+      // A user geometry with our own root finding (sphere_intersection.h): Embree's
+      // point-sphere primitive goes through its generic curve code, which cost a third
+      // of the render's instructions on a scene with two spheres.
+      geometry = rtcNewGeometry(s.device_, RTC_GEOMETRY_TYPE_USER);
+      rtcSetGeometryUserPrimitiveCount(geometry, 1);
+      rtcSetGeometryBoundsFunction(geometry, sphere_bounds, nullptr);
+      rtcSetGeometryIntersectFunction(geometry, sphere_intersect);
+      rtcSetGeometryOccludedFunction(geometry, sphere_occluded);
     }
-    if (g.opacity) {
+    rtcSetGeometryUserData(geometry, const_cast<Geometry*>(&g));
+    if (g.opacity && g.kind == Geometry::Kind::Triangles) {
       // Alpha test: Embree calls this for every candidate hit, before accepting it, in
       // both closest-hit and occlusion queries. A lambda in a member function may name
       // the private Geometry type.
-      rtcSetGeometryUserData(geometry, const_cast<Geometry*>(&g));
       const RTCFilterFunctionN alpha_test = [](const RTCFilterFunctionNArguments* args) {
         const auto* surface = static_cast<const Geometry*>(args->geometryUserPtr);
         for (unsigned i = 0; i < args->N; ++i) {
@@ -408,15 +505,10 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
           const Vec3 direction(RTCRayN_dir_x(args->ray, args->N, i),
                                RTCRayN_dir_y(args->ray, args->N, i),
                                RTCRayN_dir_z(args->ray, args->N, i));
-          const uint32_t primitive = RTCHitN_primID(args->hit, args->N, i);
-          const Vec3 position = origin + RTCRayN_tfar(args->ray, args->N, i) * direction;
-          const Vec2 uv = surface->uv_at(primitive, RTCHitN_u(args->hit, args->N, i),
-                                         RTCHitN_v(args->hit, args->N, i), position);
-          const float opacity = surface->opacity->eval_luminance(uv);
-          if (opacity >= 1.0f) continue;
-          if (!(opacity > 0.0f) ||
-              alpha_test_threshold(origin, direction, RTCHitN_geomID(args->hit, args->N, i),
-                                   primitive) >= opacity)
+          if (surface->lets_through(
+                  origin, direction, RTCRayN_tfar(args->ray, args->N, i),
+                  RTCHitN_geomID(args->hit, args->N, i), RTCHitN_primID(args->hit, args->N, i),
+                  RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i)))
             args->valid[i] = 0;  // passes through: Embree looks for the next hit
         }
       };
@@ -442,10 +534,9 @@ Scene::~Scene() {
   if (device_) rtcReleaseDevice(device_);
 }
 
-bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
+bool Scene::closest_hit(const Ray& ray, RTCRayHit& query) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRayHit query;
   query.ray.org_x = ray.origin.x, query.ray.org_y = ray.origin.y, query.ray.org_z = ray.origin.z;
   query.ray.dir_x = ray.direction.x, query.ray.dir_y = ray.direction.y,
   query.ray.dir_z = ray.direction.z;
@@ -457,8 +548,25 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
   query.ray.flags = 0;
   query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   query.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  // The spheres outside the BVH first: a hit shortens the segment Embree traverses.
+  uint32_t sphere = RTC_INVALID_GEOMETRY_ID;
+  for (const uint32_t id : direct_spheres_) {
+    float t;
+    if (geometries_[id].sphere_hit(ray.origin, ray.direction, ray.tmin, query.ray.tfar, id, &t))
+      query.ray.tfar = t, sphere = id;
+  }
   rtcIntersect1(rtc_scene_, &context, &query);
-  if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  if (query.hit.geomID != RTC_INVALID_GEOMETRY_ID) return true;
+  if (sphere == RTC_INVALID_GEOMETRY_ID) return false;
+  query.hit.geomID = sphere;  // nothing in the BVH is nearer than the sphere
+  query.hit.primID = 0;
+  query.hit.u = query.hit.v = 0.0f;
+  return true;
+}
+
+bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
+  RTCRayHit query;
+  if (!closest_hit(ray, query)) return false;
 
   const Geometry& g = geometries_[query.hit.geomID];
   hit.t = query.ray.tfar;
@@ -527,6 +635,10 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
 }
 
 bool Scene::occluded(const Ray& ray) const {
+  float t;
+  for (const uint32_t id : direct_spheres_)
+    if (geometries_[id].sphere_hit(ray.origin, ray.direction, ray.tmin, ray.tmax, id, &t))
+      return true;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay query;

@@ -1,6 +1,7 @@
 #pragma once
-// The renderable scene: an Embree BVH over triangles and spheres, materials, the camera
-// and the light set. Immutable after build(); safe to query from many threads.
+// The renderable scene: an Embree BVH over triangles (and over spheres when there are more
+// than a few; fewer are tested directly), materials, the camera and the light set.
+// Immutable after build(); safe to query from many threads.
 #include <embree3/rtcore.h>
 
 #include <memory>
@@ -50,7 +51,16 @@ class Scene {
   Scene(const Scene&) = delete;
   Scene& operator=(const Scene&) = delete;
 
+  // Up to this many analytic spheres are intersected by Scene itself, ahead of the Embree
+  // query, which is cheaper than any Embree geometry for them (docs/performance.md); a
+  // scene with more puts them all in the BVH as a user geometry with the same root finding.
+  static constexpr size_t kMaxDirectSpheres = 8;
+
   bool intersect(const Ray& ray, SurfaceHit& hit) const;
+  // The closest-hit query alone, without filling a SurfaceHit (bench/ray_rate.cpp times
+  // it): Embree's BVH and the spheres kept outside it. On a hit, query.ray.tfar is the
+  // distance and query.hit names the geometry and primitive.
+  bool closest_hit(const Ray& ray, RTCRayHit& query) const;
   bool occluded(const Ray& ray) const;
   // Mutual visibility of two surface points (each offset along its normal).
   bool visible(const Vec3& a, const Vec3& na, const Vec3& b, const Vec3& nb) const;
@@ -76,8 +86,6 @@ class Scene {
   const SceneStats& stats() const { return stats_; }
   Vec3 bounds_center() const { return bounds_center_; }
   float bounds_radius() const { return bounds_radius_; }
-  // The Embree scene itself, for measuring Embree alone (bench/ray_rate.cpp).
-  RTCScene embree_scene() const { return rtc_scene_; }
 
  private:
   Scene() = default;
@@ -87,6 +95,7 @@ class Scene {
   RTCDevice device_ = nullptr;
   RTCScene rtc_scene_ = nullptr;
   std::vector<Geometry> geometries_;
+  std::vector<uint32_t> direct_spheres_;  // geometry ids of the spheres outside the BVH
   std::unique_ptr<Camera> camera_;
   LightSet lights_;
   SceneStats stats_;
