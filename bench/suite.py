@@ -6,7 +6,8 @@
 
 For each scene it runs separate processes and prints, per scene:
   * Embree's own incoherent ray rate on that scene (build/emlt_ray_rate: rtcIntersect1 and
-    rtcOccluded1 alone on rays recorded from a path tracer's walk): the bound;
+    rtcOccluded1, with the few analytic spheres Scene tests outside the BVH, alone on rays
+    recorded from a path tracer's walk): the bound;
   * pt and bdpt samples/s, mlt, gamlt and emlt mutations/s: work done over the whole process's
     wall-clock time (loading, bootstrap and direct light included); the MCMC rows also give
     the chains' own rate from --stats;
