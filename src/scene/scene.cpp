@@ -534,7 +534,28 @@ Scene::~Scene() {
   if (device_) rtcReleaseDevice(device_);
 }
 
-bool Scene::closest_hit(const Ray& ray, RTCRayHit& query) const {
+// The direct spheres' loops are calls of their own, so that a scene without spheres pays
+// one test of an empty vector for them, not a larger inlined body.
+uint32_t Scene::nearest_direct_sphere(const Ray& ray, float* tfar) const {
+  uint32_t sphere = RTC_INVALID_GEOMETRY_ID;
+  for (const uint32_t id : direct_spheres_) {
+    float t;
+    if (geometries_[id].sphere_hit(ray.origin, ray.direction, ray.tmin, *tfar, id, &t))
+      *tfar = t, sphere = id;
+  }
+  return sphere;
+}
+
+bool Scene::direct_sphere_occludes(const Ray& ray) const {
+  float t;
+  for (const uint32_t id : direct_spheres_)
+    if (geometries_[id].sphere_hit(ray.origin, ray.direction, ray.tmin, ray.tmax, id, &t))
+      return true;
+  return false;
+}
+
+// Inlined into each of its callers here, as the Embree queries were before the spheres.
+[[gnu::always_inline]] inline bool Scene::find_closest(const Ray& ray, RTCRayHit& query) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   query.ray.org_x = ray.origin.x, query.ray.org_y = ray.origin.y, query.ray.org_z = ray.origin.z;
@@ -549,12 +570,8 @@ bool Scene::closest_hit(const Ray& ray, RTCRayHit& query) const {
   query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   query.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   // The spheres outside the BVH first: a hit shortens the segment Embree traverses.
-  uint32_t sphere = RTC_INVALID_GEOMETRY_ID;
-  for (const uint32_t id : direct_spheres_) {
-    float t;
-    if (geometries_[id].sphere_hit(ray.origin, ray.direction, ray.tmin, query.ray.tfar, id, &t))
-      query.ray.tfar = t, sphere = id;
-  }
+  const uint32_t sphere = direct_spheres_.empty() ? RTC_INVALID_GEOMETRY_ID
+                                                  : nearest_direct_sphere(ray, &query.ray.tfar);
   rtcIntersect1(rtc_scene_, &context, &query);
   if (query.hit.geomID != RTC_INVALID_GEOMETRY_ID) return true;
   if (sphere == RTC_INVALID_GEOMETRY_ID) return false;
@@ -564,9 +581,13 @@ bool Scene::closest_hit(const Ray& ray, RTCRayHit& query) const {
   return true;
 }
 
+bool Scene::closest_hit(const Ray& ray, RTCRayHit& query) const {
+  return find_closest(ray, query);
+}
+
 bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
   RTCRayHit query;
-  if (!closest_hit(ray, query)) return false;
+  if (!find_closest(ray, query)) return false;
 
   const Geometry& g = geometries_[query.hit.geomID];
   hit.t = query.ray.tfar;
@@ -634,11 +655,8 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
   return true;
 }
 
-bool Scene::occluded(const Ray& ray) const {
-  float t;
-  for (const uint32_t id : direct_spheres_)
-    if (geometries_[id].sphere_hit(ray.origin, ray.direction, ray.tmin, ray.tmax, id, &t))
-      return true;
+[[gnu::always_inline]] inline bool Scene::find_occluder(const Ray& ray) const {
+  if (!direct_spheres_.empty() && direct_sphere_occludes(ray)) return true;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay query;
@@ -654,6 +672,10 @@ bool Scene::occluded(const Ray& ray) const {
   return query.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
 }
 
+bool Scene::occluded(const Ray& ray) const {
+  return find_occluder(ray);
+}
+
 bool Scene::visible(const Vec3& a, const Vec3& na, const Vec3& b, const Vec3& nb) const {
   const Vec3 origin = offset_ray_origin(a, na, b - a);
   const Vec3 target = offset_ray_origin(b, nb, a - b);
@@ -661,7 +683,7 @@ bool Scene::visible(const Vec3& a, const Vec3& na, const Vec3& b, const Vec3& nb
   const float distance = glm::length(delta);
   if (!(distance > 0.0f)) return true;
   // The relative shortening keeps the far surface itself from counting as a blocker.
-  return !occluded(Ray{origin, delta / distance, 0.0f, distance * (1.0f - 1e-4f)});
+  return !find_occluder(Ray{origin, delta / distance, 0.0f, distance * (1.0f - 1e-4f)});
 }
 
 void Scene::visit_nearby(const Vec3& p, float radius, NearbyVisitor& visitor) const {

@@ -90,6 +90,13 @@ class Scene {
  private:
   Scene() = default;
   struct Geometry;  // per Embree geometry: kind, material, normals, uvs, lights
+  // The bodies of closest_hit/intersect and occluded/visible, inlined into each.
+  bool find_closest(const Ray& ray, RTCRayHit& query) const;
+  bool find_occluder(const Ray& ray) const;
+  // The nearest direct sphere within [ray.tmin, *tfar] (its id, and *tfar set to its
+  // distance), or RTC_INVALID_GEOMETRY_ID; and whether any blocks the ray's segment.
+  [[gnu::noinline]] uint32_t nearest_direct_sphere(const Ray& ray, float* tfar) const;
+  [[gnu::noinline]] bool direct_sphere_occludes(const Ray& ray) const;
 
   SceneDescription desc_;
   RTCDevice device_ = nullptr;
