@@ -77,6 +77,21 @@ void vertex_similarities(const PathVertex& a, const GuideView& guides, int i,
 
 namespace {
 
+// The similarity row of x's vertex i (v) to the guides: the one `reuse` has for this path if
+// any, else computed into `kept`'s row i (or into `scratch` when nothing keeps it).
+std::span<const double> similarity_row(const Path& x, const PathVertex& v, int i,
+                                       const GuideView& guides, const SimilarityParams& params,
+                                       SimilarityRows* kept, const SimilarityRows* reuse,
+                                       GuideBuffer<double>& scratch) {
+  if (reuse) {
+    const std::span<const double> row = reuse->reusable_row(x, i);
+    if (!row.empty()) return row;
+  }
+  const std::span<double> computed = kept ? kept->row(i) : scratch.span();
+  vertex_similarities(v, guides, i, params, computed);
+  return computed;
+}
+
 // path_similarities, keeping the rows in `kept` and taking those `reuse` has for this path.
 void path_similarities(const Path& x, const GuideView& guides, int first, int last,
                        const SimilarityParams& params, std::span<SimilarityProduct> out,
@@ -96,12 +111,8 @@ void path_similarities(const Path& x, const GuideView& guides, int first, int la
         for (size_t n = 0; n < count; ++n) out[n].multiply(s);
       continue;
     }
-    std::span<const double> row = reuse ? reuse->reusable_row(x, i) : std::span<const double>();
-    if (row.empty()) {
-      const std::span<double> computed = kept ? kept->row(i) : scratch.span();
-      vertex_similarities(v, guides, i, params, computed);
-      row = computed;
-    }
+    const std::span<const double> row =
+        similarity_row(x, v, i, guides, params, kept, reuse, scratch);
     for (size_t n = 0; n < count; ++n) out[n].multiply(row[n]);
   }
 }
@@ -134,12 +145,8 @@ bool plain_path_similarities(const Path& x, const GuideView& guides, int first, 
       }
       continue;
     }
-    std::span<const double> row = reuse ? reuse->reusable_row(x, i) : std::span<const double>();
-    if (row.empty()) {
-      const std::span<double> computed = kept ? kept->row(i) : scratch.span();
-      vertex_similarities(v, guides, i, params, computed);
-      row = computed;
-    }
+    const std::span<const double> row =
+        similarity_row(x, v, i, guides, params, kept, reuse, scratch);
     for (size_t n = 0; n < count; ++n) {
       plain &= row[n] >= kRenormalise;
       out[n] *= row[n];

@@ -75,6 +75,12 @@ Rgb SurfaceHit::emitted(const Vec3& w) const {
 
 namespace {
 
+// Lane i of an Embree ray packet of width n: its origin and direction.
+std::pair<Vec3, Vec3> ray_lane(RTCRayN* ray, unsigned n, unsigned i) {
+  return {Vec3(RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i)),
+          Vec3(RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i))};
+}
+
 uint64_t mix_bits(uint64_t h, uint64_t value) {
   // splitmix64's finaliser over the running state: every input bit affects every output bit.
   h ^= value + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
@@ -418,10 +424,7 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
     const unsigned n = args->N;
     for (unsigned i = 0; i < n; ++i) {
       if (args->valid[i] != -1) continue;
-      const Vec3 origin(RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i),
-                        RTCRayN_org_z(ray, n, i));
-      const Vec3 direction(RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i),
-                           RTCRayN_dir_z(ray, n, i));
+      const auto [origin, direction] = ray_lane(ray, n, i);
       float t;
       if (!sphere->sphere_hit(origin, direction, RTCRayN_tnear(ray, n, i), RTCRayN_tfar(ray, n, i),
                               args->geomID, &t))
@@ -446,10 +449,7 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
     const unsigned n = args->N;
     for (unsigned i = 0; i < n; ++i) {
       if (args->valid[i] != -1) continue;
-      const Vec3 origin(RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i),
-                        RTCRayN_org_z(ray, n, i));
-      const Vec3 direction(RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i),
-                           RTCRayN_dir_z(ray, n, i));
+      const auto [origin, direction] = ray_lane(ray, n, i);
       float t;
       if (sphere->sphere_hit(origin, direction, RTCRayN_tnear(ray, n, i), RTCRayN_tfar(ray, n, i),
                              args->geomID, &t))
@@ -499,12 +499,7 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
         const auto* surface = static_cast<const Geometry*>(args->geometryUserPtr);
         for (unsigned i = 0; i < args->N; ++i) {
           if (args->valid[i] != -1) continue;
-          const Vec3 origin(RTCRayN_org_x(args->ray, args->N, i),
-                            RTCRayN_org_y(args->ray, args->N, i),
-                            RTCRayN_org_z(args->ray, args->N, i));
-          const Vec3 direction(RTCRayN_dir_x(args->ray, args->N, i),
-                               RTCRayN_dir_y(args->ray, args->N, i),
-                               RTCRayN_dir_z(args->ray, args->N, i));
+          const auto [origin, direction] = ray_lane(args->ray, args->N, i);
           if (surface->lets_through(
                   origin, direction, RTCRayN_tfar(args->ray, args->N, i),
                   RTCHitN_geomID(args->hit, args->N, i), RTCHitN_primID(args->hit, args->N, i),
