@@ -208,7 +208,7 @@ std::optional<double> plain_total(std::span<const SimilarityProduct> weights) {
   std::array<double, 4> partial{};
   bool plain = true;
   const auto add = [&](size_t n, size_t lane) {
-    plain &= weights[n].is_plain() & (weights[n].plain() > 0.0);
+    plain &= weights[n].is_plain() && weights[n].plain() > 0.0;
     partial[lane] += weights[n].plain();
   };
   // Unrolled by the four partial sums (partial[n % 4] gets the same terms in the same
@@ -285,7 +285,7 @@ NormalisedWeights normalise_row_products(std::span<const double> first,
     for (size_t n = 0; n < count; ++n) {
       const double product = first[n] * second[n];
       probabilities[n] = product;
-      plain &= (first[n] >= kRenormalise) & (second[n] >= kRenormalise) & (product >= kRenormalise);
+      plain &= first[n] >= kRenormalise && second[n] >= kRenormalise && product >= kRenormalise;
     }
   }
   if (!plain) {
