@@ -41,8 +41,10 @@ def render(args, out, extra, seconds=None, seed=1):
     return time.time() - t0
 
 
-def compare(reference, images):
-    out = subprocess.run([EMLT, "compare", "--json", "--scene", SCENE, reference] + images,
+def compare(reference, images, emlt=EMLT):
+    """`emlt compare --json` of each image against the reference, over the Cornell box's
+    pixels that do not see the emitter (also used by tungsten_equal_time.py)."""
+    out = subprocess.run([emlt, "compare", "--json", "--scene", SCENE, reference] + images,
                          check=True, capture_output=True, text=True).stdout
     return [json.loads(line) for line in out.splitlines() if line.strip()]
 

@@ -29,6 +29,9 @@ import subprocess
 import sys
 import time
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import pss_equal_time  # noqa: E402  (compare)
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCENE = os.path.join(ROOT, "scenes", "cornell-box", "scene.json")
 
@@ -89,9 +92,7 @@ def run(prefix, cmd):
 
 
 def compare(emlt, reference, images):
-    out = subprocess.run([emlt, "compare", "--json", "--scene", SCENE, reference] + images,
-                         check=True, capture_output=True, text=True).stdout
-    return [json.loads(line) for line in out.splitlines() if line.strip()]
+    return pss_equal_time.compare(reference, images, emlt=emlt)
 
 
 def main():
