@@ -235,6 +235,12 @@ void write_pfm(const std::string& path, const Image& image) {
 // header it finds too large as "too large", without the size: that is read here from
 // the IHDR chunk, which the format puts first. Any other header stb cannot read is left
 // to the decoder, which says why.
+// stb's reason for a failed decode; Debian's build may leave it empty.
+std::string stb_failure() {
+  const char* why = stbi_failure_reason();
+  return why && *why ? std::string(why) : std::string("corrupt or truncated data");
+}
+
 void check_stb_image_size(const std::string& path) {
   int width = 0, height = 0, components = 0;
   if (stbi_info(path.c_str(), &width, &height, &components)) {
@@ -361,8 +367,7 @@ Image read_hdr(const std::string& path) {
   int width = 0, height = 0, components = 0;
   float* data = stbi_loadf(path.c_str(), &width, &height, &components, 3);
   if (!data) {
-    const char* why = stbi_failure_reason();
-    throw file_error(path, std::string("cannot decode Radiance HDR (") + (why ? why : "?") + ")");
+    throw file_error(path, "cannot decode Radiance HDR (" + stb_failure() + ")");
   }
   Image image(width, height);
   std::memcpy(image.pixels.data(), data, sizeof(float) * 3 * size_t(width) * size_t(height));
@@ -376,8 +381,7 @@ Image8 read_ldr_bytes(const std::string& path) {
   int width = 0, height = 0, components = 0;
   unsigned char* data = stbi_load(path.c_str(), &width, &height, &components, 3);
   if (!data) {
-    const char* why = stbi_failure_reason();
-    throw file_error(path, std::string("cannot decode image (") + (why ? why : "?") + ")");
+    throw file_error(path, "cannot decode image (" + stb_failure() + ")");
   }
   Image8 image;
   image.width = width, image.height = height;
