@@ -50,7 +50,7 @@ SIMILARITY = re.compile(
     r"emlt::ensemble::(\(anonymous namespace\)::)?(path_similarities|vertex_similarities|"
     r"similarities_to_guides|far_similarity_row|choose_similar_guide|log_selection_ratio|"
     r"choose_guide|guide_log_probability|normalise_weights|normalise_log_weights|guide_weights|"
-    r"plain_total|logs_of|log_similarities_to_guides|log_vertex_similarity|log_path_similarity|"
+    r"plain_total|logs_of|similarity_row|similarity4|all_at_least|log_similarities_to_guides|log_vertex_similarity|log_path_similarity|"
     r"guide_vertex|similarity_params|normalise_row_products|plain_path_similarities|plain_sum|"
     r"choose_guide_from_plain|guide_log_probability_from_plain)\b")
 LOOKUP = re.compile(r"emlt::ensemble::(guides_for|guides_for_next_step)\b"

@@ -197,7 +197,9 @@ std::optional<Proposal> AnisotropicPathPerturbation::toward_camera(
   lens.raster = *raster;
   const Rgb connection = connect_vertices(scene, &yv[size_t(b)], yv[size_t(a)], lens, nullptr);
   if (is_black(connection) || !is_finite(connection)) return std::nullopt;
-  if (!perturbation::finish_proposal(scene, x, y)) return std::nullopt;
+  // Only y_b and y_a moved (the lens point kept its position; its density does not depend on
+  // the raster): the densities that depend on them are recomputed, the rest are x's.
+  if (!perturbation::finish_proposal(scene, x, y, b, a)) return std::nullopt;
 
   // Both moves are densities per unit area of (y_b, y_a) and of (x_b, x_a): no Jacobian.
   const double log_forward = cast_density(b_x, xv[size_t(c)], yv[size_t(b)], bugs_) +
@@ -253,7 +255,7 @@ std::optional<Proposal> AnisotropicPathPerturbation::from_camera(const Path& x,
   const Rgb connection = connect_vertices(scene, c >= 1 ? &yv[size_t(c - 1)] : nullptr,
                                           yv[size_t(c)], yv[size_t(b)], &yv[size_t(a)]);
   if (is_black(connection) || !is_finite(connection)) return std::nullopt;
-  if (!perturbation::finish_proposal(scene, x, y)) return std::nullopt;
+  if (!perturbation::finish_proposal(scene, x, y, b, a)) return std::nullopt;  // as above
 
   const double log_forward = ensemble::tangent_gaussian_log_pdf(image_x, on_image_plane(raster)) +
                              cast_density(world_x, yv[size_t(a)], yv[size_t(b)], bugs_);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cassert>
 
+#include "mutations/ensemble/guide_lanes.h"
+
 namespace emlt::ensemble {
 
 GuideView guides_for(const Path& x, const MutationContext& ctx) {
@@ -126,34 +128,37 @@ bool plain_path_similarities(const Path& x, const GuideView& guides, int first, 
                              const SimilarityParams& params, std::span<double> out,
                              SimilarityRows* kept, const SimilarityRows* reuse) {
   assert(out.size() == guides.size());
-  constexpr double kRenormalise = SimilarityProduct::kRenormalise;
-  std::fill(out.begin(), out.end(), 1.0);
   const size_t count = guides.size();
   GuideBuffer<double> scratch(count);
   if (kept) kept->assign(x, first, last, count);
-  bool plain = true;
+  bool multiplied = false;  // whether out holds a product yet (1 * S is S exactly)
   for (int i = first; i <= last; ++i) {
     const PathVertex& v = x.vertices[size_t(i)];
     if (guides.same_point(i) && !v.is_environment()) {
+      // One similarity for every guide (the row's value in each entry). Where it is 1 (the
+      // usual case: the same lens point), multiplying by it would change nothing.
       const double s = vertex_similarity(v.position, guides.position(0, i), params);
-      if (s != 1.0) {
-        plain &= s >= kRenormalise;
-        for (size_t n = 0; n < count; ++n) {
-          out[n] *= s;
-          plain &= out[n] >= kRenormalise;
-        }
-      }
+      if (s == 1.0) continue;
+      if (multiplied)
+        for (size_t n = 0; n < count; ++n) out[n] *= s;
+      else
+        std::fill(out.begin(), out.end(), s);
+      multiplied = true;
       continue;
     }
     const std::span<const double> row =
         similarity_row(x, v, i, guides, params, kept, reuse, scratch);
-    for (size_t n = 0; n < count; ++n) {
-      plain &= row[n] >= kRenormalise;
-      out[n] *= row[n];
-      plain &= out[n] >= kRenormalise;
-    }
+    if (multiplied)
+      for (size_t n = 0; n < count; ++n) out[n] *= row[n];
+    else
+      std::copy(row.begin(), row.end(), out.begin());
+    multiplied = true;
   }
-  return plain;
+  if (!multiplied) std::fill(out.begin(), out.end(), 1.0);
+  // Every factor is a similarity, in [0, 1] or NaN, so a rounded product is never above any
+  // of its factors or earlier partial products: all of them stayed >= kRenormalise exactly
+  // when the final product did (NaN fails either test).
+  return all_at_least(out, SimilarityProduct::kRenormalise);
 }
 
 }  // namespace

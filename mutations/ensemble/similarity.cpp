@@ -6,6 +6,8 @@
 #include <limits>
 #include <optional>
 
+#include "mutations/ensemble/guide_lanes.h"
+
 namespace emlt::ensemble {
 
 double log_vertex_similarity(const Vec3& a, const Vec3& b, const SimilarityParams& params) {
@@ -34,21 +36,21 @@ namespace {
 using Float4 = float __attribute__((vector_size(16)));
 using Bits4 = uint32_t __attribute__((vector_size(16)));
 
-Float4 splat4(float value) {
+[[gnu::always_inline]] inline Float4 splat4(float value) {
   return Float4{value, value, value, value};
 }
 // mask ? a : b, for a mask of all-ones / all-zeros lanes (a vector comparison's result).
-Float4 select4(Bits4 mask, Float4 a, Float4 b) {
+[[gnu::always_inline]] inline Float4 select4(Bits4 mask, Float4 a, Float4 b) {
   return Float4((Bits4(a) & mask) | (Bits4(b) & ~mask));
 }
 
-Float4 far_similarity4(Float4 floored) {
+[[gnu::always_inline]] inline Float4 far_similarity4(Float4 floored) {
   const Float4 half_d = 0.5f * (1.0f / floored);
   const Float4 y2 = half_d * half_d;
   return half_d * (1.0f + y2 * (-1.0f / 3.0f + y2 * (2.0f / 15.0f)));
 }
 
-Float4 middle_similarity4(Float4 floored) {
+[[gnu::always_inline]] inline Float4 middle_similarity4(Float4 floored) {
   const Float4 x = -1.0f / floored;
   constexpr float kInverseLn2 = 1.44269504f;
   constexpr float kLn2High = 0.693359375f;
@@ -67,19 +69,65 @@ Float4 middle_similarity4(Float4 floored) {
   return -t / (t + 2.0f);
 }
 
-// The floored squared distances as vertex_similarity computes them (in double; glm::dot
-// sums (x^2 + y^2) + z^2), rounded to float; the loop vectorises.
+// Two guides' coordinates at a time in double (SSE2's two lanes), four guides' similarities
+// in float. Each lane runs exactly the scalar operations, in the same order.
+using Float2 = float __attribute__((vector_size(8)));
+
+// The floored squared distances of guides n, n + 1 as vertex_similarity computes them (in
+// double; glm::dot sums (x^2 + y^2) + z^2; std::max(scaled, epsilon)).
 template <bool kScaled>
-void floored_row(const DVec3& point, const double* x, const double* y, const double* z,
-                 const SimilarityParams& params, float* floored, size_t count) {
+[[gnu::always_inline]] inline Double2 floored2(const Double2 (&point)[3], const double* x,
+                                               const double* y, const double* z, size_t n,
+                                               double length_squared, double epsilon) {
+  const Double2 dx = point[0] - load2(x + n), dy = point[1] - load2(y + n),
+                dz = point[2] - load2(z + n);
+  const Double2 squared = dx * dx + dy * dy + dz * dz;
+  const Double2 scaled = kScaled ? squared / length_squared : squared;
+  return scaled < epsilon ? Double2{epsilon, epsilon} : scaled;
+}
+
+// eq. 8 for four floored distances rounded to float: the far range first (when paths do not
+// run close to each other it holds every guide), the others only when some lane needs them.
+[[gnu::always_inline]] inline Float4 similarity4(Float4 f) {
+  const Float4 far = far_similarity4(f);
+  const Bits4 is_far = Bits4(f > kFarSimilarity);  // NaN counts as not far, as in the scalar form
+  if ((is_far[0] & is_far[1] & is_far[2] & is_far[3]) != 0) return far;
+  const Float4 near_or_middle =
+      select4(Bits4(f < kNearSimilarity), splat4(1.0f), middle_similarity4(f));
+  return select4(is_far, far, near_or_middle);
+}
+
+template <bool kScaled>
+void similarity_row(const Vec3& point, const double* x, const double* y, const double* z,
+                    const SimilarityParams& params, double* out, size_t count) {
   const double length_squared = params.length_scale * params.length_scale;
   const double epsilon = params.epsilon;
-  for (size_t n = 0; n < count; ++n) {
-    const double dx = point.x - x[n], dy = point.y - y[n], dz = point.z - z[n];
+  const Double2 p[3] = {Double2{point.x, point.x}, Double2{point.y, point.y},
+                        Double2{point.z, point.z}};
+  size_t n = 0;
+  for (; n + 4 <= count; n += 4) {
+    const Float2 low =
+        __builtin_convertvector(floored2<kScaled>(p, x, y, z, n, length_squared, epsilon), Float2);
+    const Float2 high = __builtin_convertvector(
+        floored2<kScaled>(p, x, y, z, n + 2, length_squared, epsilon), Float2);
+    const Float4 similarity = similarity4(__builtin_shufflevector(low, high, 0, 1, 2, 3));
+    store2(out + n,
+           __builtin_convertvector(__builtin_shufflevector(similarity, similarity, 0, 1), Double2));
+    store2(out + n + 2,
+           __builtin_convertvector(__builtin_shufflevector(similarity, similarity, 2, 3), Double2));
+  }
+  if (n == count) return;
+  // The last one to three guides; the lanes past the end hold f = 1 (any value would do).
+  Float4 floored = splat4(1.0f);
+  for (size_t j = 0; n + j < count; ++j) {
+    const double dx = double(point.x) - x[n + j], dy = double(point.y) - y[n + j],
+                 dz = double(point.z) - z[n + j];
     const double squared = dx * dx + dy * dy + dz * dz;
     const double scaled = kScaled ? squared / length_squared : squared;
-    floored[n] = float(scaled < epsilon ? epsilon : scaled);  // std::max(scaled, epsilon)
+    floored[j] = float(scaled < epsilon ? epsilon : scaled);
   }
+  const Float4 similarity = similarity4(floored);
+  for (size_t j = 0; n + j < count; ++j) out[n + j] = double(similarity[j]);
 }
 
 }  // namespace
@@ -88,33 +136,12 @@ void similarities_to_guides(const Vec3& point, std::span<const double> x, std::s
                             std::span<const double> z, const SimilarityParams& params,
                             std::span<double> out) {
   assert(x.size() == out.size() && y.size() == out.size() && z.size() == out.size());
-  const size_t count = out.size(), groups = (count + 3) / 4;
-  // Whole groups of four; the lanes past the end hold f = 1 (any value would do).
-  GuideBuffer<Float4> floored_groups(groups), similarity_groups(groups);
-  float* floored = reinterpret_cast<float*>(floored_groups.span().data());
-  float* similarity = reinterpret_cast<float*>(similarity_groups.span().data());
-  for (size_t n = count; n < 4 * groups; ++n) floored[n] = 1.0f;
+  // Each group of four guides stays in registers from the coordinates to the similarities:
+  // rows through arrays of floored distances and of similarities cost twice as much (issue 21).
   if (params.length_scale * params.length_scale == 1.0)
-    floored_row<false>(DVec3(point), x.data(), y.data(), z.data(), params, floored, count);
+    similarity_row<false>(point, x.data(), y.data(), z.data(), params, out.data(), out.size());
   else
-    floored_row<true>(DVec3(point), x.data(), y.data(), z.data(), params, floored, count);
-  // The far range first: when paths do not run close to each other it holds every guide.
-  Bits4 not_far = {0, 0, 0, 0};
-  for (size_t g = 0; g < groups; ++g) {
-    const Float4 f = floored_groups[g];
-    similarity_groups[g] = far_similarity4(f);
-    not_far |= ~Bits4(f > kFarSimilarity);  // NaN counts as not far, as in the scalar form
-  }
-  if ((not_far[0] | not_far[1] | not_far[2] | not_far[3]) != 0) {
-    for (size_t g = 0; g < groups; ++g) {
-      const Float4 f = floored_groups[g];
-      const Float4 near_or_middle =
-          select4(Bits4(f < kNearSimilarity), splat4(1.0f), middle_similarity4(f));
-      similarity_groups[g] =
-          select4(Bits4(f > kFarSimilarity), similarity_groups[g], near_or_middle);
-    }
-  }
-  for (size_t n = 0; n < count; ++n) out[n] = double(similarity[n]);
+    similarity_row<true>(point, x.data(), y.data(), z.data(), params, out.data(), out.size());
 }
 
 void log_similarities_to_guides(const Vec3& point, std::span<const Vec3> guides,
@@ -274,19 +301,15 @@ NormalisedWeights normalise_row_products(std::span<const double> first,
   assert(probabilities.size() == count && (second.empty() || second.size() == count));
   constexpr double kRenormalise = SimilarityProduct::kRenormalise;
   // The weights into `probabilities` first; plain as SimilarityProduct::multiply keeps a
-  // product plain: every factor and the product >= kRenormalise (false for NaN).
-  bool plain = true;
+  // product plain: every factor and the product >= kRenormalise (false for NaN). Each test a
+  // loop of its own, so that it vectorises.
+  bool plain = all_at_least(first, kRenormalise);
   if (second.empty()) {
-    for (size_t n = 0; n < count; ++n) {
-      probabilities[n] = first[n];
-      plain &= first[n] >= kRenormalise;
-    }
+    std::copy(first.begin(), first.end(), probabilities.begin());
   } else {
-    for (size_t n = 0; n < count; ++n) {
-      const double product = first[n] * second[n];
-      probabilities[n] = product;
-      plain &= first[n] >= kRenormalise && second[n] >= kRenormalise && product >= kRenormalise;
-    }
+    for (size_t n = 0; n < count; ++n) probabilities[n] = first[n] * second[n];
+    plain &= all_at_least(second, kRenormalise);
+    plain &= all_at_least(probabilities, kRenormalise);
   }
   if (!plain) {
     GuideBuffer<SimilarityProduct> products(count);
@@ -298,11 +321,9 @@ NormalisedWeights normalise_row_products(std::span<const double> first,
     return normalise_weights(std::span<const SimilarityProduct>(products.span()), probabilities);
   }
   const double total = plain_sum(probabilities);
-  double sum_of_squares = 0.0;
-  for (size_t n = 0; n < count; ++n) {
-    probabilities[n] = probabilities[n] / total;
-    sum_of_squares += probabilities[n] * probabilities[n];
-  }
+  for (size_t n = 0; n < count; ++n) probabilities[n] = probabilities[n] / total;
+  double sum_of_squares = 0.0;  // in order, as before
+  for (size_t n = 0; n < count; ++n) sum_of_squares += probabilities[n] * probabilities[n];
   return {1.0 / sum_of_squares, true};
 }
 
