@@ -30,16 +30,25 @@ using StrategyVisitor = std::function<bool(int s, int t, const Rgb& contribution
                                            std::span<const PathVertex> light,
                                            std::span<const PathVertex> camera_side)>;
 
-// Every strategy of one bidirectional sample, in a fixed order that consumes the sample's
-// stream identically each time: enumeration and replay see the same paths.
-void enumerate_sample(const Scene& scene, const BootstrapParams& p, uint32_t sample,
-                      SampleScratch& scratch, const StrategyVisitor& visit) {
+// The sample's two subpaths, from the start of its stream; `rng` is left where the
+// strategies' own draws begin.
+Rng generate_subpaths(const Scene& scene, const BootstrapParams& p, uint32_t sample,
+                      SampleScratch& scratch) {
   Rng rng(derive_stream_seed(p.seed, kBootstrapStream + sample), sample);
   const Camera& camera = scene.camera();
   const Vec2 raster(rng.uniform() * float(camera.width()), rng.uniform() * float(camera.height()));
   const Vec2 u_lens = rng.uniform2();
   generate_camera_subpath(scene, rng, raster, u_lens, {p.max_edges + 1, p.rr_depth}, scratch.camera);
   generate_light_subpath(scene, rng, {p.max_edges, p.rr_depth}, scratch.light);
+  return rng;
+}
+
+// Every strategy of one bidirectional sample, in a fixed order that consumes the sample's
+// stream identically each time. The only draws after the subpaths are the lens points of
+// the t = 1 strategies, one pair each for s = 0, 1, ... (rebuild_candidate relies on it).
+void enumerate_sample(const Scene& scene, const BootstrapParams& p, uint32_t sample,
+                      SampleScratch& scratch, const StrategyVisitor& visit) {
+  Rng rng = generate_subpaths(scene, p, sample, scratch);
   const auto& cam = scratch.camera;
   const auto& light = scratch.light;
 
@@ -187,8 +196,9 @@ Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& p) {
   return result;
 }
 
-std::optional<Path> rebuild_candidate(const Scene& scene, const BootstrapParams& params,
-                                      const BootstrapCandidate& candidate) {
+std::optional<Path> rebuild_candidate_by_enumeration(const Scene& scene,
+                                                     const BootstrapParams& params,
+                                                     const BootstrapCandidate& candidate) {
   SampleScratch scratch;
   std::optional<Path> path;
   enumerate_sample(scene, params, candidate.sample, scratch,
@@ -202,6 +212,32 @@ std::optional<Path> rebuild_candidate(const Scene& scene, const BootstrapParams&
                      }
                      return false;
                    });
+  return path;
+}
+
+std::optional<Path> rebuild_candidate(const Scene& scene, const BootstrapParams& params,
+                                      const BootstrapCandidate& candidate) {
+  // Straight to the candidate's strategy: its subpaths, then (for t = 1) the lens point that
+  // enumerate_sample drew for it after those of s' = 0 .. s - 1. The pool only holds
+  // strategies that enumeration reached and found non-zero, so nothing else is re-checked;
+  // replaying the whole enumeration cost a sample's every connection per chain.
+  SampleScratch scratch;
+  Rng rng = generate_subpaths(scene, params, candidate.sample, scratch);
+  const int s = candidate.s, t = candidate.t;
+  if (t < 1 || t > int(scratch.camera.size()) || s > int(scratch.light.size())) return std::nullopt;
+  std::span<const PathVertex> camera_side(scratch.camera);
+  PathVertex lens;
+  if (t == 1) {
+    if (s == 0) return std::nullopt;
+    for (int skipped = 0; skipped < s; ++skipped) rng.uniform2();
+    const auto sampled = sample_camera_vertex(scene, scratch.light[size_t(s - 1)], rng.uniform2());
+    if (!sampled) return std::nullopt;
+    lens = *sampled;
+    camera_side = std::span<const PathVertex>(&lens, 1);
+  }
+  Path path;
+  if (!join_subpaths(scene, scratch.light, s, camera_side, t, path)) return std::nullopt;
+  recompute_densities(scene, path);
   return path;
 }
 

@@ -48,8 +48,15 @@ struct Bootstrap {
 
 Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& params);
 
-// The candidate's path, rebuilt from its sample's stream (densities filled in).
+// The candidate's path, rebuilt from its sample's stream (densities filled in): its
+// subpaths and its one connection.
 std::optional<Path> rebuild_candidate(const Scene& scene, const BootstrapParams& params,
                                       const BootstrapCandidate& candidate);
+// The same path by the definition: the sample's whole enumeration replayed up to the
+// candidate's strategy (the tests' reference for rebuild_candidate; every connection of
+// the sample is evaluated again, so it costs a bootstrap sample).
+std::optional<Path> rebuild_candidate_by_enumeration(const Scene& scene,
+                                                     const BootstrapParams& params,
+                                                     const BootstrapCandidate& candidate);
 
 }  // namespace emlt
