@@ -13,8 +13,10 @@ each image's mean over the reference's (the normalisation's error shows there).
       --out DIR [--mpp 384] [--seeds 1 2 3] [--size 384x256] [--variant LABEL="FLAGS" ...]
 
 Mitsuba's MLT draws its luminance pass and seed paths from a fixed stream (its replayable
-sampler's own generator), whatever the sampler's seed: its normalisation error is one draw
-shared by every seed, so its seeds' spread understates its error. Only the reference shows it.
+sampler's own generator), whatever the sampler's seed: its normalisation error and its chains'
+start paths are one draw shared by every seed, so its seeds' spread understates its error.
+Compare like with like: emlt with `--bootstrap-seed N` in a variant's flags (the same pool for
+every seed), or Mitsuba with --vary-luminance-pass (a new pool each seed, as emlt's default).
 """
 import argparse
 import json
@@ -47,6 +49,11 @@ def main():
     p.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
     p.add_argument("--size", default="384x256")
     p.add_argument("--threads", type=int, default=2)
+    p.add_argument("--vary-luminance-pass", action="store_true",
+                   help="set MTS_LUMINANCE_SEED to the seed for each Mitsuba run: a Mitsuba whose "
+                        "ReplayableSampler reads it (docs/performance.md gives the 3-line patch) "
+                        "then draws its luminance pass and seed paths anew each seed, so that its "
+                        "spread across seeds is its whole error, as emlt's is")
     p.add_argument("--variant", action="append", default=[], metavar='LABEL="FLAGS"',
                    help='an emlt configuration to run at Mitsuba\'s time (repeatable); default: '
                         'emlt="" (its defaults)')
@@ -72,7 +79,9 @@ def main():
         t0 = time.time()
         subprocess.run([mitsuba, "-q", "-p", str(args.threads), "-a",
                         os.path.dirname(os.path.abspath(args.scene)), "-D", f"seed={seed}",
-                        variant, "-o", mts_img], check=True, stdout=subprocess.DEVNULL)
+                        variant, "-o", mts_img], check=True, stdout=subprocess.DEVNULL,
+                       env=dict(os.environ, **({"MTS_LUMINANCE_SEED": str(seed)}
+                                               if args.vary_luminance_pass else {})))
         wall = time.time() - t0
         images["mitsuba"].append(mts_img)
         row = {"seed": seed, "mitsuba_s": wall}
@@ -111,6 +120,7 @@ def main():
               f"{sm['mse_vs_reference']:.4g} | {min(ratios):.3f}-{max(ratios):.3f} |")
     with open(os.path.join(args.out, "results.json"), "w") as f:
         json.dump({"scene": args.scene, "mpp": args.mpp, "seeds": args.seeds, "rows": rows,
+                   "mitsuba_luminance_pass": "per seed" if args.vary_luminance_pass else "fixed",
                    "summary": summary, "load": os.getloadavg()}, f, indent=1)
 
 

@@ -44,6 +44,7 @@ CheckpointHeader CheckpointHeader::describe(const SceneDescription& desc,
   add("--direct-sampler", s.direct_point_set == DirectPointSet::Fibonacci ? "fibonacci" : "independent");
   add("--chains", s.chains > 0 ? number(s.chains) : "(from the budget)");
   add("--bootstrap", number(s.bootstrap_samples));
+  add("--bootstrap-seed", s.bootstrap_seed ? number(*s.bootstrap_seed) : "(--seed)");
   add("--mutations", s.mutations.empty() ? "(the integrator's own)" : s.mutations);
   add("--direct", s.direct_separate ? "separate" : "mlt");
   add("--direct-spp", s.direct_spp > 0 ? number(s.direct_spp) : "(from the budget)");

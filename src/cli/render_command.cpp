@@ -3,6 +3,7 @@
 #include <optional>
 #include <cstdint>
 #include <filesystem>
+#include <future>
 #include <fmt/core.h>
 
 #include "cli/checkpoint_header.h"
@@ -97,6 +98,10 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
   command.add_option("--bootstrap", s.bootstrap_samples, "mlt: BDPT samples for b and the seeds")
       ->check(whole_number(1, kMaxBootstrapSamples,
                            "a whole number from 1 to 2^24 (about 16.8 million)"));
+  command.add_option("--bootstrap-seed", s.bootstrap_seed,
+                     "mlt family: seed of the bootstrap and the chains' start paths, kept while "
+                     "--seed varies the chains (default: --seed)")
+      ->check(whole_number(0, INT64_MAX, "a whole number from 0 to 2^63 - 1"));
   command.add_option("--mutations", s.mutations,
                      "mlt/gamlt/emlt: strategy mix, e.g. bidir=3,lens=2, or a preset: mlt, gamlt, emlt, "
                      "emlt-ani, emlt-lin (default: the integrator's own)");
@@ -184,6 +189,7 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   if (given("--time") && !given("--mpp")) settings.mutations_per_pixel = 0.0;
   if (given("--chains")) settings.chains = cli.chains;
   if (given("--bootstrap")) settings.bootstrap_samples = cli.bootstrap_samples;
+  if (given("--bootstrap-seed")) settings.bootstrap_seed = cli.bootstrap_seed;
   if (given("--mutations")) settings.mutations = cli.mutations;
   if (given("--direct")) settings.direct_separate = o.direct_mode == "separate";
   if (given("--direct-spp")) settings.direct_spp = cli.direct_spp;
@@ -320,7 +326,18 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   }
   if (!root) return result.interrupted ? exit_status_for_stop() : 0;
 
+  // The PNG preview is written beside the image, at once: each is one thread's compression.
+  std::string outputs = o.output;
+  std::future<void> preview_written;
+  if (std::filesystem::path(o.output).extension().string() != ".png") {
+    const std::string preview = preview_path_for(o.output);
+    preview_written = std::async(std::launch::async, [&image = result.image, preview] {
+      write_image(preview, image);
+    });
+    outputs += " + " + preview;
+  }
   write_image(o.output, result.image);
+  if (preview_written.valid()) preview_written.get();
   if (const auto* mlt = dynamic_cast<const MltIntegrator*>(integrator.get()))
     report_mlt_statistics(settings.integrator, mlt->statistics(), settings.stats_path);
   if (const auto* pss = dynamic_cast<const PssMltIntegrator*>(integrator.get()))
@@ -329,13 +346,6 @@ int run_render(const CLI::App& command, RenderOptions& o) {
     const ImageMetrics m = compare_images(reference, result.image, std::nullopt, &sees_emitter);
     std::fprintf(stderr, "against %s: mse %.6g, relmse %.6g, mse without visible emitters %.6g, mean ratio %.5f\n",
                  o.reference.c_str(), m.mse, m.rel_mse, m.mse_no_emitter, m.mean_ratio);
-  }
-  std::string outputs = o.output;
-  const std::string ext = std::filesystem::path(o.output).extension().string();
-  if (ext != ".png") {
-    const std::string preview = preview_path_for(o.output);
-    write_image(preview, result.image);
-    outputs += " + " + preview;
   }
   if (result.invalid_samples > 0)
     std::fprintf(stderr, "emlt: warning: %llu NaN/Inf samples were dropped\n",

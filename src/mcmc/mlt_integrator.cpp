@@ -345,7 +345,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   const int threads =
       settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
   BootstrapParams bp;
-  bp.seed = settings.seed;
+  bp.seed = settings.start_seed();
   bp.samples = settings.bootstrap_samples;
   bp.min_edges = ctx.min_edges;
   bp.max_edges = ctx.max_edges;
@@ -449,7 +449,8 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     tbb::task_arena(threads).execute([&] {
       tbb::parallel_for(0, chain_count, [&](int c) {
         Chain& chain = chains[size_t(c)];
-        Rng seed_rng = Rng::for_item(derive_stream_seed(settings.seed, kSeedStream), uint64_t(c));
+        Rng seed_rng =
+            Rng::for_item(derive_stream_seed(settings.start_seed(), kSeedStream), uint64_t(c));
         for (int attempt = 0; attempt < 16 && !(chain.target > 0.0); ++attempt) {
           const auto path = rebuild_candidate(
               scene, bp, bootstrap.candidates[bootstrap.choose(seed_rng.uniform_double())]);

@@ -197,7 +197,7 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
         PssSample sample;
         for (uint64_t i = block_samples(uint64_t(block)); i < block_samples(uint64_t(block) + 1);
              ++i) {
-          bootstrap_sample(tracer, settings.seed, i, length_of(i), sigma, u, sample);
+          bootstrap_sample(tracer, settings.start_seed(), i, length_of(i), sigma, u, sample);
           weights[i] = std::isfinite(sample.target) ? sample.target : 0.0;
         }
       });
@@ -228,7 +228,7 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
     // error of the length's whole share of the image, and 100 000 MMLT samples spread over
     // 28 lengths measured 2.5 % on b against 0.3 % this way (Cornell box).
     BootstrapParams bp;
-    bp.seed = settings.seed;
+    bp.seed = settings.start_seed();
     bp.samples = settings.bootstrap_samples;
     bp.min_edges = min_edges;
     bp.max_edges = max_edges;
@@ -332,13 +332,14 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
       tbb::parallel_for(int(first_owned_chain), int(end_owned_chain), [&](int c) {
         Chain& chain = chains[size_t(c)];
         const size_t k = multiplexed ? size_t(chain.length - min_edges) : 0;
-        Rng seed_rng = Rng::for_item(derive_stream_seed(settings.seed, kSeedStream), uint64_t(c));
+        Rng seed_rng =
+            Rng::for_item(derive_stream_seed(settings.start_seed(), kSeedStream), uint64_t(c));
         const double target = seed_rng.uniform_double() * cumulative[k].back();
         const size_t index =
             std::min(size_t(std::upper_bound(cumulative[k].begin(), cumulative[k].end(), target) -
                             cumulative[k].begin()),
                      pool[k].size() - 1);
-        bootstrap_sample(tracer, settings.seed, pool[k][index], chain.length, sigma, chain.u,
+        bootstrap_sample(tracer, settings.start_seed(), pool[k][index], chain.length, sigma, chain.u,
                          chain.current);
       });
     });

@@ -21,11 +21,19 @@ std::atomic<unsigned> g_requests{0};
 std::atomic<int> g_signal{0};
 std::atomic<uint64_t> g_stop_after{0};
 std::atomic<uint64_t> g_units{0};
-// The registered temporary's name: written by the main thread while g_temporary_valid is
-// false, read by the handler only while it is true.
-char g_temporary[4096];
-std::atomic<bool> g_temporary_valid{false};
-static_assert(std::atomic<unsigned>::is_always_lock_free && std::atomic<int>::is_always_lock_free);
+// The temporaries being written, one slot a writing thread (an image and its preview are
+// written at once): a slot's name is written by its owner while `valid` is false and read by
+// the handler only while it is true; `taken` is claimed by compare-and-swap.
+struct TemporarySlot {
+  char name[4096];
+  std::atomic<bool> valid{false};
+  std::atomic<bool> taken{false};
+};
+constexpr int kTemporarySlots = 4;
+TemporarySlot g_temporaries[kTemporarySlots];
+thread_local int t_temporary_slot = -1;
+static_assert(std::atomic<unsigned>::is_always_lock_free && std::atomic<int>::is_always_lock_free &&
+              std::atomic<bool>::is_always_lock_free);
 
 }  // namespace
 
@@ -57,14 +65,27 @@ void stop_after(uint64_t units) {
 }
 
 void register_temporary(const std::string& path) {
-  g_temporary_valid.store(false, std::memory_order_seq_cst);
-  if (path.empty() || path.size() >= sizeof(g_temporary)) return;
-  std::memcpy(g_temporary, path.c_str(), path.size() + 1);
-  g_temporary_valid.store(true, std::memory_order_seq_cst);
+  if (t_temporary_slot >= 0) {  // this thread's previous temporary is done with
+    TemporarySlot& mine = g_temporaries[t_temporary_slot];
+    mine.valid.store(false, std::memory_order_seq_cst);
+    mine.taken.store(false, std::memory_order_seq_cst);
+    t_temporary_slot = -1;
+  }
+  if (path.empty() || path.size() >= sizeof(TemporarySlot::name)) return;
+  for (int i = 0; i < kTemporarySlots; ++i) {
+    bool expected = false;
+    if (!g_temporaries[i].taken.compare_exchange_strong(expected, true)) continue;
+    std::memcpy(g_temporaries[i].name, path.c_str(), path.size() + 1);
+    g_temporaries[i].valid.store(true, std::memory_order_seq_cst);
+    t_temporary_slot = i;
+    return;
+  }
+  // More writers at once than slots: this one is not removed by a second signal.
 }
 
 void remove_temporary() {
-  if (g_temporary_valid.load(std::memory_order_seq_cst)) ::unlink(g_temporary);
+  for (TemporarySlot& slot : g_temporaries)
+    if (slot.valid.load(std::memory_order_seq_cst)) ::unlink(slot.name);
 }
 
 Decision agree(bool incomplete, std::span<uint64_t> maxima) {

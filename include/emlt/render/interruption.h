@@ -45,11 +45,12 @@ Decision agree(bool incomplete, std::span<uint64_t> maxima = {});
 // reported this many units of work. 0 disarms it.
 void stop_after(uint64_t units);
 
-// The temporary file being written right now (renamed over an output or a checkpoint when
-// complete), "" when none. A second signal removes it before the process exits, so the
-// previous file stays untouched and no stray temporary is left behind.
+// The temporary file the calling thread is writing right now (renamed over an output or a
+// checkpoint when complete), "" when it has none any more. A second signal removes every
+// registered one before the process exits, so the previous files stay untouched and no
+// stray temporary is left behind. Each thread has its own registration (a few at once).
 void register_temporary(const std::string& path);
-// For the signal handler: unlinks the registered temporary, if any (async-signal-safe).
+// For the signal handler: unlinks the registered temporaries, if any (async-signal-safe).
 void remove_temporary();
 
 // Forgets every request (tests that render several times in one process).

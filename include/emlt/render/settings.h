@@ -1,6 +1,7 @@
 #pragma once
 // Every knob of a render, parsed in one place (CLI and scene defaults) and read-only after.
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace emlt {
@@ -37,6 +38,12 @@ struct RenderSettings {
   double mutations_per_pixel = 16.0;      // --mpp: total mutations = mpp * width * height
   int chains = 0;                          // 0: chosen from the budget (reported)
   int bootstrap_samples = 100000;          // BDPT samples for b and the chains' seeds
+  // --bootstrap-seed: the stream of the bootstrap and of the chains' start paths, when it
+  // should stay fixed while --seed varies the chains (as Mitsuba's MLT, whose luminance pass
+  // and seed paths come from one fixed stream): the variance across --seed is then the
+  // chains' alone. Unset: --seed.
+  std::optional<uint64_t> bootstrap_seed;
+  uint64_t start_seed() const { return bootstrap_seed.value_or(seed); }
   // --mutations name=weight,...; empty: the integrator's own default mix (mlt_integrator.h).
   std::string mutations;
   bool direct_separate = true;             // --direct separate|mlt
