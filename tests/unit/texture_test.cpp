@@ -30,6 +30,24 @@ void expect_rgb_near(const Rgb& actual, const Rgb& expected, float tolerance, co
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(actual[c], expected[c], tolerance) << what << " channel " << c;
 }
 
+// A repeated texture is the same in every tile, left of, right of and far from the first:
+// uv multiples of 1/64 on a 16 x 8 image keep every coordinate exact, so tiles k apart give
+// the same bits. Both texel pairs of a lookup straddle a tile's edge somewhere in the grid.
+TEST(BitmapTexture, RepeatedTilesAreIdenticalBitForBit) {
+  Image image(16, 8);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 16; ++x)
+      image.at(x, y) = Rgb(float(x) / 16.0f, float(y) / 8.0f, float((5 * x + 3 * y) % 7) / 7.0f);
+  const TexturePtr t = make_bitmap_texture(image, {}, WrapMode::Repeat);
+  for (int i = 0; i < 64; ++i)
+    for (int j = 0; j < 64; j += 3) {
+      const Vec2 uv(float(i) / 64.0f, float(j) / 64.0f);
+      const Rgb first = t->eval(uv);
+      for (const Vec2 tile : {Vec2(1, 0), Vec2(-1, -1), Vec2(-3, 2), Vec2(37, -250), Vec2(-4096, 4096)})
+        ASSERT_EQ(t->eval(uv + tile), first) << "uv " << uv.x << " " << uv.y << " tile " << tile.x << " " << tile.y;
+    }
+}
+
 TEST(BitmapTexture, TexelCentresAreExactAndBilinearInBetween) {
   const TexturePtr t = make_bitmap_texture(quad_image());
   expect_rgb_near(t->eval(Vec2(0.25f, 0.25f)), Rgb(1, 0, 0), 1e-6f, "top left centre");

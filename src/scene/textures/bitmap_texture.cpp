@@ -52,8 +52,8 @@ class BitmapTexture final : public Texture {
     const float fx = x - x0, fy = y - y0;
     const int64_t ix = int64_t(x0), iy = int64_t(y0);
     // Each of the two columns and rows is wrapped once (the four texels share them).
-    const int left = wrap(ix, width_), right = wrap(ix + 1, width_);
-    const int top = wrap(iy, height_), bottom = wrap(iy + 1, height_);
+    const int left = wrap(ix, width_), right = wrap_next(ix, left, width_);
+    const int top = wrap(iy, height_), bottom = wrap_next(iy, top, height_);
     return (1.0f - fy) * ((1.0f - fx) * at(left, top) + fx * at(right, top)) +
            fy * ((1.0f - fx) * at(left, bottom) + fx * at(right, bottom));
   }
@@ -79,6 +79,13 @@ class BitmapTexture final : public Texture {
     return Rgb(level[b[0]], level[b[1]], level[b[2]]);
   }
 
+  // wrap(i + 1, size) given wrapped = wrap(i, size): under Repeat the next texel of a
+  // tiled texture is the wrapped one's neighbour, with no second division.
+  int wrap_next(int64_t i, int wrapped, int size) const {
+    if (wrap_ == WrapMode::Repeat) return wrapped + 1 == size ? 0 : wrapped + 1;
+    return wrap(i + 1, size);
+  }
+
   int wrap(int64_t i, int size) const {
     // Inside the image every mode leaves the index as it is, and a lookup's texels mostly
     // are: skip the 64-bit divisions, which cost more than the rest of the lookup.
@@ -93,6 +100,12 @@ class BitmapTexture final : public Texture {
       }
       case WrapMode::Repeat:
       default:
+        // A 32-bit division where the index allows (a texture repeated a few times): a
+        // fraction of a 64-bit one's latency, and the texel's address waits on it.
+        if (i >= INT32_MIN && i <= INT32_MAX) {
+          const int32_t m = int32_t(i) % size;
+          return m < 0 ? m + size : m;
+        }
         return int(((i % size) + size) % size);
     }
   }
