@@ -47,6 +47,7 @@
 #include <vector>
 
 #include "emlt/core/frame.h"
+#include "mutations/ensemble/guide_lanes.h"
 #include "mutations/ensemble/kernels.h"
 
 namespace emlt::ensemble {
@@ -81,7 +82,7 @@ void set_covariance(TangentGaussian& gaussian, double ss, double st, double tt) 
 
 NormalisedWeights guide_weights(const Vec3& point, const GuideSet& guides,
                                 const SimilarityParams* similarity, std::span<double> weights) {
-  const size_t count = guides.points.size();
+  const size_t count = guides.size();
   assert(weights.size() == count);
   if (!guides.context_row.empty()) {
     assert(guides.context.empty() && guides.log_context_weights.empty());
@@ -90,7 +91,7 @@ NormalisedWeights guide_weights(const Vec3& point, const GuideSet& guides,
       return normalise_row_products(guides.context_row, guides.similarity_to_centre, weights);
     GuideBuffer<double> to_centre(count);
     for (size_t n = 0; n < count; ++n)
-      to_centre[n] = vertex_similarity(point, guides.points[n], *similarity);
+      to_centre[n] = vertex_similarity(point, guides.point(n), *similarity);
     return normalise_row_products(guides.context_row, to_centre.span(), weights);
   }
   // Products of similarities underflow: kept as SimilarityProducts, normalised as such.
@@ -101,11 +102,111 @@ NormalisedWeights guide_weights(const Vec3& point, const GuideSet& guides,
     if (!guides.log_context_weights.empty()) product.multiply_log(guides.log_context_weights[n]);
     if (similarity)
       product.multiply(guides.similarity_to_centre.empty()
-                           ? vertex_similarity(point, guides.points[n], *similarity)
+                           ? vertex_similarity(point, guides.point(n), *similarity)
                            : guides.similarity_to_centre[n]);
   }
   return normalise_weights(std::span<const SimilarityProduct>(products.span()), weights);
 }
+
+namespace {
+
+// eq. 11's weights for a fit, unnormalised where that is exact: with the context given as a
+// row, w(n) = context_row[n] * S(centre, guide n) as plain doubles when every factor and
+// product is >= kRenormalise (as normalise_row_products decides); else the normalised weights
+// of guide_weights. A scatter is the same for any scale of its weights, and normalising them
+// (a division a guide and a sum) cost a fifth of a fit (issue 21). `usable` as
+// guide_weights reports it.
+bool fit_weights(const Vec3& centre, const GuideSet& guides, const SimilarityParams* similarity,
+                 std::span<double> weights) {
+  const bool rows =
+      !guides.context_row.empty() && (!similarity || !guides.similarity_to_centre.empty());
+  if (rows) {
+    constexpr double kRenormalise = SimilarityProduct::kRenormalise;
+    const std::span<const double> first = guides.context_row;
+    bool plain = all_at_least(first, kRenormalise);
+    if (!similarity) {
+      std::copy(first.begin(), first.end(), weights.begin());
+    } else {
+      const std::span<const double> second = guides.similarity_to_centre;
+      for (size_t n = 0; n < weights.size(); ++n) weights[n] = first[n] * second[n];
+      plain &= all_at_least(second, kRenormalise) && all_at_least(weights, kRenormalise);
+    }
+    if (plain) return true;
+  }
+  return guide_weights(centre, guides, similarity, weights).usable;
+}
+
+// The weighted moments of the guides projected onto the tangent plane: the total weight, the
+// sum of squared weights, and the scatter about the weighted mean in (s, t). Two passes (the
+// mean, then the scatter about it: no cancellation when the guides are far from the centre),
+// two guides at a time. West's one-pass update, which this replaced, divided once a guide
+// and could not vectorise; the two agree to rounding.
+struct TangentScatter {
+  double total = 0.0, sum_of_squares = 0.0;
+  double ss = 0.0, st = 0.0, tt = 0.0;
+};
+
+double lane_sum(Double2 v) {
+  return v[0] + v[1];
+}
+
+TangentScatter tangent_scatter(const TangentGaussian& plane, const double* x, const double* y,
+                               const double* z, std::span<const double> weights) {
+  const size_t count = weights.size();
+  const double* w = weights.data();
+  GuideBuffer<double> s_buffer(count + 1), t_buffer(count + 1);
+  double* s = s_buffer.span().data();
+  double* t = t_buffer.span().data();
+  const DVec3 c = plane.centre, a = plane.axis_s, b = plane.axis_t;
+  // Orthogonal projection onto the plane = dropping the normal component.
+  size_t n = 0;
+  Double2 total{0, 0}, squares{0, 0}, sum_s{0, 0}, sum_t{0, 0};
+  for (; n + 2 <= count; n += 2) {
+    const Double2 dx = load2(x + n) - c.x, dy = load2(y + n) - c.y, dz = load2(z + n) - c.z;
+    const Double2 ps = dx * a.x + dy * a.y + dz * a.z, pt = dx * b.x + dy * b.y + dz * b.z;
+    store2(s + n, ps);
+    store2(t + n, pt);
+    const Double2 wn = load2(w + n);
+    total += wn;
+    squares += wn * wn;
+    sum_s += wn * ps;
+    sum_t += wn * pt;
+  }
+  TangentScatter result;
+  result.total = lane_sum(total);
+  result.sum_of_squares = lane_sum(squares);
+  double weighted_s = lane_sum(sum_s), weighted_t = lane_sum(sum_t);
+  if (n < count) {
+    const double dx = x[n] - c.x, dy = y[n] - c.y, dz = z[n] - c.z;
+    s[n] = dx * a.x + dy * a.y + dz * a.z;
+    t[n] = dx * b.x + dy * b.y + dz * b.z;
+    result.total += w[n];
+    result.sum_of_squares += w[n] * w[n];
+    weighted_s += w[n] * s[n];
+    weighted_t += w[n] * t[n];
+  }
+  const double mean_s = weighted_s / result.total, mean_t = weighted_t / result.total;
+  Double2 ss{0, 0}, st{0, 0}, tt{0, 0};
+  for (n = 0; n + 2 <= count; n += 2) {
+    const Double2 wn = load2(w + n);
+    const Double2 ds = load2(s + n) - mean_s, dt = load2(t + n) - mean_t;
+    ss += wn * ds * ds;
+    st += wn * ds * dt;
+    tt += wn * dt * dt;
+  }
+  result.ss = lane_sum(ss);
+  result.st = lane_sum(st);
+  result.tt = lane_sum(tt);
+  if (n < count) {
+    const double ds = s[n] - mean_s, dt = t[n] - mean_t;
+    result.ss += w[n] * ds * ds;
+    result.st += w[n] * ds * dt;
+    result.tt += w[n] * dt * dt;
+  }
+  return result;
+}
+
+}  // namespace
 
 TangentGaussian fit_tangent_gaussian(const Vec3& centre, const Vec3& normal, const GuideSet& guides,
                                      const AnisotropicParams& params) {
@@ -114,60 +215,50 @@ TangentGaussian fit_tangent_gaussian(const Vec3& centre, const Vec3& normal, con
   gaussian.normal = glm::normalize(DVec3(normal));
   tangent_basis(gaussian.normal, gaussian.axis_s, gaussian.axis_t);
   const double fallback_variance = params.fallback_sigma * params.fallback_sigma;
-  const size_t count = guides.points.size();
-  if (count == 0) {
+  const size_t count = guides.size();
+  const auto fall_back = [&] {
     set_covariance(gaussian, fallback_variance, 0.0, fallback_variance);
     gaussian.fallback = true;
     gaussian.fallback_concentration = params.fallback_concentration;
     return gaussian;
-  }
+  };
+  if (count == 0) return fall_back();
 
   GuideBuffer<double> weight_buffer(count);
   const std::span<double> weights = weight_buffer.span();
-  const NormalisedWeights normalised = guide_weights(
-      centre, guides, params.weight_by_similarity ? &params.similarity : nullptr, weights);
-  gaussian.effective_guides = normalised.effective_guides;
   // All weights zero (or unusable): the selection rule would fall back to uniform weights,
   // but a fit needs real weights - use the fallback kernel.
-  const bool weights_vanish = !normalised.usable;
+  const bool weights_vanish = !fit_weights(
+      centre, guides, params.weight_by_similarity ? &params.similarity : nullptr, weights);
 
-  // Weighted mean and scatter of the projected guides in tangent coordinates (West's
-  // incremental update: no cancellation when the guides are far from x).
-  double total = 0.0, sum_of_squares = 0.0, mean_s = 0.0, mean_t = 0.0;
-  double scatter_ss = 0.0, scatter_st = 0.0, scatter_tt = 0.0;
-  for (size_t n = 0; n < count; ++n) {
-    const double w = weights[n];
-    if (w <= 0.0) continue;
-    const DVec3 offset = DVec3(guides.points[n]) - gaussian.centre;
-    // Orthogonal projection onto the plane = dropping the normal component.
-    const double s = glm::dot(offset, gaussian.axis_s), t = glm::dot(offset, gaussian.axis_t);
-    total += w;
-    sum_of_squares += w * w;
-    const double delta_s = s - mean_s, delta_t = t - mean_t;
-    mean_s += (w / total) * delta_s;
-    mean_t += (w / total) * delta_t;
-    scatter_ss += w * delta_s * (s - mean_s);
-    scatter_st += w * delta_s * (t - mean_t);
-    scatter_tt += w * delta_t * (t - mean_t);
+  TangentScatter scatter;
+  if (guides.points.empty()) {
+    scatter = tangent_scatter(gaussian, guides.point_x.data(), guides.point_y.data(),
+                              guides.point_z.data(), weights);
+  } else {
+    GuideBuffer<double> x(count), y(count), z(count);
+    for (size_t n = 0; n < count; ++n) {
+      x[n] = guides.points[n].x;
+      y[n] = guides.points[n].y;
+      z[n] = guides.points[n].z;
+    }
+    scatter = tangent_scatter(gaussian, x.span().data(), y.span().data(), z.span().data(), weights);
   }
-  // Reliability-weight normalisation: total - sum w^2 / total (= (M-1)/M for equal weights).
-  const double normaliser = total - sum_of_squares / total;
+  // Kish's effective number of guides, (sum w)^2 / sum w^2, and the reliability-weight
+  // normalisation total - sum w^2 / total (= (M-1)/M of the total for equal weights).
+  gaussian.effective_guides = scatter.total * scatter.total / scatter.sum_of_squares;
+  const double normaliser = scatter.total - scatter.sum_of_squares / scatter.total;
   bool degenerate = weights_vanish || !(gaussian.effective_guides >= params.min_effective_guides) ||
                     !(normaliser > 0.0);
   double ss = 0.0, st = 0.0, tt = 0.0;
   if (!degenerate) {
-    ss = scatter_ss / normaliser;
-    st = scatter_st / normaliser;
-    tt = scatter_tt / normaliser;
+    ss = scatter.ss / normaliser;
+    st = scatter.st / normaliser;
+    tt = scatter.tt / normaliser;
     const double determinant = ss * tt - st * st;
     degenerate = !(determinant >= params.min_determinant) || !std::isfinite(determinant);
   }
-  if (degenerate) {
-    set_covariance(gaussian, fallback_variance, 0.0, fallback_variance);
-    gaussian.fallback = true;
-    gaussian.fallback_concentration = params.fallback_concentration;
-    return gaussian;
-  }
+  if (degenerate) return fall_back();
   const double floor_variance = params.floor_sigma * params.floor_sigma;
   const double scale = params.covariance_scale;
   set_covariance(gaussian, scale * ss + floor_variance, scale * st, scale * tt + floor_variance);

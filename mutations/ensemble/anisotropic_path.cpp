@@ -51,28 +51,49 @@ struct SimilarityRow {
   }
 };
 
+// The guides' points for a fit, as coordinate arrays (GuideSet::point_x...): their vertex j,
+// read where Υ keeps them, or their image points on the plane z = 0.
+class GuidePoints {
+ public:
+  GuidePoints(const GuideView& guides, int j)
+      : x(guides.coordinates(j, 0)),
+        y(guides.coordinates(j, 1)),
+        z(guides.coordinates(j, 2)),
+        image_(0) {}
+  explicit GuidePoints(const GuideView& guides) : image_(3 * guides.size()) {
+    const size_t count = guides.size();
+    const std::span<double> image = image_.span();
+    for (size_t n = 0; n < count; ++n) {
+      image[n] = guides.rasters()[n].x;
+      image[count + n] = guides.rasters()[n].y;
+      image[2 * count + n] = 0.0;
+    }
+    x = image.subspan(0, count);
+    y = image.subspan(count, count);
+    z = image.subspan(2 * count, count);
+  }
+  GuidePoints(const GuidePoints&) = delete;
+  GuidePoints& operator=(const GuidePoints&) = delete;
+
+  std::span<const double> x, y, z;
+
+ private:
+  ensemble::GuideBuffer<double> image_;
+};
+
 // Guide points and weights for a fit: the context is the similarity of one vertex of the
 // path to the guides'; `centre` (when the fit weighs by similarity) that of the vertex the
 // fit is centred on. Both rows are passed as they are (GuideSet::context_row).
 struct GuideData {
-  std::span<const Vec3> points;
+  const GuidePoints& points;
   std::span<const double> context, centre;
-  GuideData(std::span<const Vec3> guide_points, const SimilarityRow& context_row,
+  GuideData(const GuidePoints& guide_points, const SimilarityRow& context_row,
             const SimilarityRow* centre_row = nullptr)
       : points(guide_points), context(context_row.values.span()) {
     if (centre_row) centre = centre_row->values.span();
   }
-  ensemble::GuideSet set() const { return {points, {}, {}, centre, context}; }
-};
-
-// The guides' points for a fit: their image points (on the plane z = 0), or their vertex j.
-struct GuidePoints {
-  ensemble::GuideBuffer<Vec3> points;
-  explicit GuidePoints(const GuideView& guides) : points(guides.size()) {
-    for (size_t n = 0; n < guides.size(); ++n) points[n] = on_image_plane(guides.rasters()[n]);
-  }
-  GuidePoints(const GuideView& guides, int j) : points(guides.size()) {
-    for (size_t n = 0; n < guides.size(); ++n) points[n] = guides.position(n, j);
+  ensemble::GuideSet set() const {
+    return {{}, {}, {}, centre, context, points.x, points.y, points.z};
   }
 };
 
@@ -173,8 +194,7 @@ std::optional<Proposal> AnisotropicPathPerturbation::toward_camera(
   // x_b: Gaussian on its tangent plane, weighted by x_b and the fixed x_c; cast from x_c.
   const GuidePoints points_b(guides, b);
   const SimilarityRow s_xc(xv[size_t(c)], guides, c, ctx), s_xb(xv[size_t(b)], guides, b, ctx);
-  const TangentGaussian b_x =
-      fit_at(xv[size_t(b)], GuideData(points_b.points.span(), s_xc, &s_xb), world);
+  const TangentGaussian b_x = fit_at(xv[size_t(b)], GuideData(points_b, s_xc, &s_xb), world);
   Proposal proposal;
   Path& y = proposal.path;
   y = x;
@@ -185,8 +205,7 @@ std::optional<Proposal> AnisotropicPathPerturbation::toward_camera(
   // here, y's for the reverse fit); cast from the new y_b.
   const GuidePoints points_a(guides, a);
   const SimilarityRow s_xa(xv[size_t(a)], guides, a, ctx);
-  const TangentGaussian a_x =
-      fit_at(xv[size_t(a)], GuideData(points_a.points.span(), s_xb, &s_xa), world);
+  const TangentGaussian a_x = fit_at(xv[size_t(a)], GuideData(points_a, s_xb, &s_xa), world);
   if (!sample_and_cast(scene, a_x, yv[size_t(b)], rng, yv[size_t(a)])) return std::nullopt;
 
   // The fixed lens point sees y_a: the image point moves.
@@ -207,9 +226,9 @@ std::optional<Proposal> AnisotropicPathPerturbation::toward_camera(
   if (refused(log_forward, bugs_)) return std::nullopt;
   const SimilarityRow s_yb(yv[size_t(b)], guides, b, ctx), s_ya(yv[size_t(a)], guides, a, ctx);
   const TangentGaussian b_y =
-      reverse_fit(b_x, yv[size_t(b)], GuideData(points_b.points.span(), s_xc, &s_yb), world, bugs_);
+      reverse_fit(b_x, yv[size_t(b)], GuideData(points_b, s_xc, &s_yb), world, bugs_);
   const TangentGaussian a_y =
-      reverse_fit(a_x, yv[size_t(a)], GuideData(points_a.points.span(), s_yb, &s_ya), world, bugs_);
+      reverse_fit(a_x, yv[size_t(a)], GuideData(points_a, s_yb, &s_ya), world, bugs_);
   const double log_reverse = bugs_.drop_reverse_density
                                  ? log_forward
                                  : cast_density(b_y, xv[size_t(c)], xv[size_t(b)], bugs_) +
@@ -230,8 +249,7 @@ std::optional<Proposal> AnisotropicPathPerturbation::from_camera(const Path& x,
   // Image point: Gaussian fitted to the guides' image points, weighted by their x_a.
   const GuidePoints image_points(guides);
   const SimilarityRow s_xa(xv[size_t(a)], guides, a, ctx);
-  const TangentGaussian image_x =
-      fit_at_raster(x.raster(), GuideData(image_points.points.span(), s_xa), image);
+  const TangentGaussian image_x = fit_at_raster(x.raster(), GuideData(image_points, s_xa), image);
   const Vec3 sample = ensemble::sample_tangent_gaussian(image_x, rng);
   const Vec2 raster(sample.x, sample.y);
   if (!perturbation::on_film(scene.camera(), raster)) return std::nullopt;
@@ -250,7 +268,7 @@ std::optional<Proposal> AnisotropicPathPerturbation::from_camera(const Path& x,
   const GuidePoints world_points(guides, b);
   const SimilarityRow s_xc(xv[size_t(c)], guides, c, ctx), s_xb(xv[size_t(b)], guides, b, ctx);
   const TangentGaussian world_x =
-      fit_at(xv[size_t(b)], GuideData(world_points.points.span(), s_xc, &s_xb), world);
+      fit_at(xv[size_t(b)], GuideData(world_points, s_xc, &s_xb), world);
   if (!sample_and_cast(scene, world_x, yv[size_t(a)], rng, yv[size_t(b)])) return std::nullopt;
   const Rgb connection = connect_vertices(scene, c >= 1 ? &yv[size_t(c - 1)] : nullptr,
                                           yv[size_t(c)], yv[size_t(b)], &yv[size_t(a)]);
@@ -261,12 +279,11 @@ std::optional<Proposal> AnisotropicPathPerturbation::from_camera(const Path& x,
                              cast_density(world_x, yv[size_t(a)], yv[size_t(b)], bugs_);
   if (refused(log_forward, bugs_)) return std::nullopt;
   const SimilarityRow s_ya(yv[size_t(a)], guides, a, ctx), s_yb(yv[size_t(b)], guides, b, ctx);
-  const TangentGaussian image_y =
-      bugs_.sigma_not_refitted
-          ? recentred(image_x, on_image_plane(raster))
-          : fit_at_raster(raster, GuideData(image_points.points.span(), s_ya), image);
-  const TangentGaussian world_y = reverse_fit(
-      world_x, yv[size_t(b)], GuideData(world_points.points.span(), s_xc, &s_yb), world, bugs_);
+  const TangentGaussian image_y = bugs_.sigma_not_refitted
+                                      ? recentred(image_x, on_image_plane(raster))
+                                      : fit_at_raster(raster, GuideData(image_points, s_ya), image);
+  const TangentGaussian world_y =
+      reverse_fit(world_x, yv[size_t(b)], GuideData(world_points, s_xc, &s_yb), world, bugs_);
   const double log_reverse =
       bugs_.drop_reverse_density
           ? log_forward

@@ -116,6 +116,16 @@ struct GuideSet {
   // place of `context` and `log_context_weights`, which must then be empty: the weights are
   // then formed without SimilarityProducts where they can be (normalise_row_products).
   std::span<const double> context_row = {};
+  // The points as three coordinate arrays (guide n at (point_x[n], point_y[n], point_z[n]),
+  // GuideView::coordinates' layout), in place of `points`, which must then be empty: the
+  // anisotropic kernel reads them without a copy.
+  std::span<const double> point_x = {}, point_y = {}, point_z = {};
+
+  size_t size() const { return points.empty() ? point_x.size() : points.size(); }
+  Vec3 point(size_t n) const {
+    return points.empty() ? Vec3(float(point_x[n]), float(point_y[n]), float(point_z[n]))
+                          : points[n];
+  }
 };
 
 // The normalised weights of eq. 11, w(n) proportional to S(point, points[n]) * context(n)
