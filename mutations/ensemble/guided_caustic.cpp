@@ -9,7 +9,7 @@ std::optional<Proposal> GuidedCausticPerturbation::propose(const Path& x, Rng& r
   const int l = CausticPerturbation::fixed_vertex(x.type);
   if (l < 0) return std::nullopt;
   ensemble::SimilarityRows rows;  // x's, reused for the reverse where y keeps a vertex
-  const ensemble::GuideChoice choice =
+  const ensemble::SimilarGuide choice =
       ensemble::choose_similar_guide(x, guides, l, l + 1, ctx, rng, &rows);
   const PathVertex& fixed = x.vertices[size_t(l)];
   const Vec3 current = direction_between(fixed, x.vertices[size_t(l + 1)]);
@@ -22,8 +22,7 @@ std::optional<Proposal> GuidedCausticPerturbation::propose(const Path& x, Rng& r
   if (!proposal) return std::nullopt;
   proposal->log_reverse_over_forward +=
       (bugs_.drop_reverse_density ? 0.0 : step.log_density_ratio) +
-      ensemble::log_selection_ratio(proposal->path, guides, choice.index, choice.log_probability, l,
-                                    l + 1, ctx, bugs_, &rows);
+      ensemble::log_selection_ratio(proposal->path, guides, choice, l, l + 1, ctx, bugs_, &rows);
   return proposal;
 }
 

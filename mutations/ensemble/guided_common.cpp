@@ -192,35 +192,51 @@ void path_similarities(const Path& x, const GuideView& guides, int first, int la
   path_similarities(x, guides, first, last, params, out, nullptr, nullptr);
 }
 
-GuideChoice choose_similar_guide(const Path& x, const GuideView& guides, int first, int last,
-                                 const MutationContext& ctx, Rng& rng, SimilarityRows* rows) {
+SimilarGuide choose_similar_guide(const Path& x, const GuideView& guides, int first, int last,
+                                  const MutationContext& ctx, Rng& rng, SimilarityRows* rows) {
   const SimilarityParams params = similarity_params(ctx);
   GuideBuffer<double> plain(guides.size());
-  if (plain_path_similarities(x, guides, first, last, params, plain.span(), rows, nullptr))
-    return choose_guide_from_plain(plain.span(), rng);
+  if (plain_path_similarities(x, guides, first, last, params, plain.span(), rows, nullptr)) {
+    SimilarGuide chosen;
+    chosen.total = plain_weight_total(plain.span());
+    chosen.index = choose_index_from_plain(plain.span(), chosen.total, rng);
+    chosen.weight = plain[chosen.index];
+    return chosen;
+  }
   GuideBuffer<SimilarityProduct> weights(guides.size());
   path_similarities(x, guides, first, last, params, weights.span(), rows, nullptr);
-  return choose_guide(std::span<const SimilarityProduct>(weights.span()), rng);
+  const GuideChoice choice = choose_guide(std::span<const SimilarityProduct>(weights.span()), rng);
+  SimilarGuide chosen;
+  chosen.index = choice.index;
+  chosen.log_probability = choice.log_probability;
+  return chosen;
 }
 
-double log_selection_ratio(const Path& y, const GuideView& guides, uint32_t index,
-                           double log_probability_x, int first, int last,
-                           const MutationContext& ctx, const InjectedBugs& bugs,
-                           const SimilarityRows* rows_x) {
+double log_selection_ratio(const Path& y, const GuideView& guides, const SimilarGuide& chosen,
+                           int first, int last, const MutationContext& ctx,
+                           const InjectedBugs& bugs, const SimilarityRows* rows_x) {
   if (bugs.ignore_selection) return 0.0;
   const GuideView reverse_guides =
       bugs.upsilon_from_proposal ? guides_for_next_step(y, ctx) : guides;
+  const uint32_t index = chosen.index;
   if (index >= reverse_guides.size()) return 0.0;
   // x's rows hold for y's unmoved vertices only against the same Υ.
   const SimilarityRows* reuse = bugs.upsilon_from_proposal ? nullptr : rows_x;
   const SimilarityParams params = similarity_params(ctx);
   GuideBuffer<double> plain(reverse_guides.size());
-  if (plain_path_similarities(y, reverse_guides, first, last, params, plain.span(), nullptr, reuse))
-    return guide_log_probability_from_plain(plain.span(), index) - log_probability_x;
+  if (plain_path_similarities(y, reverse_guides, first, last, params, plain.span(), nullptr,
+                              reuse)) {
+    const double total_y = plain_weight_total(plain.span());
+    // (w_y / total_y) / (w_x / total_x) as one log; every factor lies in [1e-150, M], so
+    // neither product under- or overflows.
+    if (chosen.total > 0.0)
+      return std::log((plain[index] * chosen.total) / (total_y * chosen.weight));
+    return (std::log(plain[index]) - std::log(total_y)) - chosen.log_probability;
+  }
   GuideBuffer<SimilarityProduct> weights(reverse_guides.size());
   path_similarities(y, reverse_guides, first, last, params, weights.span(), nullptr, reuse);
   return guide_log_probability(std::span<const SimilarityProduct>(weights.span()), index) -
-         log_probability_x;
+         chosen.log_p();
 }
 
 }  // namespace emlt::ensemble

@@ -4,6 +4,7 @@
 // similarity-weighted choice of one guide path, and the test switches that inject the
 // bugs the statistical tests must catch.
 #include <array>
+#include <cmath>
 #include <span>
 #include <vector>
 
@@ -76,18 +77,29 @@ class SimilarityRows {
   std::vector<double> heap_;
 };
 
+// A guide drawn with P(n | x) proportional to S(x, v^n, first, last) (eq. 9). Where every
+// weight was a plain double, P(n | x) is kept as weight / total (the logs are taken once, in
+// the selection ratio: four logs a guided step were a tenth of its extra cost, issue 21);
+// else as log_probability.
+struct SimilarGuide {
+  uint32_t index = 0;
+  double weight = 0.0, total = 0.0;  // total > 0: P(index | x) = weight / total
+  double log_probability = 0.0;      // otherwise: log P(index | x)
+  double log_p() const {
+    return total > 0.0 ? std::log(weight) - std::log(total) : log_probability;
+  }
+};
+
 // One guide drawn with P(n | x) proportional to S(x, v^n, first, last) (eq. 9); with `rows`,
 // x's rows are kept there.
-GuideChoice choose_similar_guide(const Path& x, const GuideView& guides, int first, int last,
-                                 const MutationContext& ctx, Rng& rng,
-                                 SimilarityRows* rows = nullptr);
+SimilarGuide choose_similar_guide(const Path& x, const GuideView& guides, int first, int last,
+                                  const MutationContext& ctx, Rng& rng,
+                                  SimilarityRows* rows = nullptr);
 
-// log P(n | y) / P(n | x) for a guide chosen with similarity weights over [first, last];
-// `log_probability_x` is what choose_guide reported for x; `rows_x`, when given, x's rows
-// from choose_similar_guide (the same Υ).
-double log_selection_ratio(const Path& y, const GuideView& guides, uint32_t index,
-                           double log_probability_x, int first, int last,
-                           const MutationContext& ctx, const InjectedBugs& bugs,
-                           const SimilarityRows* rows_x = nullptr);
+// log P(n | y) / P(n | x) for a guide `chosen` for x with similarity weights over [first,
+// last]; `rows_x`, when given, x's rows from choose_similar_guide (the same Υ).
+double log_selection_ratio(const Path& y, const GuideView& guides, const SimilarGuide& chosen,
+                           int first, int last, const MutationContext& ctx,
+                           const InjectedBugs& bugs, const SimilarityRows* rows_x = nullptr);
 
 }  // namespace emlt::ensemble

@@ -8,7 +8,7 @@ std::optional<Proposal> GuidedLensPerturbation::propose(const Path& x, Rng& rng,
   if (guides.size() < 2) return ensemble::unguided_step(veach_, x, rng, ctx);
   const int first = LensPerturbation::fixed_vertex(x.type) + 1, last = x.edges();
   ensemble::SimilarityRows rows;  // x's, reused for the reverse where y keeps a vertex
-  const ensemble::GuideChoice choice =
+  const ensemble::SimilarGuide choice =
       ensemble::choose_similar_guide(x, guides, first, last, ctx, rng, &rows);
   const auto step = ensemble::propose_linear(x.raster(), guides.rasters()[choice.index],
                                              ensemble::stretch_params(ctx), rng);
@@ -17,8 +17,7 @@ std::optional<Proposal> GuidedLensPerturbation::propose(const Path& x, Rng& rng,
   if (!proposal) return std::nullopt;
   proposal->log_reverse_over_forward +=
       (bugs_.drop_reverse_density ? 0.0 : step.log_density_ratio) +
-      ensemble::log_selection_ratio(proposal->path, guides, choice.index, choice.log_probability,
-                                    first, last, ctx, bugs_, &rows);
+      ensemble::log_selection_ratio(proposal->path, guides, choice, first, last, ctx, bugs_, &rows);
   return proposal;
 }
 

@@ -10,7 +10,7 @@ std::optional<Proposal> GuidedMultiChainPerturbation::propose(const Path& x, Rng
   if (l < 0) return std::nullopt;
   const int first = l + 1, last = x.edges();
   ensemble::SimilarityRows rows;  // x's, reused for the reverse where y keeps a vertex
-  const ensemble::GuideChoice choice =
+  const ensemble::SimilarGuide choice =
       ensemble::choose_similar_guide(x, guides, first, last, ctx, rng, &rows);
   const ensemble::StretchParams stretch = ensemble::stretch_params(ctx);
 
@@ -35,8 +35,7 @@ std::optional<Proposal> GuidedMultiChainPerturbation::propose(const Path& x, Rng
   if (!proposal) return std::nullopt;
   proposal->log_reverse_over_forward +=
       (bugs_.drop_reverse_density ? 0.0 : log_kernel_ratio) +
-      ensemble::log_selection_ratio(proposal->path, guides, choice.index, choice.log_probability,
-                                    first, last, ctx, bugs_, &rows);
+      ensemble::log_selection_ratio(proposal->path, guides, choice, first, last, ctx, bugs_, &rows);
   return proposal;
 }
 

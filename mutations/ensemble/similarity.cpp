@@ -358,9 +358,11 @@ double guide_log_probability(std::span<const SimilarityProduct> weights, size_t 
   return std::log(weights[index].plain()) - std::log(*total);
 }
 
-GuideChoice choose_guide_from_plain(std::span<const double> weights, Rng& rng) {
-  assert(!weights.empty());
-  const double total = plain_sum(weights);
+double plain_weight_total(std::span<const double> weights) {
+  return plain_sum(weights);
+}
+
+uint32_t choose_index_from_plain(std::span<const double> weights, double total, Rng& rng) {
   // As choose_guide's plain branch: inverse CDF, the last guide absorbing rounding.
   const double target = rng.uniform_double() * total;
   double cumulative = 0.0;
@@ -370,6 +372,13 @@ GuideChoice choose_guide_from_plain(std::span<const double> weights, Rng& rng) {
     cumulative += weights[n];
     if (target < cumulative) break;
   }
+  return chosen;
+}
+
+GuideChoice choose_guide_from_plain(std::span<const double> weights, Rng& rng) {
+  assert(!weights.empty());
+  const double total = plain_sum(weights);
+  const uint32_t chosen = choose_index_from_plain(weights, total, rng);
   return {chosen, std::log(weights[chosen]) - std::log(total)};
 }
 

@@ -251,5 +251,9 @@ double guide_log_probability(std::span<const SimilarityProduct> weights, size_t 
 // bit, without the products.
 GuideChoice choose_guide_from_plain(std::span<const double> weights, Rng& rng);
 double guide_log_probability_from_plain(std::span<const double> weights, size_t index);
+// Their parts: the total of plain weights (summed as both sum them) and the inverse-CDF
+// choice of an index for that total (the choice choose_guide_from_plain makes).
+double plain_weight_total(std::span<const double> weights);
+uint32_t choose_index_from_plain(std::span<const double> weights, double total, Rng& rng);
 
 }  // namespace emlt::ensemble
