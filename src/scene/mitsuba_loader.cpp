@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
+#include <string_view>
 
 #include <fmt/format.h>
 
 #include "emlt/core/error.h"
+#include "emlt/scene/load_prefetch.h"
 #include "emlt/scene/loader.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/obj_loader.h"
@@ -40,6 +43,7 @@ class MitsubaSceneReader {
     const pugi::xml_node scene = doc_.scene();
     for (pugi::xml_node child : scene.children("default"))
       doc_.add_default(child.attribute("name").as_string(), child.attribute("value").as_string());
+    const LoadPrefetch prefetch = announce_files(scene);
     // Textures, then BSDFs, first so a <ref> may precede the declaration it names.
     for (pugi::xml_node child : scene.children("texture")) mitsuba::read_texture(doc_, child, named_);
     for (pugi::xml_node child : scene.children("bsdf"))
@@ -74,6 +78,47 @@ class MitsubaSceneReader {
     if (!has_sensor)
       desc_.warnings.push_back(doc_.path() + ": no <sensor>; using the default camera");
     return std::move(desc_);
+  }
+
+  // The meshes and images the document names, read ahead (load_prefetch.h). Only what the
+  // file states plainly is announced (no `$name` in a file name, literal booleans); the
+  // rest, and anything this guesses wrong, is read where the loader meets it.
+  LoadPrefetch announce_files(pugi::xml_node scene) const {
+    std::vector<std::string> images;
+    std::vector<LoadPrefetch::Obj> objs;
+    const auto value_of = [](pugi::xml_node node, const char* tag, const char* name) {
+      for (pugi::xml_node child : node.children(tag))
+        if (std::string_view(child.attribute("name").as_string()) == name)
+          return std::optional<std::string>(child.attribute("value").as_string());
+      return std::optional<std::string>();
+    };
+    const auto plain_file = [&](pugi::xml_node node) -> std::optional<std::string> {
+      const auto file = value_of(node, "string", "filename");
+      if (!file || file->empty() || file->find('$') != std::string::npos) return std::nullopt;
+      return loader::resolve_path(doc_.path(), *file);
+    };
+    const auto flag = [&](pugi::xml_node node, const char* name,
+                          bool fallback) -> std::optional<bool> {
+      const auto text = value_of(node, "boolean", name);
+      if (!text) return fallback;
+      if (*text == "true" || *text == "false") return *text == "true";
+      return std::nullopt;
+    };
+    const pugi::xpath_node_set named =
+        scene.select_nodes("//texture[@type='bitmap'] | //shape[@type='obj']");
+    for (const pugi::xpath_node& found : named) {
+      const pugi::xml_node node = found.node();
+      const auto file = plain_file(node);
+      if (!file) continue;
+      if (std::string_view(node.name()) == "texture") {
+        if (is_eight_bit_image(*file)) images.push_back(*file);
+        continue;
+      }
+      const auto face_normals = flag(node, "faceNormals", false),
+                 flip = flag(node, "flipTexCoords", true);
+      if (face_normals && flip) objs.push_back({*file, !*face_normals, *flip});
+    }
+    return LoadPrefetch(images, objs);
   }
 
  private:
@@ -412,7 +457,9 @@ class MitsubaSceneReader {
       const bool face_normals = props.get_boolean("faceNormals", false);
       // Mitsuba flips OBJ texture coordinates by default (v = 0 at the image's top).
       const bool flip_uv = props.get_boolean("flipTexCoords", true);
-      mesh = load_obj_mesh(file, to_world, !face_normals, &desc_.warnings, flip_uv);
+      std::optional<ObjInFileSpace> prefetched = LoadPrefetch::obj(file, !face_normals, flip_uv);
+      mesh = prefetched ? place_obj_mesh(std::move(*prefetched), to_world, &desc_.warnings)
+                        : load_obj_mesh(file, to_world, !face_normals, &desc_.warnings, flip_uv);
       loader::drop_non_finite_triangles(desc_, mesh, file);
     } else if (type == "rectangle") {
       mesh = make_rectangle_mesh(to_world);

@@ -90,6 +90,20 @@ void restore_non_finite(const std::string& path, std::vector<float>& vertices,
 
 MeshDesc load_obj_mesh(const std::string& path, const Mat4& to_world, bool smooth_normals,
                        std::vector<std::string>* warnings, bool flip_v) {
+  return place_obj_mesh(read_obj_file(path, smooth_normals, flip_v), to_world, warnings);
+}
+
+MeshDesc place_obj_mesh(ObjInFileSpace obj, const Mat4& to_world,
+                        std::vector<std::string>* warnings) {
+  if (warnings) warnings->insert(warnings->end(), obj.warnings.begin(), obj.warnings.end());
+  transform_mesh(obj.mesh, to_world, false);
+  if (obj.needs_smooth_normals) compute_smooth_normals(obj.mesh);
+  return std::move(obj.mesh);
+}
+
+ObjInFileSpace read_obj_file(const std::string& path, bool smooth_normals, bool flip_v) {
+  ObjInFileSpace result;
+  std::vector<std::string>* warnings = &result.warnings;
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw file_error(path, "OBJ file not found");
 
@@ -140,7 +154,7 @@ MeshDesc load_obj_mesh(const std::string& path, const Mat4& to_world, bool smoot
   }
   if (face_count == 0) throw file_error(path, "OBJ has no faces");
 
-  MeshDesc mesh;
+  MeshDesc& mesh = result.mesh;
   mesh.name = std::filesystem::path(path).filename().string();
   // Corners sharing position (and normal/uv where used) become one vertex.
   std::map<std::tuple<int, int, int>, uint32_t> vertex_of_corner;
@@ -177,9 +191,8 @@ MeshDesc load_obj_mesh(const std::string& path, const Mat4& to_world, bool smoot
     }
   }
 
-  transform_mesh(mesh, to_world, false);
-  if (smooth_normals && !use_file_normals) compute_smooth_normals(mesh);
-  return mesh;
+  result.needs_smooth_normals = smooth_normals && !use_file_normals;
+  return result;
 }
 
 }  // namespace emlt

@@ -1,5 +1,7 @@
 // The registry of temporaries that a second stop signal removes: an image and its preview
 // are written at once by two threads, and both must go.
+#include "emlt/render/interruption.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -7,7 +9,6 @@
 #include <latch>
 #include <thread>
 
-#include "emlt/render/interruption.h"
 #include "support/test_support.h"
 
 using namespace emlt;

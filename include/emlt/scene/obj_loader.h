@@ -18,4 +18,16 @@ namespace emlt {
 MeshDesc load_obj_mesh(const std::string& path, const Mat4& to_world, bool smooth_normals,
                        std::vector<std::string>* warnings = nullptr, bool flip_v = true);
 
+// load_obj_mesh in two steps, the file's part (which a scene's loader may run ahead, in
+// parallel: load_prefetch.h) and the placement: the mesh in the file's own space, the
+// parser's warnings, and whether smooth normals are still to be computed (in world space).
+struct ObjInFileSpace {
+  MeshDesc mesh;
+  std::vector<std::string> warnings;
+  bool needs_smooth_normals = false;
+};
+ObjInFileSpace read_obj_file(const std::string& path, bool smooth_normals, bool flip_v);
+MeshDesc place_obj_mesh(ObjInFileSpace obj, const Mat4& to_world,
+                        std::vector<std::string>* warnings);
+
 }  // namespace emlt

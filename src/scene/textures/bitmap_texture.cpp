@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "emlt/core/error.h"
+#include "emlt/scene/load_prefetch.h"
 #include "emlt/scene/texture.h"
 
 namespace emlt {
@@ -136,7 +137,8 @@ TexturePtr load_bitmap_texture(const std::string& path, bool raw, const UvTransf
   // The file's own bytes, never decoded to floats and encoded back (that round trip was
   // a third of loading the public Veach door's textures). A raw (linear) texture reads
   // byte b as b / 255, an sRGB one as read_image would decode it.
-  Image8 image = read_image8(path);
+  std::optional<Image8> prefetched = LoadPrefetch::image8(path);
+  Image8 image = prefetched ? std::move(*prefetched) : read_image8(path);
   EightBitTexels texels;
   texels.bytes = std::move(image.bytes);
   if (raw)
