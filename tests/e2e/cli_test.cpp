@@ -5,9 +5,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "emlt/render/image.h"
 #include "emlt/render/image_metrics.h"
@@ -18,7 +17,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string emlt_cmd(const std::string& args) { return test::emlt_binary() + " " + args; }
+std::string emlt_cmd(const std::string& args) {
+  return test::emlt_binary() + " " + args;
+}
 std::string cornell(const std::string& file = "scene.json") {
   return test::source_path("scenes/cornell-box/" + file);
 }
@@ -37,14 +38,17 @@ void expect_clean_failure(const std::string& args, const std::string& must_menti
   EXPECT_NE(status, 0) << args;
   EXPECT_EQ(count_lines(text), 1) << text;
   EXPECT_NE(text.find("error"), std::string::npos) << text;
-  EXPECT_NE(text.find(must_mention), std::string::npos) << "expected '" << must_mention << "' in: " << text;
+  EXPECT_NE(text.find(must_mention), std::string::npos)
+      << "expected '" << must_mention << "' in: " << text;
   EXPECT_FALSE(fs::exists(output)) << output;
   if (!fs::is_directory(output.parent_path())) return;
   for (const auto& entry : fs::directory_iterator(output.parent_path()))
     EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
 }
 
-void write_file(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+void write_file(const fs::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
 
 }  // namespace
 
@@ -53,7 +57,9 @@ TEST(Cli, RendersCornellBoxWithPreviewAndSummary) {
   const fs::path out = dir / "cornell.exr";
   std::string text;
   ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + out.string() +
-                                          " --spp 4 --width 32 --height 32 --quiet"), &text)) << text;
+                                          " --spp 4 --width 32 --height 32 --quiet"),
+                                 &text))
+      << text;
   EXPECT_TRUE(fs::exists(out));
   EXPECT_TRUE(fs::exists(dir / "cornell.png"));
   EXPECT_NE(text.find("samples/s"), std::string::npos) << text;
@@ -67,9 +73,12 @@ TEST(Cli, RendersCornellBoxWithPreviewAndSummary) {
 TEST(Cli, SameSeedGivesIdenticalImagesOnOneAndTwoThreads) {
   const fs::path dir = test::scratch_dir("threads");
   const std::string common = " --spp 4 --width 48 --height 48 --seed 7 --quiet";
-  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "one.pfm").string() + common + " --threads 1")));
-  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "two.pfm").string() + common + " --threads 2")));
-  const Image a = read_image((dir / "one.pfm").string()), b = read_image((dir / "two.pfm").string());
+  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " +
+                                          (dir / "one.pfm").string() + common + " --threads 1")));
+  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " +
+                                          (dir / "two.pfm").string() + common + " --threads 2")));
+  const Image a = read_image((dir / "one.pfm").string()),
+              b = read_image((dir / "two.pfm").string());
   ASSERT_EQ(a.pixels.size(), b.pixels.size());
   EXPECT_EQ(0, std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(Rgb)));
 }
@@ -77,9 +86,12 @@ TEST(Cli, SameSeedGivesIdenticalImagesOnOneAndTwoThreads) {
 TEST(Cli, JsonAndMitsubaCornellBoxesRenderTheSameImage) {
   const fs::path dir = test::scratch_dir("formats");
   const std::string common = " --spp 64 --width 32 --height 32 --quiet --integrator pt";
-  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell("scene.json") + " -o " + (dir / "json.pfm").string() + common)));
-  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell("scene.xml") + " -o " + (dir / "xml.pfm").string() + common + " --seed 2")));
-  const Image a = read_image((dir / "json.pfm").string()), b = read_image((dir / "xml.pfm").string());
+  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell("scene.json") + " -o " +
+                                          (dir / "json.pfm").string() + common)));
+  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell("scene.xml") + " -o " +
+                                          (dir / "xml.pfm").string() + common + " --seed 2")));
+  const Image a = read_image((dir / "json.pfm").string()),
+              b = read_image((dir / "xml.pfm").string());
   ASSERT_EQ(a.pixels.size(), b.pixels.size());
   // Independent seeds: equal up to noise, per channel and per image region.
   for (int c = 0; c < 3; ++c) {
@@ -123,13 +135,15 @@ TEST(Cli, InfoGivesAFidelityVerdictAndStrictRefusesDivergences) {
   // A Mitchell filter and a rough diffuse BSDF are approximated; a point light is not
   // supported at all.
   write_file(dir / "approx.xml",
-             scene_with(R"(<rfilter type="mitchell"/>)", R"(<shape type="sphere"><bsdf type="roughdiffuse"/></shape>
+             scene_with(R"(<rfilter type="mitchell"/>)",
+                        R"(<shape type="sphere"><bsdf type="roughdiffuse"/></shape>
   <emitter type="point"/>
 )"));
   write_file(dir / "exact.xml", scene_with(R"(<rfilter type="box"/>)", ""));
   std::string text;
   ASSERT_EQ(0, test::run_command(emlt_cmd("info " + (dir / "approx.xml").string()), &text)) << text;
-  EXPECT_NE(text.find("verdict      approximated: 2 items, unsupported: 1 item\n"), std::string::npos)
+  EXPECT_NE(text.find("verdict      approximated: 2 items, unsupported: 1 item\n"),
+            std::string::npos)
       << text;
   ASSERT_EQ(0, test::run_command(emlt_cmd("info " + (dir / "exact.xml").string()), &text)) << text;
   EXPECT_NE(text.find("verdict      exact\n"), std::string::npos) << text;
@@ -138,76 +152,87 @@ TEST(Cli, InfoGivesAFidelityVerdictAndStrictRefusesDivergences) {
   // A render says so before it starts, and --strict refuses, naming the file and line.
   const fs::path out = dir / "o.pfm";
   ASSERT_EQ(0, test::run_command(emlt_cmd("render " + (dir / "approx.xml").string() + " -o " +
-                                          out.string() + " --spp 1 --quiet"), &text)) << text;
+                                          out.string() + " --spp 1 --quiet"),
+                                 &text))
+      << text;
   EXPECT_NE(text.find("not rendered exactly as its format means: approximated: 2 items, "
-                      "unsupported: 1 item"), std::string::npos) << text;
+                      "unsupported: 1 item"),
+            std::string::npos)
+      << text;
   fs::remove(out);
-  expect_clean_failure("render --strict " + (dir / "approx.xml").string() + " -o " + out.string(),
-                       "approx.xml: line 4: reconstruction filter <rfilter type=\"mitchell\"> approximated", out);
-  expect_clean_failure("info --strict " + (dir / "approx.xml").string(), "refused by --strict; 2 more",
-                       out);
+  expect_clean_failure(
+      "render --strict " + (dir / "approx.xml").string() + " -o " + out.string(),
+      "approx.xml: line 4: reconstruction filter <rfilter type=\"mitchell\"> approximated", out);
+  expect_clean_failure("info --strict " + (dir / "approx.xml").string(),
+                       "refused by --strict; 2 more", out);
 }
 
 TEST(CliBadInput, MissingSceneFile) {
   const fs::path dir = test::scratch_dir("missing");
-  expect_clean_failure("render " + (dir / "nope.json").string() + " -o " + (dir / "o.exr").string(), "nope.json",
-                       dir / "o.exr");
+  expect_clean_failure("render " + (dir / "nope.json").string() + " -o " + (dir / "o.exr").string(),
+                       "nope.json", dir / "o.exr");
 }
 
 TEST(CliBadInput, MalformedJson) {
   const fs::path dir = test::scratch_dir("malformed");
   write_file(dir / "bad.json", "{ \"camera\": { \"fov\": 40, }");
-  expect_clean_failure("render " + (dir / "bad.json").string() + " -o " + (dir / "o.exr").string(), "bad.json",
-                       dir / "o.exr");
+  expect_clean_failure("render " + (dir / "bad.json").string() + " -o " + (dir / "o.exr").string(),
+                       "bad.json", dir / "o.exr");
 }
 
 TEST(CliBadInput, MalformedXml) {
   const fs::path dir = test::scratch_dir("malformed-xml");
   write_file(dir / "bad.xml", "<scene version=\"0.6.0\"><shape type=\"obj\"></scene>");
-  expect_clean_failure("render " + (dir / "bad.xml").string() + " -o " + (dir / "o.exr").string(), "bad.xml",
-                       dir / "o.exr");
+  expect_clean_failure("render " + (dir / "bad.xml").string() + " -o " + (dir / "o.exr").string(),
+                       "bad.xml", dir / "o.exr");
 }
 
 TEST(CliBadInput, SceneWithoutEmitter) {
   const fs::path dir = test::scratch_dir("dark");
-  write_file(dir / "dark.json", R"({"camera": {"lookat": {"origin": [0,0,-3], "target": [0,0,0], "up": [0,1,0]},
+  write_file(dir / "dark.json",
+             R"({"camera": {"lookat": {"origin": [0,0,-3], "target": [0,0,0], "up": [0,1,0]},
     "fov": 40, "width": 16, "height": 16},
     "materials": {"white": {"type": "diffuse", "reflectance": 0.5}},
     "shapes": [{"type": "sphere", "center": [0,0,0], "radius": 1, "material": "white"}]})");
-  expect_clean_failure("render " + (dir / "dark.json").string() + " -o " + (dir / "o.exr").string(), "emitter",
-                       dir / "o.exr");
+  expect_clean_failure("render " + (dir / "dark.json").string() + " -o " + (dir / "o.exr").string(),
+                       "emitter", dir / "o.exr");
 }
 
 TEST(CliBadInput, ZeroAndAbsurdResolutions) {
   const fs::path dir = test::scratch_dir("resolution");
-  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() + " --width 0", "width",
-                       dir / "o.exr");
-  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() + " --width 100000 --height 100000",
+  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() + " --width 0",
                        "width", dir / "o.exr");
+  expect_clean_failure(
+      "render " + cornell() + " -o " + (dir / "o.exr").string() + " --width 100000 --height 100000",
+      "width", dir / "o.exr");
 }
 
 TEST(CliBadInput, UnknownFlagAndIntegrator) {
   const fs::path dir = test::scratch_dir("flags");
-  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() + " --frobnicate 3", "frobnicate",
-                       dir / "o.exr");
-  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() + " --integrator magic", "magic",
-                       dir / "o.exr");
+  expect_clean_failure(
+      "render " + cornell() + " -o " + (dir / "o.exr").string() + " --frobnicate 3", "frobnicate",
+      dir / "o.exr");
+  expect_clean_failure(
+      "render " + cornell() + " -o " + (dir / "o.exr").string() + " --integrator magic", "magic",
+      dir / "o.exr");
 }
 
 TEST(CliBadInput, UnwritableOrUnknownOutput) {
   const fs::path dir = test::scratch_dir("output");
-  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.jpeg").string(), "o.jpeg", dir / "o.jpeg");
-  expect_clean_failure("render " + cornell() + " -o " + (dir / "no-such-dir" / "o.exr").string(), "no-such-dir",
-                       dir / "no-such-dir" / "o.exr");
+  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.jpeg").string(), "o.jpeg",
+                       dir / "o.jpeg");
+  expect_clean_failure("render " + cornell() + " -o " + (dir / "no-such-dir" / "o.exr").string(),
+                       "no-such-dir", dir / "no-such-dir" / "o.exr");
 }
 
 TEST(CliBadInput, MissingMeshNamesTheMesh) {
   const fs::path dir = test::scratch_dir("mesh");
-  write_file(dir / "s.json", R"({"camera": {"lookat": {"origin": [0,0,-3], "target": [0,0,0], "up": [0,1,0]},
+  write_file(dir / "s.json",
+             R"({"camera": {"lookat": {"origin": [0,0,-3], "target": [0,0,0], "up": [0,1,0]},
     "fov": 40, "width": 16, "height": 16},
     "shapes": [{"type": "obj", "file": "ghost.obj", "emission": [1,1,1]}]})");
-  expect_clean_failure("render " + (dir / "s.json").string() + " -o " + (dir / "o.exr").string(), "ghost.obj",
-                       dir / "o.exr");
+  expect_clean_failure("render " + (dir / "s.json").string() + " -o " + (dir / "o.exr").string(),
+                       "ghost.obj", dir / "o.exr");
 }
 
 TEST(CliBadInput, NanTexelsInEnvironmentMap) {
@@ -216,25 +241,32 @@ TEST(CliBadInput, NanTexelsInEnvironmentMap) {
   map.at(3, 2) = Rgb(std::nanf(""));
   // PFM keeps the NaN bits exactly as written.
   write_image((dir / "sky.pfm").string(), map);
-  write_file(dir / "s.json", R"({"camera": {"lookat": {"origin": [0,0,-3], "target": [0,0,0], "up": [0,1,0]},
+  write_file(dir / "s.json",
+             R"({"camera": {"lookat": {"origin": [0,0,-3], "target": [0,0,0], "up": [0,1,0]},
     "fov": 40, "width": 16, "height": 16},
     "environment": {"type": "envmap", "file": "sky.pfm"},
     "shapes": [{"type": "sphere", "center": [0,0,0], "radius": 1}]})");
-  expect_clean_failure("render " + (dir / "s.json").string() + " -o " + (dir / "o.exr").string(), "sky.pfm",
-                       dir / "o.exr");
+  expect_clean_failure("render " + (dir / "s.json").string() + " -o " + (dir / "o.exr").string(),
+                       "sky.pfm", dir / "o.exr");
 }
 
 TEST(CliCompare, JsonMetricsEqualTheLibraryOnTheSameFiles) {
   const fs::path dir = test::scratch_dir("compare");
   const std::string common = " --width 24 --height 24 --quiet";
-  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "ref.pfm").string() + common + " --spp 64")));
-  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "img.pfm").string() + common + " --spp 4 --seed 3")));
+  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " +
+                                          (dir / "ref.pfm").string() + common + " --spp 64")));
+  ASSERT_EQ(0,
+            test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "img.pfm").string() +
+                                       common + " --spp 4 --seed 3")));
   std::string text;
-  ASSERT_EQ(0, test::run_command(emlt_cmd("compare " + (dir / "ref.pfm").string() + " " + (dir / "img.pfm").string() +
-                                          " --json --scene " + cornell() + " --error-map " + (dir / "err.png").string()),
-                                 &text)) << text;
+  ASSERT_EQ(0, test::run_command(emlt_cmd("compare " + (dir / "ref.pfm").string() + " " +
+                                          (dir / "img.pfm").string() + " --json --scene " +
+                                          cornell() + " --error-map " + (dir / "err.png").string()),
+                                 &text))
+      << text;
   const auto j = nlohmann::json::parse(text);
-  const Image ref = read_image((dir / "ref.pfm").string()), img = read_image((dir / "img.pfm").string());
+  const Image ref = read_image((dir / "ref.pfm").string()),
+              img = read_image((dir / "img.pfm").string());
   const ImageMetrics m = compare_images(ref, img);
   EXPECT_NEAR(j["mse"].get<double>(), m.mse, 1e-9 + 1e-6 * m.mse);
   EXPECT_NEAR(j["relmse"].get<double>(), m.rel_mse, 1e-9 + 1e-6 * m.rel_mse);
@@ -250,7 +282,9 @@ TEST(CliCompare, MismatchedSizesNameTheFile) {
   write_image((dir / "a.pfm").string(), Image(4, 4, Rgb(1.0f)));
   write_image((dir / "b.pfm").string(), Image(5, 4, Rgb(1.0f)));
   std::string text;
-  EXPECT_NE(0, test::run_command(emlt_cmd("compare " + (dir / "a.pfm").string() + " " + (dir / "b.pfm").string()), &text));
+  EXPECT_NE(0, test::run_command(
+                   emlt_cmd("compare " + (dir / "a.pfm").string() + " " + (dir / "b.pfm").string()),
+                   &text));
   EXPECT_NE(text.find("b.pfm"), std::string::npos) << text;
   EXPECT_NE(text.find("sizes differ"), std::string::npos) << text;
 }
@@ -260,9 +294,14 @@ TEST(Cli, BdptWritesOneImagePerStrategyThatSumToTheRender) {
   const fs::path strategies = dir / "strategies";
   fs::create_directories(strategies);
   std::string text;
-  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "bdpt.pfm").string() +
-                                          " --integrator bdpt --spp 4 --width 16 --height 16 --max-depth 3 --quiet"
-                                          " --bdpt-strategies " + strategies.string()), &text)) << text;
+  ASSERT_EQ(0,
+            test::run_command(
+                emlt_cmd("render " + cornell() + " -o " + (dir / "bdpt.pfm").string() +
+                         " --integrator bdpt --spp 4 --width 16 --height 16 --max-depth 3 --quiet"
+                         " --bdpt-strategies " +
+                         strategies.string()),
+                &text))
+      << text;
   const Image image = read_image((dir / "bdpt.pfm").string());
   // Paths of at most 3 segments: strategies (s, t) with s + t - 1 <= 3 and t >= 1.
   Image sum(image.width, image.height);
@@ -285,9 +324,14 @@ TEST(Cli, BdptWritesOneImagePerStrategyThatSumToTheRender) {
 TEST(Cli, MltWritesStatisticsAndRejectsUnknownStrategies) {
   const fs::path dir = test::scratch_dir("mlt");
   std::string text;
-  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "mlt.pfm").string() +
-                                          " --integrator mlt --mutations bidir=1 --mpp 4 --bootstrap 5000 --width 16 --height 16 --quiet"
-                                          " --stats " + (dir / "stats.json").string()), &text)) << text;
+  ASSERT_EQ(0,
+            test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "mlt.pfm").string() +
+                                       " --integrator mlt --mutations bidir=1 --mpp 4 --bootstrap "
+                                       "5000 --width 16 --height 16 --quiet"
+                                       " --stats " +
+                                       (dir / "stats.json").string()),
+                              &text))
+      << text;
   EXPECT_TRUE(fs::exists(dir / "mlt.pfm"));
   std::ifstream in(dir / "stats.json");
   const auto stats = nlohmann::json::parse(in);
@@ -296,23 +340,64 @@ TEST(Cli, MltWritesStatisticsAndRejectsUnknownStrategies) {
   EXPECT_EQ(stats["strategies"][0]["name"], "bidir");
   EXPECT_EQ(stats["strategies"][0]["proposed"].get<uint64_t>(), 4u * 16u * 16u);
   EXPECT_NE(text.find("mean a"), std::string::npos) << text;
-  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() + " --integrator mlt --mutations teleport=1",
+  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() +
+                           " --integrator mlt --mutations teleport=1",
                        "teleport", dir / "o.exr");
+}
+
+// --bootstrap-seed fixes the bootstrap (b and the start paths) while --seed varies the
+// chains: the same b and different images for two seeds; equal to --seed, the default.
+TEST(Cli, BootstrapSeedKeepsThePoolWhileTheSeedVariesTheChains) {
+  const fs::path dir = test::scratch_dir("bootstrap_seed");
+  const auto run = [&](const std::string& name, const std::string& flags) {
+    std::string text;
+    EXPECT_EQ(0, test::run_command(
+                     emlt_cmd("render " + cornell() + " -o " + (dir / (name + ".pfm")).string() +
+                              " --integrator mlt --mpp 2 --bootstrap 4000 --width 16 --height 16 -q"
+                              " --stats " +
+                              (dir / (name + ".json")).string() + " " + flags),
+                     &text))
+        << text;
+    std::ifstream in(dir / (name + ".json"));
+    return std::make_pair(nlohmann::json::parse(in)["b"].get<double>(),
+                          read_image((dir / (name + ".pfm")).string()));
+  };
+  const auto same_bits = [](const Image& a, const Image& b) {
+    return a.pixels.size() == b.pixels.size() &&
+           std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(Rgb)) == 0;
+  };
+  const auto [b1, seed1] = run("seed1", "--seed 1");
+  const auto [b2, seed2] = run("seed2", "--seed 2");
+  const auto [b2_pool1, seed2_pool1] = run("seed2_pool1", "--seed 2 --bootstrap-seed 1");
+  const auto [b2_pool2, seed2_pool2] = run("seed2_pool2", "--seed 2 --bootstrap-seed 2");
+  EXPECT_NE(b1, b2);                            // each seed its own pool by default
+  EXPECT_EQ(b2_pool1, b1);                      // the pool of seed 1 ...
+  EXPECT_FALSE(same_bits(seed2_pool1, seed1));  // ... under other chains
+  EXPECT_FALSE(same_bits(seed2_pool1, seed2));
+  EXPECT_TRUE(same_bits(seed2_pool2, seed2));
+  EXPECT_EQ(b2_pool2, b2);
 }
 
 // pssmlt (over BDPT and over the path tracer) and mmlt: statistics per step kind and per
 // path length.
 TEST(Cli, PrimarySampleSpaceIntegratorsWriteStatistics) {
   const fs::path dir = test::scratch_dir("pss");
-  for (const auto& [integrator, tracer] :
-       {std::pair<std::string, std::string>{"pssmlt", "bdpt"}, {"pssmlt", "pt"}, {"mmlt", "bdpt"}}) {
+  for (const auto& [integrator, tracer] : {std::pair<std::string, std::string>{"pssmlt", "bdpt"},
+                                           {"pssmlt", "pt"},
+                                           {"mmlt", "bdpt"}}) {
     SCOPED_TRACE(integrator + " " + tracer);
     std::string text;
     const fs::path stats_path = dir / (integrator + "-" + tracer + ".json");
-    ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / (integrator + ".pfm")).string() +
-                                            " --integrator " + integrator + " --pss-tracer " + tracer + " --large-step 0.5"
-                                            " --mpp 4 --chains 64 --bootstrap 5000 --width 16 --height 16 --quiet"
-                                            " --stats " + stats_path.string()), &text)) << text;
+    ASSERT_EQ(0,
+              test::run_command(
+                  emlt_cmd("render " + cornell() + " -o " + (dir / (integrator + ".pfm")).string() +
+                           " --integrator " + integrator + " --pss-tracer " + tracer +
+                           " --large-step 0.5"
+                           " --mpp 4 --chains 64 --bootstrap 5000 --width 16 --height 16 --quiet"
+                           " --stats " +
+                           stats_path.string()),
+                  &text))
+        << text;
     std::ifstream in(stats_path);
     const auto stats = nlohmann::json::parse(in);
     EXPECT_GT(stats["b"].get<double>(), 0.0);
@@ -354,11 +439,15 @@ TEST(Cli, PrimarySampleSpaceIntegratorsWriteStatistics) {
 TEST(Cli, EmltWritesEnsembleStatisticsAndTheAnisotropyMap) {
   const fs::path dir = test::scratch_dir("emlt");
   std::string text;
-  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "emlt.pfm").string() +
-                                          " --integrator emlt --mutations emlt-ani --mpp 8 --bootstrap 5000"
-                                          " --width 16 --height 16 --ensemble-size 32 --ensemble-neighbours 12 --quiet"
-                                          " --aniso-map " + (dir / "aniso.png").string() +
-                                          " --stats " + (dir / "stats.json").string()), &text)) << text;
+  ASSERT_EQ(
+      0, test::run_command(
+             emlt_cmd("render " + cornell() + " -o " + (dir / "emlt.pfm").string() +
+                      " --integrator emlt --mutations emlt-ani --mpp 8 --bootstrap 5000"
+                      " --width 16 --height 16 --ensemble-size 32 --ensemble-neighbours 12 --quiet"
+                      " --aniso-map " +
+                      (dir / "aniso.png").string() + " --stats " + (dir / "stats.json").string()),
+             &text))
+      << text;
   EXPECT_TRUE(fs::exists(dir / "emlt.pfm"));
   EXPECT_TRUE(fs::exists(dir / "aniso.png"));
   std::ifstream in(dir / "stats.json");
@@ -372,10 +461,12 @@ TEST(Cli, EmltWritesEnsembleStatisticsAndTheAnisotropyMap) {
   EXPECT_GT(stats["chain_mutations_per_second"].get<double>(), 0.0);
   EXPECT_EQ(stats["direct_spp"].get<int>(), 8);  // one per mutation per pixel
   // The similarity's length scale changes which guides are chosen, hence the image.
-  const std::string lin = "render " + cornell() + " --integrator emlt --mutations emlt-lin --mpp 8 --bootstrap 5000"
+  const std::string lin = "render " + cornell() +
+                          " --integrator emlt --mutations emlt-lin --mpp 8 --bootstrap 5000"
                           " --width 16 --height 16 --ensemble-size 32 --quiet -o ";
   ASSERT_EQ(0, test::run_command(emlt_cmd(lin + (dir / "literal.pfm").string())));
-  ASSERT_EQ(0, test::run_command(emlt_cmd(lin + (dir / "scaled.pfm").string() + " --ensemble-similarity-length 50")));
+  ASSERT_EQ(0, test::run_command(emlt_cmd(lin + (dir / "scaled.pfm").string() +
+                                          " --ensemble-similarity-length 50")));
   const auto bytes = [](const fs::path& path) {
     std::ifstream file(path, std::ios::binary);
     return std::string(std::istreambuf_iterator<char>(file), {});
@@ -403,8 +494,8 @@ TEST(Cli, EmltWritesEnsembleStatisticsAndTheAnisotropyMap) {
                            " --integrator emlt --ensemble-size 100000000",
                        "ensemble-size", dir / "o.exr");
   // The map needs an MCMC integrator.
-  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() + " --integrator pt --aniso-map " +
-                           (dir / "a.png").string(),
+  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() +
+                           " --integrator pt --aniso-map " + (dir / "a.png").string(),
                        "--aniso-map", dir / "o.exr");
 }
 
@@ -426,25 +517,33 @@ std::vector<std::vector<std::string>> read_csv(const fs::path& path) {
 
 TEST(CliConvergenceLog, RowsAtPowersOfTwoAndTheImageIsUnchanged) {
   const fs::path dir = test::scratch_dir("log");
-  const std::string common = " --width 16 --height 16 --quiet --spp 8 --mpp 8 --bootstrap 5000 --mutations bidir=1";
-  ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "ref.pfm").string() +
-                                          " --integrator bdpt --spp 64 --width 16 --height 16 --quiet")));
+  const std::string common =
+      " --width 16 --height 16 --quiet --spp 8 --mpp 8 --bootstrap 5000 --mutations bidir=1";
+  ASSERT_EQ(
+      0, test::run_command(emlt_cmd("render " + cornell() + " -o " + (dir / "ref.pfm").string() +
+                                    " --integrator bdpt --spp 64 --width 16 --height 16 --quiet")));
   for (const std::string integrator : {"pt", "bdpt", "mlt"}) {
-    const fs::path plain = dir / (integrator + "-plain.pfm"), logged = dir / (integrator + "-logged.pfm");
+    const fs::path plain = dir / (integrator + "-plain.pfm"),
+                   logged = dir / (integrator + "-logged.pfm");
     const fs::path log = dir / (integrator + ".csv");
-    ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + plain.string() + " --integrator " +
-                                            integrator + common)));
+    ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + plain.string() +
+                                            " --integrator " + integrator + common)));
     std::string text;
-    ASSERT_EQ(0, test::run_command(emlt_cmd("render " + cornell() + " -o " + logged.string() + " --integrator " +
-                                            integrator + common + " --reference " + (dir / "ref.pfm").string() +
-                                            " --log " + log.string()), &text)) << text;
+    ASSERT_EQ(0,
+              test::run_command(emlt_cmd("render " + cornell() + " -o " + logged.string() +
+                                         " --integrator " + integrator + common + " --reference " +
+                                         (dir / "ref.pfm").string() + " --log " + log.string()),
+                                &text))
+        << text;
     // Snapshots never disturb the render.
     const Image a = read_image(plain.string()), b = read_image(logged.string());
-    EXPECT_EQ(0, std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(Rgb))) << integrator;
+    EXPECT_EQ(0, std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(Rgb)))
+        << integrator;
     const auto rows = read_csv(log);
     ASSERT_EQ(rows.size(), 5u) << integrator;  // header + 1, 2, 4, 8
     EXPECT_EQ(rows[0][0], "per_pixel");
-    for (int i = 1; i <= 4; ++i) EXPECT_EQ(std::stod(rows[size_t(i)][0]), double(1 << (i - 1))) << integrator;
+    for (int i = 1; i <= 4; ++i)
+      EXPECT_EQ(std::stod(rows[size_t(i)][0]), double(1 << (i - 1))) << integrator;
     if (integrator == "mlt") {
       EXPECT_EQ(rows[0].back(), "acceptance_bidir");
     }
@@ -454,8 +553,11 @@ TEST(CliConvergenceLog, RowsAtPowersOfTwoAndTheImageIsUnchanged) {
     EXPECT_NEAR(std::stod(rows[4][5]), m.mean_ratio, 1e-5) << integrator;
   }
   // A log needs a reference of the right size.
-  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() + " --log " + (dir / "x.csv").string(),
+  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() + " --log " +
+                           (dir / "x.csv").string(),
                        "--reference", dir / "o.exr");
-  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() + " --width 8 --height 8 --reference " +
-                       (dir / "ref.pfm").string() + " --log " + (dir / "x.csv").string(), "ref.pfm", dir / "o.exr");
+  expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() +
+                           " --width 8 --height 8 --reference " + (dir / "ref.pfm").string() +
+                           " --log " + (dir / "x.csv").string(),
+                       "ref.pfm", dir / "o.exr");
 }
