@@ -66,6 +66,18 @@ std::optional<ArcFrame> arc_frame(const Vec3& current, const Vec3& guide) {
   return ArcFrame{w2, perpendicular / sine, angle};
 }
 
+// great_arc_log_density_ratio from the sines of the two angles.
+double arc_log_density_ratio(double lambda, double sine_proposed, double sine_current,
+                             const StretchParams& params) {
+  const double planar = linear_log_density_ratio(lambda, params, 2);
+  if (planar == kNegativeInfinity) return kNegativeInfinity;
+  // For Goodman-Weare's g, planar is log l, and log l - log l is 0 exactly: the two logs are
+  // skipped there (issue 21), with the very same result.
+  const double planar_over_lambda =
+      params.distribution == StretchDistribution::InverseSqrt ? 0.0 : planar - std::log(lambda);
+  return planar_over_lambda + std::log(sine_proposed) - std::log(sine_current);
+}
+
 }  // namespace
 
 std::optional<Vec3> great_arc_point(const Vec3& current, const Vec3& guide, double lambda) {
@@ -81,10 +93,7 @@ double great_arc_log_density_ratio(double lambda, double angle_current, double a
     return kNegativeInfinity;
   // g(1/l)/g(l) * l^(N-2) with N = 2 is linear_log_density_ratio; the sphere replaces the
   // planar radius ratio r'/r = l by sin(theta')/sin(theta), hence * sin(l W) / (l sin W).
-  const double planar = linear_log_density_ratio(lambda, params, 2);
-  if (planar == kNegativeInfinity) return kNegativeInfinity;
-  return planar - std::log(lambda) + std::log(std::sin(angle_proposed)) -
-         std::log(std::sin(angle_current));
+  return arc_log_density_ratio(lambda, std::sin(angle_proposed), std::sin(angle_current), params);
 }
 
 double great_arc_log_density_ratio_between(const Vec3& from, const Vec3& to, const Vec3& guide,
@@ -111,9 +120,11 @@ GreatArcProposal propose_great_arc(const Vec3& current, const Vec3& guide,
   proposal.angle_proposed = proposal.lambda * frame->angle;
   if (!arc_angle_is_usable(proposal.angle_proposed)) return proposal;
   const double angle = proposal.angle_proposed;
-  proposal.direction = Vec3(std::cos(angle) * frame->guide + std::sin(angle) * frame->tangent);
-  proposal.log_density_ratio = great_arc_log_density_ratio(proposal.lambda, proposal.angle_current,
-                                                           proposal.angle_proposed, params);
+  const double sine = std::sin(angle);
+  proposal.direction = Vec3(std::cos(angle) * frame->guide + sine * frame->tangent);
+  // great_arc_log_density_ratio, with the sine just taken (the angles are usable here).
+  proposal.log_density_ratio =
+      arc_log_density_ratio(proposal.lambda, sine, std::sin(proposal.angle_current), params);
   proposal.valid = std::isfinite(proposal.log_density_ratio);
   return proposal;
 }

@@ -87,7 +87,8 @@ double linear_log_density_ratio(double lambda, const StretchParams& params, int 
   if (!(lambda > 0.0)) return kNegativeInfinity;
   // Support edges: 1/lambda of a boundary lambda can round just outside [1/a, a]; the
   // closed-support distributions are symmetric under inversion, so use the exact formula.
-  const double jacobian = (dimension - 2) * std::log(lambda);
+  // (N - 2) log l, which is 0 in two dimensions: the log is taken only where it counts.
+  const double jacobian = dimension == 2 ? 0.0 : (dimension - 2) * std::log(lambda);
   switch (params.distribution) {
     case StretchDistribution::InverseSqrt:
       return std::log(lambda) + jacobian;  // g(1/l) / g(l) = l
