@@ -31,6 +31,9 @@ inline bool all_at_least(std::span<const double> values, double bound) {
   const double* v = values.data();
   Mask2 all = {-1, -1};
   size_t n = 0;
+  for (; n + 8 <= count; n += 8)  // eight at a time: the loop's own work was half the cost
+    all &= (load2(v + n) >= bound) & (load2(v + n + 2) >= bound) & (load2(v + n + 4) >= bound) &
+           (load2(v + n + 6) >= bound);
   for (; n + 2 <= count; n += 2) all &= load2(v + n) >= bound;
   bool result = (all[0] & all[1]) != 0;
   if (n < count) result &= v[n] >= bound;

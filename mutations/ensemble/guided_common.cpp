@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <optional>
 
 #include "mutations/ensemble/guide_lanes.h"
 
@@ -35,19 +36,6 @@ PathVertex guide_vertex(const GuideView& guides, size_t n, int i) {
     v.sky_direction = guides.sky_directions(i)[n];
   }
   return v;
-}
-
-SimilarityParams similarity_params(const MutationContext& ctx) {
-  SimilarityParams params;
-  if (ctx.ensemble && ctx.ensemble->params().similarity_length > 0.0)
-    params.length_scale = ctx.ensemble->params().similarity_length;
-  return params;
-}
-
-StretchParams stretch_params(const MutationContext& ctx) {
-  StretchParams params;
-  if (ctx.ensemble) params.alpha = ctx.ensemble->alpha();
-  return params;
 }
 
 void vertex_similarities(const PathVertex& a, const GuideView& guides, int i,
@@ -119,19 +107,20 @@ void path_similarities(const Path& x, const GuideView& guides, int first, int la
   }
 }
 
-// path_similarities as plain doubles: out[n] = ((1 * S_first) * S_first+1) * ... formed as
-// SimilarityProduct::multiply forms them, true when every product stayed plain (every factor
-// and every partial product >= kRenormalise, so that the products' log parts are 0 and their
-// values are out[n]); false when some did not (out is then meaningless). The products cost
-// more than the rows they multiply (issue 21).
-bool plain_path_similarities(const Path& x, const GuideView& guides, int first, int last,
-                             const SimilarityParams& params, std::span<double> out,
-                             SimilarityRows* kept, const SimilarityRows* reuse) {
+// path_similarities as plain doubles: the products ((1 * S_first) * S_first+1) * ... formed
+// as SimilarityProduct::multiply forms them, or nothing when some product did not stay plain
+// (every factor and every partial product >= kRenormalise, so that the products' log parts
+// are 0 and their values are the doubles). The weights are `out`, or, where a single row is
+// the whole product (1 * S is S exactly), that row itself: copying it cost as much as
+// testing it. The products cost more than the rows they multiply (issue 21).
+std::optional<std::span<const double>> plain_path_similarities(
+    const Path& x, const GuideView& guides, int first, int last, const SimilarityParams& params,
+    std::span<double> out, SimilarityRows* kept, const SimilarityRows* reuse) {
   assert(out.size() == guides.size());
   const size_t count = guides.size();
   GuideBuffer<double> scratch(count);
   if (kept) kept->assign(x, first, last, count);
-  bool multiplied = false;  // whether out holds a product yet (1 * S is S exactly)
+  std::span<const double> product;  // empty: no factor yet
   for (int i = first; i <= last; ++i) {
     const PathVertex& v = x.vertices[size_t(i)];
     if (guides.same_point(i) && !v.is_environment()) {
@@ -139,26 +128,31 @@ bool plain_path_similarities(const Path& x, const GuideView& guides, int first, 
       // usual case: the same lens point), multiplying by it would change nothing.
       const double s = vertex_similarity(v.position, guides.position(0, i), params);
       if (s == 1.0) continue;
-      if (multiplied)
-        for (size_t n = 0; n < count; ++n) out[n] *= s;
-      else
+      if (product.empty())
         std::fill(out.begin(), out.end(), s);
-      multiplied = true;
+      else
+        for (size_t n = 0; n < count; ++n) out[n] = product[n] * s;
+      product = out;
       continue;
     }
     const std::span<const double> row =
         similarity_row(x, v, i, guides, params, kept, reuse, scratch);
-    if (multiplied)
-      for (size_t n = 0; n < count; ++n) out[n] *= row[n];
-    else
-      std::copy(row.begin(), row.end(), out.begin());
-    multiplied = true;
+    if (product.empty()) {
+      product = row;
+    } else {
+      for (size_t n = 0; n < count; ++n) out[n] = product[n] * row[n];
+      product = out;
+    }
   }
-  if (!multiplied) std::fill(out.begin(), out.end(), 1.0);
+  if (product.empty()) {
+    std::fill(out.begin(), out.end(), 1.0);
+    product = out;
+  }
   // Every factor is a similarity, in [0, 1] or NaN, so a rounded product is never above any
   // of its factors or earlier partial products: all of them stayed >= kRenormalise exactly
   // when the final product did (NaN fails either test).
-  return all_at_least(out, SimilarityProduct::kRenormalise);
+  if (!all_at_least(product, SimilarityProduct::kRenormalise)) return std::nullopt;
+  return product;
 }
 
 }  // namespace
@@ -195,12 +189,13 @@ void path_similarities(const Path& x, const GuideView& guides, int first, int la
 SimilarGuide choose_similar_guide(const Path& x, const GuideView& guides, int first, int last,
                                   const MutationContext& ctx, Rng& rng, SimilarityRows* rows) {
   const SimilarityParams params = similarity_params(ctx);
-  GuideBuffer<double> plain(guides.size());
-  if (plain_path_similarities(x, guides, first, last, params, plain.span(), rows, nullptr)) {
+  GuideBuffer<double> buffer(guides.size());
+  if (const auto plain =
+          plain_path_similarities(x, guides, first, last, params, buffer.span(), rows, nullptr)) {
     SimilarGuide chosen;
-    chosen.total = plain_weight_total(plain.span());
-    chosen.index = choose_index_from_plain(plain.span(), chosen.total, rng);
-    chosen.weight = plain[chosen.index];
+    chosen.total = plain_weight_total(*plain);
+    chosen.index = choose_index_from_plain(*plain, chosen.total, rng);
+    chosen.weight = (*plain)[chosen.index];
     return chosen;
   }
   GuideBuffer<SimilarityProduct> weights(guides.size());
@@ -223,15 +218,14 @@ double log_selection_ratio(const Path& y, const GuideView& guides, const Similar
   // x's rows hold for y's unmoved vertices only against the same Υ.
   const SimilarityRows* reuse = bugs.upsilon_from_proposal ? nullptr : rows_x;
   const SimilarityParams params = similarity_params(ctx);
-  GuideBuffer<double> plain(reverse_guides.size());
-  if (plain_path_similarities(y, reverse_guides, first, last, params, plain.span(), nullptr,
-                              reuse)) {
-    const double total_y = plain_weight_total(plain.span());
+  GuideBuffer<double> buffer(reverse_guides.size());
+  if (const auto plain = plain_path_similarities(y, reverse_guides, first, last, params,
+                                                 buffer.span(), nullptr, reuse)) {
+    const double total_y = plain_weight_total(*plain), weight_y = (*plain)[index];
     // (w_y / total_y) / (w_x / total_x) as one log; every factor lies in [1e-150, M], so
     // neither product under- or overflows.
-    if (chosen.total > 0.0)
-      return std::log((plain[index] * chosen.total) / (total_y * chosen.weight));
-    return (std::log(plain[index]) - std::log(total_y)) - chosen.log_probability;
+    if (chosen.total > 0.0) return std::log((weight_y * chosen.total) / (total_y * chosen.weight));
+    return (std::log(weight_y) - std::log(total_y)) - chosen.log_probability;
   }
   GuideBuffer<SimilarityProduct> weights(reverse_guides.size());
   path_similarities(y, reverse_guides, first, last, params, weights.span(), nullptr, reuse);

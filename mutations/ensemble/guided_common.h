@@ -38,9 +38,18 @@ std::optional<Proposal> unguided_step(const Mutation& fallback, const Path& x, R
 // position and its sky direction), from Υ's arrays: the guide's path is not touched.
 PathVertex guide_vertex(const GuideView& guides, size_t n, int i);
 
-SimilarityParams similarity_params(const MutationContext& ctx);
+inline SimilarityParams similarity_params(const MutationContext& ctx) {
+  SimilarityParams params;
+  if (ctx.ensemble && ctx.ensemble->params().similarity_length > 0.0)
+    params.length_scale = ctx.ensemble->params().similarity_length;
+  return params;
+}
 // The stretch move's distribution with this swap's α.
-StretchParams stretch_params(const MutationContext& ctx);
+inline StretchParams stretch_params(const MutationContext& ctx) {
+  StretchParams params;
+  if (ctx.ensemble) params.alpha = ctx.ensemble->alpha();
+  return params;
+}
 
 // out[n] = S(a, v^n_i) (eq. 8) for a path's vertex a at index i: points compared as points,
 // a sky vertex (of the path or of a guide) as a direction; out.size() == guides.size().

@@ -44,16 +44,31 @@ void PathTypeIndex::build(std::span<const PathType> types) {
   }
   members_.resize(types.size());
   for (size_t i = 0; i < types.size(); ++i) members_[cursor[group_of[type_of[i]]]++] = uint32_t(i);
+
+  size_t slot_count = 2;
+  while (slot_count < 2 * groups_.size()) slot_count *= 2;
+  slots_.assign(slot_count, -1);
+  for (size_t g = 0; g < groups_.size(); ++g) {
+    size_t slot = slot_hash(groups_[g].mask, groups_[g].vertices) & (slot_count - 1);
+    while (slots_[slot] >= 0) slot = (slot + 1) & (slot_count - 1);
+    slots_[slot] = int32_t(g);
+  }
+}
+
+uint64_t PathTypeIndex::slot_hash(uint64_t mask, uint8_t vertices) {
+  return (mask * 0x9e3779b97f4a7c15ull ^ uint64_t(vertices) * 0xff51afd7ed558ccdull) >> 29;
 }
 
 const PathTypeIndex::Group* PathTypeIndex::find(const PathType& type) const {
-  const auto it =
-      std::lower_bound(groups_.begin(), groups_.end(), type, [](const Group& g, const PathType& t) {
-        return std::tie(g.vertices, g.mask) < std::tie(t.vertices, t.specular_mask);
-      });
-  if (it == groups_.end() || it->vertices != type.vertices || it->mask != type.specular_mask)
-    return nullptr;
-  return &*it;
+  if (slots_.empty()) return nullptr;
+  const size_t last = slots_.size() - 1;
+  for (size_t slot = slot_hash(type.specular_mask, type.vertices) & last;;
+       slot = (slot + 1) & last) {
+    const int32_t g = slots_[slot];
+    if (g < 0) return nullptr;
+    const Group& group = groups_[size_t(g)];
+    if (group.vertices == type.vertices && group.mask == type.specular_mask) return &group;
+  }
 }
 
 std::span<const uint32_t> PathTypeIndex::members(const PathType& type) const {

@@ -47,9 +47,14 @@ class PathTypeIndex {
     uint32_t begin = 0, end = 0;  // range in members_
   };
   const Group* find(const PathType& type) const;
+  static uint64_t slot_hash(uint64_t mask, uint8_t vertices);
 
   std::vector<uint32_t> members_;  // grouped by type
-  std::vector<Group> groups_;      // sorted by (vertices, mask): binary search
+  std::vector<Group> groups_;      // sorted by (vertices, mask)
+  // Open addressing over the groups (index, or -1 for an empty slot; a power of two of them,
+  // at most half full): every guided step looks its type up, and a binary search over the
+  // groups cost as much as the rest of finding Υ (issue 21).
+  std::vector<int32_t> slots_;
 };
 
 }  // namespace emlt
