@@ -78,6 +78,25 @@ void set_covariance(TangentGaussian& gaussian, double ss, double st, double tt) 
   gaussian.log_normaliser = -std::log(kTwoPiDouble) - std::log(gaussian.chol_ss * gaussian.chol_tt);
 }
 
+// set_covariance(gaussian, variance, 0, variance) for the fallback kernel, whose variance is
+// a parameter: the factor and its log (a third of the fits fall back) are kept for the last
+// variance, per thread. The same values bit for bit.
+void set_fallback_covariance(TangentGaussian& gaussian, double variance) {
+  thread_local double last_variance = std::numeric_limits<double>::quiet_NaN();
+  thread_local TangentGaussian last;
+  if (!(variance == last_variance)) {
+    set_covariance(last, variance, 0.0, variance);
+    last_variance = variance;
+  }
+  gaussian.cov_ss = last.cov_ss;
+  gaussian.cov_st = last.cov_st;
+  gaussian.cov_tt = last.cov_tt;
+  gaussian.chol_ss = last.chol_ss;
+  gaussian.chol_ts = last.chol_ts;
+  gaussian.chol_tt = last.chol_tt;
+  gaussian.log_normaliser = last.log_normaliser;
+}
+
 }  // namespace
 
 NormalisedWeights guide_weights(const Vec3& point, const GuideSet& guides,
@@ -237,7 +256,7 @@ TangentGaussian fit_tangent_gaussian(const Vec3& centre, const Vec3& normal, con
   const double fallback_variance = params.fallback_sigma * params.fallback_sigma;
   const size_t count = guides.size();
   const auto fall_back = [&] {
-    set_covariance(gaussian, fallback_variance, 0.0, fallback_variance);
+    set_fallback_covariance(gaussian, fallback_variance);
     gaussian.fallback = true;
     gaussian.fallback_concentration = params.fallback_concentration;
   };

@@ -104,8 +104,17 @@ Vec3 sample_vmf(const Vec3& mean, double concentration, Rng& rng) {
 
 double vmf_log_pdf(double concentration, double cos_to_mean) {
   if (concentration < kUniformConcentration) return -std::log(4.0 * kPiDouble);
-  return std::log(concentration) - std::log(kTwoPiDouble) -
-         std::log(-std::expm1(-2.0 * concentration)) + concentration * (cos_to_mean - 1.0);
+  // The normaliser depends on kappa alone, and the anisotropic path perturbation's fallback
+  // evaluates one kappa all render long: its three logs and expm1 were half of a fallback
+  // density (issue 21). Kept for the last kappa, per thread; the same value bit for bit.
+  thread_local double last_concentration = std::numeric_limits<double>::quiet_NaN();
+  thread_local double last_log_normaliser = 0.0;
+  if (!(concentration == last_concentration)) {
+    last_log_normaliser = std::log(concentration) - std::log(kTwoPiDouble) -
+                          std::log(-std::expm1(-2.0 * concentration));
+    last_concentration = concentration;
+  }
+  return last_log_normaliser + concentration * (cos_to_mean - 1.0);
 }
 
 namespace {
