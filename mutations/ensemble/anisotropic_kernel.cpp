@@ -74,12 +74,13 @@ void set_covariance(TangentGaussian& gaussian, double ss, double st, double tt) 
   gaussian.chol_ss = std::sqrt(ss);
   gaussian.chol_ts = st / gaussian.chol_ss;
   gaussian.chol_tt = std::sqrt(std::max(tt - gaussian.chol_ts * gaussian.chol_ts, 0.0));
-  // log N(0 | 0, Sigma) = -log(2 pi) - log(det Sigma)/2, det = (chol_ss chol_tt)^2.
-  gaussian.log_normaliser = -std::log(kTwoPiDouble) - std::log(gaussian.chol_ss * gaussian.chol_tt);
+  // N(0 | 0, Sigma) = 1 / (2 pi sqrt(det Sigma)), det = (chol_ss chol_tt)^2; its log is
+  // taken only with the density's (DensityParts).
+  gaussian.normaliser = 1.0 / (kTwoPiDouble * (gaussian.chol_ss * gaussian.chol_tt));
 }
 
 // set_covariance(gaussian, variance, 0, variance) for the fallback kernel, whose variance is
-// a parameter: the factor and its log (a third of the fits fall back) are kept for the last
+// a parameter: the factor and its normaliser (a third of the fits fall back) are kept for the last
 // variance, per thread. The same values bit for bit.
 void set_fallback_covariance(TangentGaussian& gaussian, double variance) {
   thread_local double last_variance = std::numeric_limits<double>::quiet_NaN();
@@ -94,7 +95,7 @@ void set_fallback_covariance(TangentGaussian& gaussian, double variance) {
   gaussian.chol_ss = last.chol_ss;
   gaussian.chol_ts = last.chol_ts;
   gaussian.chol_tt = last.chol_tt;
-  gaussian.log_normaliser = last.log_normaliser;
+  gaussian.normaliser = last.normaliser;
 }
 
 }  // namespace
@@ -320,13 +321,18 @@ Vec3 sample_tangent_gaussian(const TangentGaussian& gaussian, Rng& rng) {
   return Vec3(gaussian.centre + s * gaussian.axis_s + t * gaussian.axis_t);
 }
 
-double tangent_gaussian_log_pdf(const TangentGaussian& gaussian, const Vec3& point_on_plane) {
+DensityParts tangent_gaussian_pdf_parts(const TangentGaussian& gaussian,
+                                        const Vec3& point_on_plane) {
   const DVec3 offset = DVec3(point_on_plane) - gaussian.centre;
   const double s = glm::dot(offset, gaussian.axis_s), t = glm::dot(offset, gaussian.axis_t);
   // Mahalanobis distance via the Cholesky factor: solve L y = (s, t), then |y|^2.
   const double y1 = s / gaussian.chol_ss;
   const double y2 = (t - gaussian.chol_ts * y1) / gaussian.chol_tt;
-  return gaussian.log_normaliser - 0.5 * (y1 * y1 + y2 * y2);
+  return {gaussian.normaliser, -0.5 * (y1 * y1 + y2 * y2)};
+}
+
+double tangent_gaussian_log_pdf(const TangentGaussian& gaussian, const Vec3& point_on_plane) {
+  return tangent_gaussian_pdf_parts(gaussian, point_on_plane).log();
 }
 
 double log_plane_to_surface_jacobian(double cos_at_surface, double distance_to_surface,
@@ -364,32 +370,33 @@ Vec3 sample_cast_target(const TangentGaussian& kernel, const Vec3& origin, Rng& 
 namespace {
 
 // The directional fallback's density per unit area at surface_point.
-double vmf_cast_log_area_density(const TangentGaussian& kernel, const Vec3& origin,
-                                 const Vec3& surface_point, const Vec3& surface_normal) {
+DensityParts vmf_cast_area_density_parts(const TangentGaussian& kernel, const Vec3& origin,
+                                         const Vec3& surface_point, const Vec3& surface_normal) {
   const DVec3 start(origin), axis = kernel.centre - start,
                              to_surface = DVec3(surface_point) - start;
   const double axis_length = glm::length(axis), distance = glm::length(to_surface);
-  if (!(axis_length > 0.0) || !(distance > 0.0)) return kNegativeInfinity;
+  if (!(axis_length > 0.0) || !(distance > 0.0)) return {0.0, 0.0};
   const DVec3 direction = to_surface / distance;
   const double cos_at_surface = glm::dot(direction, glm::normalize(DVec3(surface_normal)));
-  if (cos_at_surface == 0.0) return kNegativeInfinity;
+  if (cos_at_surface == 0.0) return {0.0, 0.0};
   // 1 - cos from the chord, which keeps the small angles of a concentrated lobe.
   const DVec3 chord = direction - axis / axis_length;
   const double cos_to_mean = 1.0 - 0.5 * glm::dot(chord, chord);
-  return vmf_log_pdf(kernel.fallback_concentration, cos_to_mean) +
-         std::log(std::abs(cos_at_surface) / (distance * distance));
+  DensityParts density = vmf_pdf_parts(kernel.fallback_concentration, cos_to_mean);
+  density.factor *= std::abs(cos_at_surface) / (distance * distance);
+  return density;
 }
 
 }  // namespace
 
-double ray_cast_log_area_density(const TangentGaussian& gaussian, const Vec3& origin,
-                                 const Vec3& surface_point, const Vec3& surface_normal,
-                                 double min_plane_cosine) {
+DensityParts ray_cast_area_density_parts(const TangentGaussian& gaussian, const Vec3& origin,
+                                         const Vec3& surface_point, const Vec3& surface_normal,
+                                         double min_plane_cosine) {
   if (gaussian.directional_fallback())
-    return vmf_cast_log_area_density(gaussian, origin, surface_point, surface_normal);
+    return vmf_cast_area_density_parts(gaussian, origin, surface_point, surface_normal);
   const auto plane_point = project_through_onto_plane(origin, surface_point, Vec3(gaussian.centre),
                                                       Vec3(gaussian.normal));
-  if (!plane_point) return kNegativeInfinity;
+  if (!plane_point) return {0.0, 0.0};
   const DVec3 start(origin);
   const DVec3 to_surface = DVec3(surface_point) - start, to_plane = DVec3(*plane_point) - start;
   const double distance_to_surface = glm::length(to_surface),
@@ -402,10 +409,20 @@ double ray_cast_log_area_density(const TangentGaussian& gaussian, const Vec3& or
   // point then follows the hit only through rounding errors, so neither density can be
   // evaluated: the kernel never makes such moves, in either direction (zero density), which
   // keeps forward and reverse consistent. The statistical tests show the bias otherwise.
-  if (cos_at_surface == 0.0 || std::abs(cos_at_plane) < min_plane_cosine) return kNegativeInfinity;
-  return tangent_gaussian_log_pdf(gaussian, *plane_point) +
-         log_plane_to_surface_jacobian(cos_at_surface, distance_to_surface, cos_at_plane,
-                                       distance_to_plane);
+  if (cos_at_surface == 0.0 || std::abs(cos_at_plane) < min_plane_cosine) return {0.0, 0.0};
+  DensityParts density = tangent_gaussian_pdf_parts(gaussian, *plane_point);
+  // (|cos_x'| / d_x'^2) / (|cos_z'| / d_z'^2), the plane-to-surface Jacobian.
+  density.factor *= (std::abs(cos_at_surface) * (distance_to_plane * distance_to_plane)) /
+                    (std::abs(cos_at_plane) * (distance_to_surface * distance_to_surface));
+  return density;
+}
+
+double ray_cast_log_area_density(const TangentGaussian& gaussian, const Vec3& origin,
+                                 const Vec3& surface_point, const Vec3& surface_normal,
+                                 double min_plane_cosine) {
+  return ray_cast_area_density_parts(gaussian, origin, surface_point, surface_normal,
+                                     min_plane_cosine)
+      .log();
 }
 
 AnisotropicProposal propose_anisotropic_on_plane(const Vec3& current, const Vec3& normal,

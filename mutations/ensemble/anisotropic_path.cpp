@@ -142,21 +142,27 @@ bool sample_and_cast(const Scene& scene, const TangentGaussian& gaussian, const 
   return true;
 }
 
-// log density per unit area of reaching `to` by sampling `gaussian` and casting from `from`.
-// With the keep_degenerate_casts bug, rays parallel to the plane are evaluated anyway.
-double cast_density(const TangentGaussian& gaussian, const PathVertex& from, const PathVertex& to,
-                    const ensemble::InjectedBugs& bugs) {
-  return ensemble::ray_cast_log_area_density(
+// The density per unit area of reaching `to` by sampling `gaussian` and casting from `from`,
+// as parts: a step multiplies its densities and takes one log of the reverse over the forward
+// product. With the keep_degenerate_casts bug, rays parallel to the plane are evaluated anyway.
+ensemble::DensityParts cast_density(const TangentGaussian& gaussian, const PathVertex& from,
+                                    const PathVertex& to, const ensemble::InjectedBugs& bugs) {
+  return ensemble::ray_cast_area_density_parts(
       gaussian, from.position, to.position, to.normal,
       bugs.keep_degenerate_casts ? 0.0 : ensemble::kMinPlaneCosine);
+}
+
+ensemble::DensityParts product(ensemble::DensityParts a, const ensemble::DensityParts& b) {
+  a *= b;
+  return a;
 }
 
 // y was sampled, so T(x->y) > 0 in exact arithmetic; a forward density that evaluates to zero
 // means the cast ran (within rounding) along the kernel's plane, where the plane point is
 // not a function of the hit. Such moves are refused, exactly as their reverse evaluates to
 // zero, so both directions agree; accepting them with the infinite ratio biases the image.
-bool refused(double log_forward, const ensemble::InjectedBugs& bugs) {
-  return !std::isfinite(log_forward) && !bugs.keep_degenerate_casts;
+bool refused(const ensemble::DensityParts& forward, const ensemble::InjectedBugs& bugs) {
+  return !forward.positive_and_finite() && !bugs.keep_degenerate_casts;
 }
 
 bool usable(const PathVertex& v) {
@@ -221,19 +227,20 @@ std::optional<Proposal> AnisotropicPathPerturbation::toward_camera(
   if (!perturbation::finish_proposal(scene, x, y, b, a)) return std::nullopt;
 
   // Both moves are densities per unit area of (y_b, y_a) and of (x_b, x_a): no Jacobian.
-  const double log_forward = cast_density(b_x, xv[size_t(c)], yv[size_t(b)], bugs_) +
-                             cast_density(a_x, yv[size_t(b)], yv[size_t(a)], bugs_);
-  if (refused(log_forward, bugs_)) return std::nullopt;
+  const ensemble::DensityParts forward =
+      product(cast_density(b_x, xv[size_t(c)], yv[size_t(b)], bugs_),
+              cast_density(a_x, yv[size_t(b)], yv[size_t(a)], bugs_));
+  if (refused(forward, bugs_)) return std::nullopt;
   const SimilarityRow s_yb(yv[size_t(b)], guides, b, ctx), s_ya(yv[size_t(a)], guides, a, ctx);
   const TangentGaussian b_y =
       reverse_fit(b_x, yv[size_t(b)], GuideData(points_b, s_xc, &s_yb), world, bugs_);
   const TangentGaussian a_y =
       reverse_fit(a_x, yv[size_t(a)], GuideData(points_a, s_yb, &s_ya), world, bugs_);
-  const double log_reverse = bugs_.drop_reverse_density
-                                 ? log_forward
-                                 : cast_density(b_y, xv[size_t(c)], xv[size_t(b)], bugs_) +
-                                       cast_density(a_y, xv[size_t(b)], xv[size_t(a)], bugs_);
-  proposal.log_reverse_over_forward = log_reverse - log_forward;
+  const ensemble::DensityParts reverse =
+      bugs_.drop_reverse_density ? forward
+                                 : product(cast_density(b_y, xv[size_t(c)], xv[size_t(b)], bugs_),
+                                           cast_density(a_y, xv[size_t(b)], xv[size_t(a)], bugs_));
+  proposal.log_reverse_over_forward = ensemble::log_ratio(reverse, forward);
   if (std::isnan(proposal.log_reverse_over_forward)) return std::nullopt;
   return proposal;
 }
@@ -275,21 +282,22 @@ std::optional<Proposal> AnisotropicPathPerturbation::from_camera(const Path& x,
   if (is_black(connection) || !is_finite(connection)) return std::nullopt;
   if (!perturbation::finish_proposal(scene, x, y, b, a)) return std::nullopt;  // as above
 
-  const double log_forward = ensemble::tangent_gaussian_log_pdf(image_x, on_image_plane(raster)) +
-                             cast_density(world_x, yv[size_t(a)], yv[size_t(b)], bugs_);
-  if (refused(log_forward, bugs_)) return std::nullopt;
+  const ensemble::DensityParts forward =
+      product(ensemble::tangent_gaussian_pdf_parts(image_x, on_image_plane(raster)),
+              cast_density(world_x, yv[size_t(a)], yv[size_t(b)], bugs_));
+  if (refused(forward, bugs_)) return std::nullopt;
   const SimilarityRow s_ya(yv[size_t(a)], guides, a, ctx), s_yb(yv[size_t(b)], guides, b, ctx);
   const TangentGaussian image_y = bugs_.sigma_not_refitted
                                       ? recentred(image_x, on_image_plane(raster))
                                       : fit_at_raster(raster, GuideData(image_points, s_ya), image);
   const TangentGaussian world_y =
       reverse_fit(world_x, yv[size_t(b)], GuideData(world_points, s_xc, &s_yb), world, bugs_);
-  const double log_reverse =
+  const ensemble::DensityParts reverse =
       bugs_.drop_reverse_density
-          ? log_forward
-          : ensemble::tangent_gaussian_log_pdf(image_y, on_image_plane(x.raster())) +
-                cast_density(world_y, xv[size_t(a)], xv[size_t(b)], bugs_);
-  proposal.log_reverse_over_forward = log_reverse - log_forward +
+          ? forward
+          : product(ensemble::tangent_gaussian_pdf_parts(image_y, on_image_plane(x.raster())),
+                    cast_density(world_y, xv[size_t(a)], xv[size_t(b)], bugs_));
+  proposal.log_reverse_over_forward = ensemble::log_ratio(reverse, forward) +
                                       perturbation::log_eye_jacobian(x, a) -
                                       perturbation::log_eye_jacobian(y, a);
   if (std::isnan(proposal.log_reverse_over_forward)) return std::nullopt;

@@ -117,6 +117,18 @@ double vmf_log_pdf(double concentration, double cos_to_mean) {
   return last_log_normaliser + concentration * (cos_to_mean - 1.0);
 }
 
+DensityParts vmf_pdf_parts(double concentration, double cos_to_mean) {
+  if (concentration < kUniformConcentration) return {1.0 / (4.0 * kPiDouble), 0.0};
+  // kappa / (2 pi (1 - e^(-2 kappa))), kept for the last kappa as above.
+  thread_local double last_concentration = std::numeric_limits<double>::quiet_NaN();
+  thread_local double last_normaliser = 0.0;
+  if (!(concentration == last_concentration)) {
+    last_normaliser = concentration / (kTwoPiDouble * -std::expm1(-2.0 * concentration));
+    last_concentration = concentration;
+  }
+  return {last_normaliser, concentration * (cos_to_mean - 1.0)};
+}
+
 namespace {
 
 double cosine_between(const Vec3& a, const Vec3& b) {

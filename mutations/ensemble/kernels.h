@@ -14,6 +14,7 @@
 // an MH chain on a known target (tests/statistical/ensemble_kernel_test.cpp).
 //
 // Numerics: the interface uses emlt's float vectors; all arithmetic is in double.
+#include <cmath>
 #include <optional>
 #include <span>
 
@@ -164,9 +165,9 @@ struct AnisotropicParams {
 // A Gaussian on the tangent plane of `centre`, mean at the centre.
 struct TangentGaussian {
   DVec3 centre{0.0}, axis_s{1, 0, 0}, axis_t{0, 1, 0}, normal{0, 0, 1};
-  double cov_ss = 1.0, cov_st = 0.0, cov_tt = 1.0;     // covariance in (s, t) coordinates
-  double chol_ss = 1.0, chol_ts = 0.0, chol_tt = 1.0;  // lower Cholesky factor
-  double log_normaliser = 0.0;                         // -log(2 pi) - log(det) / 2
+  double cov_ss = 1.0, cov_st = 0.0, cov_tt = 1.0;           // covariance in (s, t) coordinates
+  double chol_ss = 1.0, chol_ts = 0.0, chol_tt = 1.0;        // lower Cholesky factor
+  double normaliser = 1.0 / (2.0 * 3.14159265358979323846);  // 1 / (2 pi sqrt(det))
   double effective_guides = 0.0;
   bool fallback = true;
   double fallback_concentration = 0.0;  // copied from the parameters when falling back
@@ -180,6 +181,29 @@ TangentGaussian fit_tangent_gaussian(const Vec3& centre, const Vec3& normal, con
 Vec3 sample_tangent_gaussian(const TangentGaussian& gaussian, Rng& rng);
 // log density per unit plane area at a point of the plane (its normal component is ignored).
 double tangent_gaussian_log_pdf(const TangentGaussian& gaussian, const Vec3& point_on_plane);
+
+// A density as factor * exp(exponent): a move that multiplies several densities takes one
+// log of the ratio of the products instead of one log a density and a fit (issue 21).
+// factor 0 is a zero density.
+struct DensityParts {
+  double factor = 1.0, exponent = 0.0;
+  DensityParts& operator*=(const DensityParts& other) {
+    factor *= other.factor;
+    exponent += other.exponent;
+    return *this;
+  }
+  double log() const { return std::log(factor) + exponent; }
+  bool positive_and_finite() const {
+    return factor > 0.0 && std::isfinite(factor) && std::isfinite(exponent);
+  }
+};
+// log(numerator / denominator) with one log.
+inline double log_ratio(const DensityParts& numerator, const DensityParts& denominator) {
+  return std::log(numerator.factor / denominator.factor) +
+         (numerator.exponent - denominator.exponent);
+}
+DensityParts tangent_gaussian_pdf_parts(const TangentGaussian& gaussian,
+                                        const Vec3& point_on_plane);
 
 // General surfaces. The real strategy casts a ray from the previous vertex `origin` through
 // z' and takes the first hit x' (normal N'). Per unit area of the surface, the density is
@@ -209,6 +233,10 @@ inline constexpr double kMinPlaneCosine = 1e-3;
 double ray_cast_log_area_density(const TangentGaussian& gaussian, const Vec3& origin,
                                  const Vec3& surface_point, const Vec3& surface_normal,
                                  double min_plane_cosine = kMinPlaneCosine);
+// The same density as parts (ray_cast_log_area_density is its log()).
+DensityParts ray_cast_area_density_parts(const TangentGaussian& gaussian, const Vec3& origin,
+                                         const Vec3& surface_point, const Vec3& surface_normal,
+                                         double min_plane_cosine = kMinPlaneCosine);
 
 // Standalone planar version: the surface is the tangent plane itself, so the ray-cast is
 // the identity and the Jacobian is 1.
@@ -258,6 +286,8 @@ double vmf_concentration_from_resultant(double mean_resultant_length);
 Vec3 sample_vmf(const Vec3& mean, double concentration, Rng& rng);
 // log density per unit solid angle at a direction whose cosine to the mean is cos_to_mean.
 double vmf_log_pdf(double concentration, double cos_to_mean);
+// The same density as parts: factor the normaliser, exponent kappa (cos - 1).
+DensityParts vmf_pdf_parts(double concentration, double cos_to_mean);
 
 struct DirectionalProposal {
   Vec3 direction{0.0f, 0.0f, 1.0f};
