@@ -164,7 +164,7 @@ std::optional<Path> BidirectionalMutation::regenerate(const Path& x, int a, int 
   const int t = n_new - s;
   // Light side: a fresh light subpath, or a walk on from the kept prefix end. The walks'
   // buffers are reused across calls on a thread: a chain step should not allocate for them.
-  thread_local std::vector<PathVertex> light_walk, eye_walk;
+  thread_local PathVertices light_walk, eye_walk;
   light_walk.clear();
   eye_walk.clear();
   if (s > 0) {

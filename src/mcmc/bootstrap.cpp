@@ -20,7 +20,7 @@ namespace {
 constexpr uint64_t kBootstrapStream = 0xb0075ull << 40;
 
 struct SampleScratch {
-  std::vector<PathVertex> light, camera;
+  PathVertices light, camera;
   VertexDensity densities[kMaxPathVertices];
 };
 

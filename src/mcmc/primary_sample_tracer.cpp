@@ -13,7 +13,7 @@ namespace {
 constexpr int kCameraStream = 0, kLightStream = 1, kConnectionStream = 2;
 
 // Scratch per thread: evaluations run in parallel on the chains' threads.
-thread_local std::vector<PathVertex> t_light, t_camera;
+thread_local PathVertices t_light, t_camera;
 
 }  // namespace
 

@@ -21,7 +21,7 @@ std::optional<PathVertex> trace_to_vertex(const Scene& scene, const Ray& ray) {
 
 template <class Sampler>
 int walk(const Scene& scene, Sampler& rng, TransportMode mode, int steps, int rr_depth,
-         std::vector<PathVertex>& subpath, InvalidCounter* invalid) {
+         PathVertices& subpath, InvalidCounter* invalid) {
   if (subpath.size() < 2) return 0;
   const bool importance = mode == TransportMode::Importance;
   int added = 0;
@@ -118,7 +118,7 @@ int walk(const Scene& scene, Sampler& rng, TransportMode mode, int steps, int rr
 
 template <class Sampler>
 int light_subpath(const Scene& scene, Sampler& rng, const WalkLimits& limits,
-                  std::vector<PathVertex>& subpath, InvalidCounter* invalid) {
+                  PathVertices& subpath, InvalidCounter* invalid) {
   subpath.clear();
   if (limits.max_vertices < 1) return 0;
   float selection = 0.0f;
@@ -168,7 +168,7 @@ int light_subpath(const Scene& scene, Sampler& rng, const WalkLimits& limits,
 
 template <class Sampler>
 int camera_subpath(const Scene& scene, Sampler& rng, const Vec2& raster, const Vec2& u_lens,
-                   const WalkLimits& limits, std::vector<PathVertex>& subpath,
+                   const WalkLimits& limits, PathVertices& subpath,
                    InvalidCounter* invalid) {
   subpath.clear();
   if (limits.max_vertices < 1) return 0;
@@ -199,29 +199,29 @@ int camera_subpath(const Scene& scene, Sampler& rng, const Vec2& raster, const V
 }  // namespace
 
 int random_walk(const Scene& scene, Rng& rng, TransportMode mode, int steps, int rr_depth,
-                std::vector<PathVertex>& subpath, InvalidCounter* invalid) {
+                PathVertices& subpath, InvalidCounter* invalid) {
   return walk(scene, rng, mode, steps, rr_depth, subpath, invalid);
 }
 int random_walk(const Scene& scene, SampleSource& samples, TransportMode mode, int steps,
-                int rr_depth, std::vector<PathVertex>& subpath, InvalidCounter* invalid) {
+                int rr_depth, PathVertices& subpath, InvalidCounter* invalid) {
   return walk(scene, samples, mode, steps, rr_depth, subpath, invalid);
 }
 int generate_light_subpath(const Scene& scene, Rng& rng, const WalkLimits& limits,
-                           std::vector<PathVertex>& subpath, InvalidCounter* invalid) {
+                           PathVertices& subpath, InvalidCounter* invalid) {
   return light_subpath(scene, rng, limits, subpath, invalid);
 }
 int generate_light_subpath(const Scene& scene, SampleSource& samples, const WalkLimits& limits,
-                           std::vector<PathVertex>& subpath, InvalidCounter* invalid) {
+                           PathVertices& subpath, InvalidCounter* invalid) {
   return light_subpath(scene, samples, limits, subpath, invalid);
 }
 int generate_camera_subpath(const Scene& scene, Rng& rng, const Vec2& raster, const Vec2& u_lens,
-                            const WalkLimits& limits, std::vector<PathVertex>& subpath,
+                            const WalkLimits& limits, PathVertices& subpath,
                             InvalidCounter* invalid) {
   return camera_subpath(scene, rng, raster, u_lens, limits, subpath, invalid);
 }
 int generate_camera_subpath(const Scene& scene, SampleSource& samples, const Vec2& raster,
                             const Vec2& u_lens, const WalkLimits& limits,
-                            std::vector<PathVertex>& subpath, InvalidCounter* invalid) {
+                            PathVertices& subpath, InvalidCounter* invalid) {
   return camera_subpath(scene, samples, raster, u_lens, limits, subpath, invalid);
 }
 

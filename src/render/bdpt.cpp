@@ -58,7 +58,7 @@ std::vector<Tile> make_tiles(int width, int height) {
 
 // Everything one pixel sample needs; the vectors are reused across samples of a tile.
 struct SampleScratch {
-  std::vector<PathVertex> light, camera;
+  PathVertices light, camera;
   VertexDensity densities[kMaxPathVertices];
 };
 

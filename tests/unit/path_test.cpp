@@ -41,7 +41,7 @@ struct SampledPath {
 void for_each_random_path(const Scene& scene, int samples,
                           const std::function<void(const SampledPath&)>& visit) {
   const WalkLimits limits{5, -1};
-  std::vector<PathVertex> light, camera;
+  PathVertices light, camera;
   for (int i = 0; i < samples; ++i) {
     Rng rng(42, uint64_t(i));
     const Vec2 raster =
@@ -87,7 +87,7 @@ void for_each_random_path(const Scene& scene, int samples,
 }  // namespace
 
 TEST(PathType, HeckbertNotation) {
-  std::vector<PathVertex> vertices(5);
+  PathVertices vertices(5);
   vertices[2].delta = true;
   const PathType type = compute_path_type(vertices);
   EXPECT_EQ(type.to_string(), "L D S D E");
@@ -237,7 +237,7 @@ TEST(PathLayer, NoNonFiniteValueLeavesIt) {
   for (const char* name : kScenes) {
     const auto scene = shipped_scene(name);
     InvalidCounter invalid;
-    std::vector<PathVertex> light, camera;
+    PathVertices light, camera;
     for (int i = 0; i < 2000; ++i) {
       Rng rng(7, uint64_t(i));
       generate_camera_subpath(*scene, rng, rng.uniform2() * 16.0f, rng.uniform2(), {12, 3}, camera,
@@ -261,7 +261,7 @@ TEST(PathLayer, NoNonFiniteValueLeavesIt) {
 
 TEST(Connection, SpecularVerticesAreNeverConnectedAndMarkTheirPathType) {
   const auto scene = shipped_scene("cornell-glass");
-  std::vector<PathVertex> light, camera;
+  PathVertices light, camera;
   int glass_vertices = 0, specular_types = 0;
   for (int i = 0; i < 500; ++i) {
     Rng rng(3, uint64_t(i));
@@ -294,7 +294,7 @@ TEST(Connection, SpecularVerticesAreNeverConnectedAndMarkTheirPathType) {
 TEST(Connection, CameraVertexRasterIsWhereThePathLands) {
   const auto scene = shipped_scene("cornell-box");
   const Camera& camera = scene->camera();
-  std::vector<PathVertex> light, camera_path;
+  PathVertices light, camera_path;
   int lens_vertices = 0;
   for (int i = 0; i < 200; ++i) {
     Rng rng(9, uint64_t(i));

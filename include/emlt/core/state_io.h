@@ -33,8 +33,8 @@ class StateWriter {
     data_.append(s.data(), s.size());
   }
   // A vector of plain values: its length, then its elements as they lie in memory.
-  template <typename T>
-  void put_vector(const std::vector<T>& values) {
+  template <typename T, typename Allocator>
+  void put_vector(const std::vector<T, Allocator>& values) {
     static_assert(std::is_trivially_copyable_v<T>);
     put<uint64_t>(values.size());
     data_.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
@@ -86,8 +86,8 @@ class StateReader {
     return get_vector_data<T>(size);
   }
   // The same into `values`, reusing its storage.
-  template <typename T>
-  void get_vector_into(std::vector<T>& values, uint64_t limit) {
+  template <typename T, typename Allocator>
+  void get_vector_into(std::vector<T, Allocator>& values, uint64_t limit) {
     static_assert(std::is_trivially_copyable_v<T>);
     const uint64_t size = get<uint64_t>();
     if (size > limit || size > remaining() / sizeof(T))

@@ -55,7 +55,7 @@ class PrimarySampleTracer {
 
  private:
   struct Scratch {
-    std::vector<PathVertex> light, camera;
+    PathVertices light, camera;
     VertexDensity densities[kMaxPathVertices];
   };
   // Strategy (s, t) of the subpaths in scratch, MIS-weighted; adds its splat to `out`.

@@ -13,7 +13,7 @@
 namespace emlt {
 
 struct Path {
-  std::vector<PathVertex> vertices;  // x0 ... xk
+  PathVertices vertices;  // x0 ... xk
   PathType type;
 
   int edges() const { return int(vertices.size()) - 1; }

@@ -22,18 +22,18 @@ struct WalkLimits {
 // Samples a light (by power), an emission ray and then walks in importance mode.
 // Clears `subpath`; returns its vertex count (0 when no light emits).
 int generate_light_subpath(const Scene& scene, Rng& rng, const WalkLimits& limits,
-                           std::vector<PathVertex>& subpath, InvalidCounter* invalid = nullptr);
+                           PathVertices& subpath, InvalidCounter* invalid = nullptr);
 int generate_light_subpath(const Scene& scene, SampleSource& samples, const WalkLimits& limits,
-                           std::vector<PathVertex>& subpath, InvalidCounter* invalid = nullptr);
+                           PathVertices& subpath, InvalidCounter* invalid = nullptr);
 
 // The camera ray through `raster` (lens sample u_lens), then a walk in radiance mode.
 // An escaping ray adds an environment vertex when the scene has a sky.
 int generate_camera_subpath(const Scene& scene, Rng& rng, const Vec2& raster, const Vec2& u_lens,
-                            const WalkLimits& limits, std::vector<PathVertex>& subpath,
+                            const WalkLimits& limits, PathVertices& subpath,
                             InvalidCounter* invalid = nullptr);
 int generate_camera_subpath(const Scene& scene, SampleSource& samples, const Vec2& raster,
                             const Vec2& u_lens, const WalkLimits& limits,
-                            std::vector<PathVertex>& subpath, InvalidCounter* invalid = nullptr);
+                            PathVertices& subpath, InvalidCounter* invalid = nullptr);
 
 // Extends `subpath` by at most `steps` vertices from its last vertex, which must have a
 // predecessor in the vector (it supplies the incoming direction). Radiance mode walks
@@ -41,8 +41,8 @@ int generate_camera_subpath(const Scene& scene, SampleSource& samples, const Vec
 // an escape, an absorbed or invalid sample, or Russian roulette (rr_depth counts the
 // subpath's segments; -1 disables it, as MLT mutations require). Returns vertices added.
 int random_walk(const Scene& scene, Rng& rng, TransportMode mode, int steps, int rr_depth,
-                std::vector<PathVertex>& subpath, InvalidCounter* invalid = nullptr);
+                PathVertices& subpath, InvalidCounter* invalid = nullptr);
 int random_walk(const Scene& scene, SampleSource& samples, TransportMode mode, int steps,
-                int rr_depth, std::vector<PathVertex>& subpath, InvalidCounter* invalid = nullptr);
+                int rr_depth, PathVertices& subpath, InvalidCounter* invalid = nullptr);
 
 }  // namespace emlt

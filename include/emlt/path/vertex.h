@@ -20,8 +20,10 @@
 //   this vertex, but not the scattering at it: f/p of the subpath so far.
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 #include "emlt/core/frame.h"
+#include "emlt/core/recycling_allocator.h"
 #include "emlt/scene/bsdf.h"
 #include "emlt/scene/light.h"
 
@@ -74,6 +76,10 @@ struct PathVertex {
   bool is_camera() const { return kind == VertexKind::Camera; }
   bool is_emitter() const { return light != nullptr; }
 };
+
+// A path's vertices: recycled blocks (recycling_allocator.h), as every mutation makes one.
+using PathVertices = std::vector<PathVertex, RecyclingAllocator<PathVertex>>;
+
 
 // Counts non-finite values the layer produced and dropped (they never leave it).
 struct InvalidCounter {

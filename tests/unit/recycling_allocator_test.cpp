@@ -1,0 +1,56 @@
+// The allocator behind path vertex vectors: freed blocks come back for the next request of
+// their size class, on whichever thread frees them, and a vector's contents are unaffected.
+#include "emlt/core/recycling_allocator.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <thread>
+
+#include "emlt/path/vertex.h"
+
+using namespace emlt;
+
+TEST(RecyclingAllocator, AFreedBlockServesTheNextRequestOfItsClass) {
+  if (!recycling::kEnabled) GTEST_SKIP() << "recycling is off under AddressSanitizer";
+  void* a = recycling::allocate(1000);  // the 1 KB class
+  std::memset(a, 0xab, 1024);           // the whole class is usable
+  recycling::deallocate(a, 1000);
+  void* b = recycling::allocate(700);  // another size of the same class
+  EXPECT_EQ(a, b);
+  void* c = recycling::allocate(2000);  // another class: a new block
+  EXPECT_NE(c, b);
+  recycling::deallocate(b, 700);
+  recycling::deallocate(c, 2000);
+  void* big = recycling::allocate(size_t(1) << 20);  // beyond the classes: the heap's own
+  recycling::deallocate(big, size_t(1) << 20);
+}
+
+TEST(RecyclingAllocator, BlocksFreedOnAnotherThreadJoinItsCache) {
+  if (!recycling::kEnabled) GTEST_SKIP() << "recycling is off under AddressSanitizer";
+  void* made = nullptr;
+  std::thread maker([&] { made = recycling::allocate(300); });
+  maker.join();
+  recycling::deallocate(made, 300);        // freed here: this thread's cache now has it
+  void* again = recycling::allocate(512);  // the same 512-byte class
+  EXPECT_EQ(again, made);
+  std::memset(again, 0, 512);
+  recycling::deallocate(again, 512);
+}
+
+TEST(RecyclingAllocator, PathVertexVectorsKeepTheirContentsThroughGrowthAndReuse) {
+  for (int round = 0; round < 3; ++round) {
+    PathVertices path;
+    for (int i = 0; i < 40; ++i) {  // grows through every class up to 8 KB
+      PathVertex v;
+      v.position = Vec3(float(i), float(round), 1.0f);
+      v.pdf_from_eye = float(i) * 0.5f;
+      path.push_back(v);
+    }
+    PathVertices copy = path;
+    for (int i = 0; i < 40; ++i) {
+      ASSERT_EQ(copy[size_t(i)].position, Vec3(float(i), float(round), 1.0f));
+      ASSERT_EQ(copy[size_t(i)].pdf_from_eye, float(i) * 0.5f);
+    }
+  }
+}
