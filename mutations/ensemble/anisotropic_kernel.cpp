@@ -55,7 +55,6 @@ namespace emlt::ensemble {
 namespace {
 
 constexpr double kTwoPiDouble = 6.28318530717958647692;
-constexpr double kNegativeInfinity = -std::numeric_limits<double>::infinity();
 
 // Orthonormal tangent basis in double precision from emlt's Frame (re-orthonormalised:
 // the float basis is orthonormal only to ~1e-7).
