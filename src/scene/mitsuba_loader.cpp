@@ -2,6 +2,7 @@
 // Everything else is reported as a warning naming the element and its line.
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <optional>
 #include <string_view>
@@ -110,6 +111,10 @@ class MitsubaSceneReader {
       const pugi::xml_node node = found.node();
       const auto file = plain_file(node);
       if (!file) continue;
+      // Regular files only, as the loader reads: a FIFO or a device named as a texture would
+      // block a task (and the loader's end, which waits for the tasks) for ever.
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(*file, ec)) continue;
       if (std::string_view(node.name()) == "texture") {
         if (is_eight_bit_image(*file)) images.push_back(*file);
         continue;

@@ -9,6 +9,8 @@
 #include <fstream>
 #include <regex>
 
+#include <sys/stat.h>
+
 #include "support/test_support.h"
 
 using namespace emlt;
@@ -362,4 +364,43 @@ TEST(ResourceLimits, AbsurdSizesAreRefusedBeforeAnythingIsAllocated) {
   expect_clean_failure("render " + (dir / "ply.xml").string() + " -o " + out.string(),
                        "huge.ply: header claims 1000000000000 face elements, more than the file's",
                        out);
+}
+
+// A FIFO named as a texture or a mesh is refused as the loader refuses any non-regular
+// file, never read: a read would block for ever (the files a Mitsuba scene names are read
+// ahead in tasks, and the loader's end waits for them). `timeout` turns a hang into a
+// failure of this test instead of the suite's.
+TEST(NotRegularFiles, FifoNamedAsTextureOrMeshIsAnErrorNotAHang) {
+  const fs::path dir = test::scratch_dir("fifo");
+  const fs::path fifo_png = dir / "texture.png", fifo_obj = dir / "mesh.obj";
+  for (const fs::path& fifo : {fifo_png, fifo_obj}) {
+    fs::remove(fifo);
+    ASSERT_EQ(0, mkfifo(fifo.c_str(), 0600)) << fifo;
+  }
+  const std::string camera = R"(<sensor type="perspective"><float name="fov" value="40"/>
+    <transform name="toWorld"><lookat origin="0,0,-4" target="0,0,0" up="0,1,0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film>
+  </sensor>)";
+  write_file(dir / "texture.xml", R"(<scene version="0.6.0">)" + camera + R"(
+  <shape type="rectangle"><bsdf type="diffuse"><texture type="bitmap" name="reflectance">
+    <string name="filename" value="texture.png"/></texture></bsdf>
+    <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+</scene>)");
+  write_file(dir / "mesh.xml", R"(<scene version="0.6.0">)" + camera + R"(
+  <shape type="obj"><string name="filename" value="mesh.obj"/>
+    <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+</scene>)");
+  for (const auto& [scene, name] :
+       {std::pair{"texture.xml", "texture.png"}, std::pair{"mesh.xml", "mesh.obj"}}) {
+    const fs::path out = dir / "o.exr";
+    std::string text;
+    const int status = test::run_command(
+        "timeout 30 " + emlt_cmd("render " + (dir / scene).string() + " -o " + out.string()),
+        &text);
+    EXPECT_NE(status, 0) << scene;
+    EXPECT_NE(status, 124) << scene << ": timed out (a blocking read)";
+    EXPECT_EQ(count_lines(text), 1) << text;
+    EXPECT_NE(text.find(name), std::string::npos) << text;
+    EXPECT_FALSE(fs::exists(out));
+  }
 }
