@@ -13,15 +13,15 @@ using namespace emlt;
 
 TEST(RecyclingAllocator, AFreedBlockServesTheNextRequestOfItsClass) {
   if (!recycling::kEnabled) GTEST_SKIP() << "recycling is off under AddressSanitizer";
-  void* a = recycling::allocate(1000);  // the 1 KB class
+  void* a = recycling::allocate(1000);  // the 1,024-byte class
   std::memset(a, 0xab, 1024);           // the whole class is usable
   recycling::deallocate(a, 1000);
-  void* b = recycling::allocate(700);  // another size of the same class
+  void* b = recycling::allocate(970);  // another size of the same class
   EXPECT_EQ(a, b);
-  void* c = recycling::allocate(2000);  // another class: a new block
+  void* c = recycling::allocate(1100);  // another class: a new block
   EXPECT_NE(c, b);
-  recycling::deallocate(b, 700);
-  recycling::deallocate(c, 2000);
+  recycling::deallocate(b, 970);
+  recycling::deallocate(c, 1100);
   void* big = recycling::allocate(size_t(1) << 20);  // beyond the classes: the heap's own
   recycling::deallocate(big, size_t(1) << 20);
 }
@@ -32,16 +32,16 @@ TEST(RecyclingAllocator, BlocksFreedOnAnotherThreadJoinItsCache) {
   std::thread maker([&] { made = recycling::allocate(300); });
   maker.join();
   recycling::deallocate(made, 300);        // freed here: this thread's cache now has it
-  void* again = recycling::allocate(512);  // the same 512-byte class
+  void* again = recycling::allocate(320);  // the same 320-byte class
   EXPECT_EQ(again, made);
-  std::memset(again, 0, 512);
-  recycling::deallocate(again, 512);
+  std::memset(again, 0, 320);
+  recycling::deallocate(again, 320);
 }
 
 TEST(RecyclingAllocator, PathVertexVectorsKeepTheirContentsThroughGrowthAndReuse) {
   for (int round = 0; round < 3; ++round) {
     PathVertices path;
-    for (int i = 0; i < 40; ++i) {  // grows through every class up to 8 KB
+    for (int i = 0; i < 40; ++i) {  // grows through many classes, past 6 KB
       PathVertex v;
       v.position = Vec3(float(i), float(round), 1.0f);
       v.pdf_from_eye = float(i) * 0.5f;
