@@ -1,5 +1,7 @@
 #include "support/test_support.h"
 
+#include "emlt/core/error.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -30,6 +32,15 @@ std::string write_file(const std::filesystem::path& dir, const std::string& name
   const auto path = dir / name;
   std::ofstream(path, std::ios::binary) << bytes;
   return path.string();
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
 }
 
 int run_command(const std::string& command, std::string* output) {

@@ -18,6 +18,9 @@ std::filesystem::path scratch_dir(const std::string& name);
 std::string write_file(const std::filesystem::path& dir, const std::string& name,
                        const std::string& bytes);
 
+// The message of the emlt::Error that f throws ("" when it throws none).
+std::string error_of(const std::function<void()>& f);
+
 // Runs a shell command, returns its exit status; stdout+stderr go to `output`.
 int run_command(const std::string& command, std::string* output = nullptr);
 

@@ -18,18 +18,7 @@
 using namespace emlt;
 namespace fs = std::filesystem;
 
-namespace {
-
-std::string error_of(const std::function<void()>& read) {
-  try {
-    read();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
-
-}  // namespace
+using test::error_of;
 
 TEST(LoadPrefetch, GivesWhatTheDirectReadsGiveOnceEach) {
   const fs::path dir = test::scratch_dir("prefetch");
@@ -64,7 +53,7 @@ TEST(LoadPrefetch, GivesWhatTheDirectReadsGiveOnceEach) {
                                   true);
               }),
               missing_error);
-    EXPECT_NE(missing_error, "(no error)");
+    EXPECT_NE(missing_error, "");
     // Taken once: a second request, other options or another file are read directly.
     EXPECT_FALSE(LoadPrefetch::image8(png).has_value());
     EXPECT_FALSE(LoadPrefetch::obj(obj, true, true).has_value());

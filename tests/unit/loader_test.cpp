@@ -17,15 +17,7 @@ namespace {
 
 using test::write_file;
 
-// Message of the emlt::Error thrown by f ("" when nothing is thrown).
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::error_of;
 
 std::string load_and_build_error(const std::string& path, const SceneDefines& defines = {}) {
   return error_of([&] { Scene::build(load_scene_description(path, defines)); });

@@ -25,15 +25,7 @@ SceneDescription load_xml(const std::filesystem::path& dir, const std::string& b
   return load_scene_description(write_file(dir, "scene.xml", xml_scene(body)));
 }
 
-// Message of the emlt::Error thrown by f ("" when nothing is thrown).
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::error_of;
 
 bool any_contains(const std::vector<std::string>& lines, const std::string& needle) {
   for (const std::string& line : lines)
