@@ -56,7 +56,8 @@ def main():
     parser.add_argument("--threads", default="1,2,4,8,16", help="thread counts, 1 first")
     parser.add_argument("--scenes", help="comma-separated names (default: all of the suite's)")
     parser.add_argument("--door", help="also the public Veach door (its door-mlt.xml), 384x256")
-    parser.add_argument("--work", type=int, default=8, help="times the suite table's work (default 8)")
+    parser.add_argument("--work", type=float, default=8,
+                        help="times the suite table's work (default 8; below 1 for a quick check)")
     parser.add_argument("--methods", default="pt,mlt")
     parser.add_argument("--repeat", type=int, default=1)
     parser.add_argument("--ceiling", action="store_true",
@@ -71,15 +72,21 @@ def main():
         scenes.append(suite.Scene("veach-door", os.path.abspath(args.door), 384, 256, 16, 4, 16))
     if args.scenes:
         wanted = args.scenes.split(",")
+        unknown = sorted(set(wanted) - {s.name for s in scenes})
+        if unknown:
+            sys.exit(f"thread_scaling: unknown scene(s) {', '.join(unknown)}")
         scenes = [s for s in scenes if s.name in wanted]
+    methods = args.methods.split(",")
+    if not set(methods) <= {"pt", "bdpt"} | set(suite.MCMC):
+        sys.exit(f"thread_scaling: --methods takes pt, bdpt, {', '.join(suite.MCMC)}")
     runner = suite.Suite(args)
     figures = []
     for scene in scenes:
         fig = {"scene": scene.name, "size": f"{scene.width}x{scene.height}", "work_factor": args.work,
                "cpus": os.cpu_count(), "host": os.uname().nodename,
                "time": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), "runs": {}}
-        for method in args.methods.split(","):
-            count = {"pt": scene.pt_spp, "bdpt": scene.bdpt_spp}.get(method, scene.mpp) * args.work
+        for method in methods:
+            count = max(1, round({"pt": scene.pt_spp, "bdpt": scene.bdpt_spp}.get(method, scene.mpp) * args.work))
             runs = {}
             for n in counts:
                 runs[str(n)] = runner.emlt_render(scene, method, count, n)

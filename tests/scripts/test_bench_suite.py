@@ -114,5 +114,40 @@ class QuickRun(unittest.TestCase):
         self.assertIn("unknown scene(s) nope", result.stderr)
 
 
+class ThreadScaling(unittest.TestCase):
+    """bench/thread_scaling.py at a sliver of the work, 1 and 2 threads: the figures it
+    reports are the runs it made (no timing is checked)."""
+
+    def test_cornell_box_at_one_and_two_threads(self):
+        with tempfile.TemporaryDirectory() as out:
+            result = subprocess.run(
+                [sys.executable, os.path.join(ROOT, "bench", "thread_scaling.py"), "--threads", "1,2",
+                 "--work", "0.125", "--scenes", "cornell-box", "--ceiling", "--build", BUILD, "--out", out],
+                capture_output=True, text=True, timeout=600)
+            self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+            with open(os.path.join(out, "results.json")) as f:
+                (figure,) = json.load(f)
+            self.assertEqual(set(figure["runs"]), {"pt", "mlt"})
+            for method, runs in figure["runs"].items():
+                self.assertEqual(set(runs), {"1", "2", "ceiling"}, method)
+                # The suite's 32 samples (or mutations) per pixel at an eighth: 4.
+                self.assertEqual(runs["1"]["work"], 256 * 256 * 4, method)
+                self.assertEqual(runs["2"]["work"], runs["1"]["work"], method)
+                self.assertGreater(runs["ceiling"], 0, method)
+            with open(os.path.join(out, "table.md")) as f:
+                table = f.read()
+            self.assertIn("| cornell-box | pt |", table)
+            self.assertIn("| cornell-box | mlt |", table)
+
+    def test_bad_arguments_are_refused(self):
+        for args, message in ((["--threads", "2,4"], "the first thread count must be 1"),
+                              (["--scenes", "nope"], "unknown scene(s) nope"),
+                              (["--methods", "pt,nope"], "--methods takes")):
+            result = subprocess.run([sys.executable, os.path.join(ROOT, "bench", "thread_scaling.py"),
+                                     "--build", BUILD] + args, capture_output=True, text=True)
+            self.assertNotEqual(result.returncode, 0, args)
+            self.assertIn(message, result.stderr, args)
+
+
 if __name__ == "__main__":
     unittest.main()
