@@ -52,6 +52,8 @@ void EnsembleGuides::build(std::span<const Path* const> paths, int width, int he
       if (k + 8 < members.size()) {
         const Path* ahead = paths_[members[k + 8]];
         for (const PathVertex& v : ahead->vertices) __builtin_prefetch(&v);
+        // The raster, at the end of the last vertex, usually lies on a line of its own.
+        __builtin_prefetch(&ahead->vertices.back().raster);
       }
       const uint32_t member = members[k % members.size()];
       const Path* path = paths_[member];
