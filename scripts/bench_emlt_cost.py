@@ -23,12 +23,21 @@ Two measurements per scene, both single-threaded:
 
 A last row gives EMLT's extra instructions per mutation over MLT's, by category.
 
+With --structure it also separates EMLT's driver from its kernels (issue 21, third round):
+`emlt-mlt-mix` runs EMLT's ensembles, swaps and tree rebuilds with MLT's own strategies, and
+the `-it32` rows take 32 steps per chain between swaps (what a 1024x1024 image gets from
+the paper's it = floor(W H / (|X| + |Y|))) instead of 2 at 256x256. emlt-mlt-mix over mlt
+is what the schedule costs by itself; emlt over emlt-it32 what visiting every chain for
+two steps at a time costs (each visit fetches the chain's path, every swap the other
+half's, from memory).
+
 Per strategy it also prints instructions per proposal (inclusive of everything the
 proposal does, tracing included).
 
 Usage:
   scripts/bench_emlt_cost.py                         # Cornell box and door ajar, 256x256
   scripts/bench_emlt_cost.py --no-cpu                # callgrind only
+  scripts/bench_emlt_cost.py --structure --no-callgrind   # driver against kernels, CPU time
   scripts/bench_emlt_cost.py --method emlt-ani="--integrator emlt --mutations emlt-ani"
 """
 import argparse
@@ -207,6 +216,9 @@ def main():
     parser.add_argument("--only", action="append", metavar="NAME",
                         help="measure only these methods (mlt is measured anyway: the ratios "
                              "are to it)")
+    parser.add_argument("--structure", action="store_true",
+                        help="add emlt-mlt-mix, emlt-it32 and emlt-mlt-mix-it32 (the driver's "
+                             "cost apart from the kernels')")
     parser.add_argument("--keep", metavar="DIR",
                         help="keep the callgrind profiles in DIR (SCENE-METHOD.cg)")
     args = parser.parse_args()
@@ -215,6 +227,11 @@ def main():
     # MLT's chain count is fixed to what its default gives from 16 mutations per pixel on,
     # so that the low and high runs set up the same chains.
     methods = [("mlt", "--integrator mlt --chains 16384"), ("emlt", "--integrator emlt")]
+    if args.structure:
+        methods += [("emlt-mlt-mix", "--integrator emlt --mutations mlt"),
+                    ("emlt-it32", "--integrator emlt --ensemble-iterations 32"),
+                    ("emlt-mlt-mix-it32",
+                     "--integrator emlt --mutations mlt --ensemble-iterations 32")]
     for m in args.method or []:
         name, _, method_args = m.partition("=")
         methods.append((name, method_args))
