@@ -15,11 +15,10 @@
 #include "emlt/core/error.h"
 #include "emlt/mcmc/bootstrap.h"
 #include "emlt/mcmc/fixed_point_film.h"
-#include "emlt/mcmc/mcmc_phase_state.h"
-#include "emlt/render/bdpt.h"
-#include "emlt/render/direct_integrator.h"
-#include "emlt/render/image.h"
+#include "emlt/mcmc/mcmc_run.h"
 #include "emlt/path/path_state.h"
+#include "emlt/render/bdpt.h"
+#include "emlt/render/image.h"
 #include "emlt/render/interruption.h"
 #include "emlt/render/pixel_renderer.h"
 #include "emlt/render/render_control.h"
@@ -276,15 +275,12 @@ int MltIntegrator::default_chain_count(uint64_t mutations) {
 
 RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& settings,
                                    ProgressReporter& progress) const {
-  const auto start = std::chrono::steady_clock::now();
-  double earlier_seconds = 0.0;  // of the runs before a resume
-  const auto elapsed = [&] {
-    return earlier_seconds +
-           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  };
   const Camera& camera = scene.camera();
   const int width = camera.width(), height = camera.height();
   const uint64_t pixels = uint64_t(width) * uint64_t(height);
+  // The clock (with the runs before a resume), the checkpoint state and the direct pass.
+  McmcRun run(settings, width, height);
+  const auto elapsed = [&run] { return run.elapsed(); };
   const std::shared_ptr<const StrategyMix> mix_holder =
       options_.mix ? options_.mix
                    : std::make_shared<const StrategyMix>(StrategyMix::parse(
@@ -300,44 +296,16 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
                                          : std::min(settings.max_depth, kMaxPathVertices - 1);
   ctx.lens_max_radius = std::sqrt(0.05f * float(pixels) / kPi);
 
-  // Checkpoints (render_control.h). The state: the phase (direct light, or the chains),
-  // the time so far, the direct image's pass state and then the chains' section.
-  RenderControl* control = settings.control;
-  double snapshot_seconds = 0.0;
-  McmcPhaseState phase_state;  // the phase, the direct pass and a resumed chains section
-  PixelRenderState& direct_state = phase_state.direct;
-  std::string& chain_section = phase_state.chain_section;
-  if (control && !control->resume_state().empty()) {
-    phase_state.load(control->resume_state(), settings.direct_separate, width, height);
-    earlier_seconds = phase_state.earlier_seconds;
-  }
-  // `chains` writes the chains' section (null: the chains have not started).
-  const auto save_state = [&](StateWriter& out, const std::function<void(StateWriter&)>& chains) {
-    phase_state.save(out, elapsed() - snapshot_seconds, settings.direct_separate, chains);
-  };
-  const auto save_before_chains = [&](StateWriter& out) { save_state(out, nullptr); };
+  // Checkpoints (render_control.h, mcmc_run.h).
+  RenderControl* control = run.control();
+  std::string& chain_section = run.chain_section();
 
   RenderResult result;
   result.image = Image(width, height);
-  // Paths of one and two segments (emitters seen directly, direct light) from the direct
-  // integrator, as Mitsuba does by default; the chains then never visit them.
-  if (settings.direct_separate) {
-    const RenderResult direct_result = render_direct_pass(
-        scene, settings, direct_state, [&] { RenderControl::pause(control, save_before_chains); });
-    result.image = direct_result.image;
-    result.invalid_samples = 0;
-    stats_.direct_spp = direct_result.samples_per_pixel;
-    stats_.direct_seconds = direct_result.seconds;
-    if (direct_result.interrupted) {
-      result.interrupted = true;
-      result.stopped_in = "the direct-light pass";
-      result.per_pixel = 0.0;
-      result.seconds = stats_.seconds = elapsed();
-      return result;
-    }
-  }
+  // The chains then never visit the direct pass's paths.
+  if (!run.direct_pass(scene, result, stats_)) return result;
   if (ctx.min_edges > ctx.max_edges) {
-    RenderControl::finish(control, save_before_chains);
+    run.finish_before_chains();
     result.seconds = elapsed();
     return result;
   }
@@ -420,7 +388,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     interruption::agree(bootstrap.interrupted);
     if (bootstrap.interrupted) {
       // Nothing of the bootstrap is kept: a resumed render runs it again, to the same bits.
-      RenderControl::pause(control, save_before_chains);
+      run.pause_before_chains();
       result.interrupted = true;
       result.stopped_in = "the bootstrap";
       result.seconds = stats_.seconds = elapsed();
@@ -434,7 +402,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
       std::fprintf(
           stderr,
           "emlt: warning: no bootstrap path carries light; the MLT part of the image is black\n");
-      RenderControl::finish(control, save_before_chains);
+      run.finish_before_chains();
       result.seconds = elapsed();
       return result;
     }
@@ -624,7 +592,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     out.put(stats_.swaps);
     out.put(stats_.tree_seconds);
   };
-  const auto save_all = [&](StateWriter& out) { save_state(out, save_chains); };
+  const auto save_all = [&](StateWriter& out) { run.save(out, save_chains); };
 
   // The image after `mutations` steps: the direct part, plus the films' sum and each chain's
   // weight not yet splatted (added to a copy: the chains go on untouched), scaled so the
@@ -711,11 +679,9 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   };
   const auto take_snapshot = [&](uint64_t mutations_done) {
     const auto begin = std::chrono::steady_clock::now();
-    settings.snapshots->snapshot(double(mutations_done) / double(pixels),
-                                 elapsed() - snapshot_seconds, compose(mutations_done),
-                                 acceptance_so_far());
-    snapshot_seconds +=
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+    settings.snapshots->snapshot(double(mutations_done) / double(pixels), run.counted_seconds(),
+                                 compose(mutations_done), acceptance_so_far());
+    run.write_off(std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count());
   };
 
   // EMLT's view of the frozen half, rebuilt at every swap.
@@ -858,7 +824,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   bool stopped = false;
   while (true) {
     if (!sweep.active) {
-      uint64_t time_up = timed && elapsed() - snapshot_seconds >= settings.time_limit_s;
+      uint64_t time_up = timed && run.counted_seconds() >= settings.time_limit_s;
       root_decides(time_up);
       if (done >= planned || time_up) break;
       sweep.first = 0;
@@ -984,7 +950,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     for (size_t i = 0; i < mix.size(); ++i) stats_.strategies[i].merge(block[i]);
   stats_.chains = uint64_t(chain_count);
   stats_.mutations = done;
-  stats_.seconds = elapsed() - snapshot_seconds;
+  stats_.seconds = run.counted_seconds();
   if (ensemble) {
     stats_.ensemble_size = ensemble_size;
     stats_.ensemble_neighbours = uint64_t(ensemble_params.neighbours);

@@ -13,9 +13,8 @@
 #include "emlt/core/error.h"
 #include "emlt/mcmc/bootstrap.h"
 #include "emlt/mcmc/fixed_point_film.h"
-#include "emlt/mcmc/mcmc_phase_state.h"
+#include "emlt/mcmc/mcmc_run.h"
 #include "emlt/render/bdpt.h"
-#include "emlt/render/direct_integrator.h"
 #include "emlt/render/interruption.h"
 #include "emlt/render/pixel_renderer.h"
 #include "emlt/render/render_control.h"
@@ -78,15 +77,12 @@ void bootstrap_sample(const PrimarySampleTracer& tracer, uint64_t seed, uint64_t
 
 RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& settings,
                                       ProgressReporter& progress) const {
-  const auto start = std::chrono::steady_clock::now();
-  double earlier_seconds = 0.0;  // of the runs before a resume
-  const auto elapsed = [&] {
-    return earlier_seconds +
-           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  };
   const Camera& camera = scene.camera();
   const int width = camera.width(), height = camera.height();
   const uint64_t pixels = uint64_t(width) * uint64_t(height);
+  // The clock (with the runs before a resume), the checkpoint state and the direct pass.
+  McmcRun run(settings, width, height);
+  const auto elapsed = [&run] { return run.elapsed(); };
   const bool multiplexed = options_.multiplexed;
   const double p_large = std::clamp(settings.large_step_probability, 0.0, 1.0);
   const float sigma = float(settings.pss_sigma);
@@ -96,40 +92,15 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
   const int max_edges = settings.max_depth < 0 ? BidirectionalPathTracer::kUnlimitedDepth
                                                : std::min(settings.max_depth, kMaxPathVertices - 1);
 
-  // Checkpoints (render_control.h), as MLT's: the phase (direct light, or the chains), the
-  // time so far, the direct image's pass state and then the chains' section.
-  RenderControl* control = settings.control;
-  double snapshot_seconds = 0.0;
-  McmcPhaseState phase_state;  // the phase, the direct pass and a resumed chains section
-  PixelRenderState& direct_state = phase_state.direct;
-  std::string& chain_section = phase_state.chain_section;
-  if (control && !control->resume_state().empty()) {
-    phase_state.load(control->resume_state(), settings.direct_separate, width, height);
-    earlier_seconds = phase_state.earlier_seconds;
-  }
-  // `chains` writes the chains' section (null: the chains have not started).
-  const auto save_state = [&](StateWriter& out, const std::function<void(StateWriter&)>& chains) {
-    phase_state.save(out, elapsed() - snapshot_seconds, settings.direct_separate, chains);
-  };
-  const auto save_before_chains = [&](StateWriter& out) { save_state(out, nullptr); };
+  // Checkpoints (render_control.h, mcmc_run.h), as MLT's.
+  RenderControl* control = run.control();
+  std::string& chain_section = run.chain_section();
 
   RenderResult result;
   result.image = Image(width, height);
-  if (settings.direct_separate) {
-    const RenderResult direct_result = render_direct_pass(
-        scene, settings, direct_state, [&] { RenderControl::pause(control, save_before_chains); });
-    result.image = direct_result.image;
-    stats_.direct_spp = direct_result.samples_per_pixel;
-    stats_.direct_seconds = direct_result.seconds;
-    if (direct_result.interrupted) {
-      result.interrupted = true;
-      result.stopped_in = "the direct-light pass";
-      result.seconds = stats_.seconds = elapsed();
-      return result;
-    }
-  }
+  if (!run.direct_pass(scene, result, stats_)) return result;
   if (min_edges > max_edges) {
-    RenderControl::finish(control, save_before_chains);
+    run.finish_before_chains();
     result.seconds = elapsed();
     return result;
   }
@@ -240,7 +211,7 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
     interruption::agree(path_bootstrap.interrupted);
     if (path_bootstrap.interrupted) {
       // Nothing of the bootstrap is kept: a resumed render runs it again, to the same bits.
-      RenderControl::pause(control, save_before_chains);
+      run.pause_before_chains();
       result.interrupted = true;
       result.stopped_in = "the bootstrap";
       result.seconds = stats_.seconds = elapsed();
@@ -266,7 +237,7 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
         std::fprintf(stderr,
                      "emlt: warning: no bootstrap sample carries light; the MCMC part of the "
                      "image is black\n");
-      RenderControl::finish(control, save_before_chains);
+      run.finish_before_chains();
       result.seconds = stats_.seconds = elapsed();
       return result;
     }
@@ -469,7 +440,7 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
     out.put<uint64_t>(rounds);
     out.put<uint64_t>(logged);
   };
-  const auto save_all = [&](StateWriter& out) { save_state(out, save_chains); };
+  const auto save_all = [&](StateWriter& out) { run.save(out, save_chains); };
 
   // One step of a chain (Kelemen's estimator; see pss_integrator.h).
   const auto step = [&](Chain& chain, PssSample& proposal, FixedPointFilm& film,
@@ -600,8 +571,7 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
     if (!sweep_active) {
       if (steps_done >= planned_steps) break;
       // (At least one sweep: a budget spent by the bootstrap still gives the chains a round.)
-      uint64_t time_up =
-          timed && steps_done > 0 && elapsed() - snapshot_seconds >= settings.time_limit_s;
+      uint64_t time_up = timed && steps_done > 0 && run.counted_seconds() >= settings.time_limit_s;
       root_decides(time_up);
       if (time_up) break;
       uint64_t sweep = timed ? rounds : planned_steps - steps_done;
@@ -652,10 +622,10 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
           const auto begin = std::chrono::steady_clock::now();
           const uint64_t done = steps_done * uint64_t(chain_count);
           logged = done;
-          settings.snapshots->snapshot(double(done) / double(pixels), elapsed() - snapshot_seconds,
+          settings.snapshots->snapshot(double(done) / double(pixels), run.counted_seconds(),
                                        compose(done), acceptance_so_far());
-          snapshot_seconds +=
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+          run.write_off(
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count());
         }
     }
     if (decision.pause()) {
@@ -677,8 +647,8 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
   result.image = compose(done);
   // The log ends on the final image unless its last row already is that image.
   if (settings.snapshots && done != logged) {
-    settings.snapshots->snapshot(double(done) / double(pixels), elapsed() - snapshot_seconds,
-                                 result.image, acceptance_so_far());
+    settings.snapshots->snapshot(double(done) / double(pixels), run.counted_seconds(), result.image,
+                                 acceptance_so_far());
     logged = done;
   }
   if (!stopped) RenderControl::finish(control, save_all);
@@ -686,7 +656,7 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
   if (stopped) result.stopped_in = "the chains";
   stats_.strategies = merged_stats();
   stats_.mutations = done;
-  stats_.seconds = elapsed() - snapshot_seconds;
+  stats_.seconds = run.counted_seconds();
   result.seconds = stats_.seconds;
   result.samples = done;
   result.samples_per_pixel = int(std::llround(double(done) / double(pixels)));

@@ -1,0 +1,59 @@
+#pragma once
+// The frame around every MCMC driver's chains (mlt, gamlt, emlt, pssmlt, mmlt): the render's
+// clock, which carries the seconds of the runs before a resume and can leave out the time
+// spent writing snapshots; the checkpoint state it resumed from and saves
+// (mcmc_phase_state.h); and the separate direct-light pass that comes before the chains.
+#include <chrono>
+#include <functional>
+#include <string>
+
+#include "emlt/core/state_io.h"
+#include "emlt/mcmc/mcmc_phase_state.h"
+#include "emlt/render/integrator.h"
+#include "emlt/render/render_control.h"
+#include "emlt/render/settings.h"
+
+namespace emlt {
+
+class Scene;
+struct MltStatistics;
+
+class McmcRun {
+ public:
+  // Loads a resumed render's state (settings.control); damaged state throws StateError.
+  McmcRun(const RenderSettings& settings, int width, int height);
+
+  // Seconds since the first run began, the runs before a resume included.
+  double elapsed() const;
+  // elapsed() less the time written off (snapshots): what budgets and reports count.
+  double counted_seconds() const { return elapsed() - written_off_; }
+  void write_off(double seconds) { written_off_ += seconds; }
+
+  RenderControl* control() const { return control_; }
+  // A resumed render's chains section until the driver has loaded it (empty: fresh chains).
+  std::string& chain_section() { return phase_.chain_section; }
+
+  // Writes the checkpoint; `chains` writes the chains' section (null: not started yet).
+  void save(StateWriter& out, const std::function<void(StateWriter&)>& chains) const;
+  // The checkpoint of a render whose chains have not started (or are written back as loaded).
+  void save_before_chains(StateWriter& out) const { save(out, nullptr); }
+  // Pauses for a checkpoint (or a stop) requested before the chains started.
+  void pause_before_chains() const;
+  // Ends a render without chains (nothing for them to do, or cut short before them).
+  void finish_before_chains() const;
+
+  // With settings.direct_separate, the direct light (paths of one and two segments, as
+  // Mitsuba renders them by default) into result.image, its time and samples into stats;
+  // false when a stop cut the pass short, with result then the render's whole answer.
+  // Without it, leaves result as it is and returns true.
+  bool direct_pass(const Scene& scene, RenderResult& result, MltStatistics& stats) const;
+
+ private:
+  const RenderSettings& settings_;
+  const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  RenderControl* control_;
+  mutable McmcPhaseState phase_;  // the direct pass's state advances inside direct_pass
+  double written_off_ = 0.0;
+};
+
+}  // namespace emlt

@@ -1,0 +1,46 @@
+#include "emlt/mcmc/mcmc_run.h"
+
+#include "emlt/mcmc/mlt_integrator.h"
+#include "emlt/render/direct_integrator.h"
+
+namespace emlt {
+
+McmcRun::McmcRun(const RenderSettings& settings, int width, int height)
+    : settings_(settings), control_(settings.control) {
+  if (control_ && !control_->resume_state().empty())
+    phase_.load(control_->resume_state(), settings.direct_separate, width, height);
+}
+
+double McmcRun::elapsed() const {
+  return phase_.earlier_seconds +
+         std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+void McmcRun::save(StateWriter& out, const std::function<void(StateWriter&)>& chains) const {
+  phase_.save(out, counted_seconds(), settings_.direct_separate, chains);
+}
+
+void McmcRun::pause_before_chains() const {
+  RenderControl::pause(control_, [this](StateWriter& out) { save_before_chains(out); });
+}
+
+void McmcRun::finish_before_chains() const {
+  RenderControl::finish(control_, [this](StateWriter& out) { save_before_chains(out); });
+}
+
+bool McmcRun::direct_pass(const Scene& scene, RenderResult& result, MltStatistics& stats) const {
+  if (!settings_.direct_separate) return true;
+  const RenderResult direct =
+      render_direct_pass(scene, settings_, phase_.direct, [this] { pause_before_chains(); });
+  result.image = direct.image;
+  stats.direct_spp = direct.samples_per_pixel;
+  stats.direct_seconds = direct.seconds;
+  if (!direct.interrupted) return true;
+  result.interrupted = true;
+  result.stopped_in = "the direct-light pass";
+  result.per_pixel = 0.0;
+  result.seconds = stats.seconds = elapsed();
+  return false;
+}
+
+}  // namespace emlt
