@@ -66,35 +66,31 @@ void tangent_basis(const DVec3& normal, DVec3& axis_s, DVec3& axis_t) {
   axis_t = glm::cross(normal, s);
 }
 
-void set_covariance(TangentGaussian& gaussian, double ss, double st, double tt) {
-  gaussian.cov_ss = ss;
-  gaussian.cov_st = st;
-  gaussian.cov_tt = tt;
-  gaussian.chol_ss = std::sqrt(ss);
-  gaussian.chol_ts = st / gaussian.chol_ss;
-  gaussian.chol_tt = std::sqrt(std::max(tt - gaussian.chol_ts * gaussian.chol_ts, 0.0));
+TangentCovariance make_covariance(double ss, double st, double tt) {
+  TangentCovariance c;
+  c.ss = ss;
+  c.st = st;
+  c.tt = tt;
+  c.chol_ss = std::sqrt(ss);
+  c.chol_ts = st / c.chol_ss;
+  c.chol_tt = std::sqrt(std::max(tt - c.chol_ts * c.chol_ts, 0.0));
   // N(0 | 0, Sigma) = 1 / (2 pi sqrt(det Sigma)), det = (chol_ss chol_tt)^2; its log is
   // taken only with the density's (DensityParts).
-  gaussian.normaliser = 1.0 / (kTwoPiDouble * (gaussian.chol_ss * gaussian.chol_tt));
+  c.normaliser = 1.0 / (kTwoPiDouble * (c.chol_ss * c.chol_tt));
+  return c;
 }
 
-// set_covariance(gaussian, variance, 0, variance) for the fallback kernel, whose variance is
-// a parameter: the factor and its normaliser (a third of the fits fall back) are kept for the last
-// variance, per thread. The same values bit for bit.
-void set_fallback_covariance(TangentGaussian& gaussian, double variance) {
+// make_covariance(variance, 0, variance) for the fallback kernel, whose variance is a
+// parameter: kept for the last variance, per thread (a third of the fits fall back). The
+// same values bit for bit.
+const TangentCovariance& fallback_covariance(double variance) {
   thread_local double last_variance = std::numeric_limits<double>::quiet_NaN();
-  thread_local TangentGaussian last;
+  thread_local TangentCovariance last;
   if (!(variance == last_variance)) {
-    set_covariance(last, variance, 0.0, variance);
+    last = make_covariance(variance, 0.0, variance);
     last_variance = variance;
   }
-  gaussian.cov_ss = last.cov_ss;
-  gaussian.cov_st = last.cov_st;
-  gaussian.cov_tt = last.cov_tt;
-  gaussian.chol_ss = last.chol_ss;
-  gaussian.chol_ts = last.chol_ts;
-  gaussian.chol_tt = last.chol_tt;
-  gaussian.normaliser = last.normaliser;
+  return last;
 }
 
 }  // namespace
@@ -256,7 +252,7 @@ TangentGaussian fit_tangent_gaussian(const Vec3& centre, const Vec3& normal, con
   const double fallback_variance = params.fallback_sigma * params.fallback_sigma;
   const size_t count = guides.size();
   const auto fall_back = [&] {
-    set_fallback_covariance(gaussian, fallback_variance);
+    gaussian.covariance = fallback_covariance(fallback_variance);
     gaussian.fallback = true;
     gaussian.fallback_concentration = params.fallback_concentration;
   };
@@ -305,7 +301,8 @@ TangentGaussian fit_tangent_gaussian(const Vec3& centre, const Vec3& normal, con
   }
   const double floor_variance = params.floor_sigma * params.floor_sigma;
   const double scale = params.covariance_scale;
-  set_covariance(gaussian, scale * ss + floor_variance, scale * st, scale * tt + floor_variance);
+  gaussian.covariance =
+      make_covariance(scale * ss + floor_variance, scale * st, scale * tt + floor_variance);
   gaussian.fallback = false;
   return gaussian;
 }
@@ -315,8 +312,8 @@ Vec3 sample_tangent_gaussian(const TangentGaussian& gaussian, Rng& rng) {
   const double radius = std::sqrt(-2.0 * std::log(1.0 - rng.uniform_double()));
   const double angle = kTwoPiDouble * rng.uniform_double();
   const double n1 = radius * std::cos(angle), n2 = radius * std::sin(angle);
-  const double s = gaussian.chol_ss * n1;
-  const double t = gaussian.chol_ts * n1 + gaussian.chol_tt * n2;
+  const double s = gaussian.covariance.chol_ss * n1;
+  const double t = gaussian.covariance.chol_ts * n1 + gaussian.covariance.chol_tt * n2;
   return Vec3(gaussian.centre + s * gaussian.axis_s + t * gaussian.axis_t);
 }
 
@@ -325,9 +322,9 @@ DensityParts tangent_gaussian_pdf_parts(const TangentGaussian& gaussian,
   const DVec3 offset = DVec3(point_on_plane) - gaussian.centre;
   const double s = glm::dot(offset, gaussian.axis_s), t = glm::dot(offset, gaussian.axis_t);
   // Mahalanobis distance via the Cholesky factor: solve L y = (s, t), then |y|^2.
-  const double y1 = s / gaussian.chol_ss;
-  const double y2 = (t - gaussian.chol_ts * y1) / gaussian.chol_tt;
-  return {gaussian.normaliser, -0.5 * (y1 * y1 + y2 * y2)};
+  const double y1 = s / gaussian.covariance.chol_ss;
+  const double y2 = (t - gaussian.covariance.chol_ts * y1) / gaussian.covariance.chol_tt;
+  return {gaussian.covariance.normaliser, -0.5 * (y1 * y1 + y2 * y2)};
 }
 
 double tangent_gaussian_log_pdf(const TangentGaussian& gaussian, const Vec3& point_on_plane) {

@@ -162,12 +162,17 @@ struct AnisotropicParams {
   double min_determinant = 1e-12;     // det of the unfloored covariance below this -> fallback
 };
 
+// A plane Gaussian's shape in its (s, t) coordinates, with what sampling and evaluating it use.
+struct TangentCovariance {
+  double ss = 1.0, st = 0.0, tt = 1.0;                       // the covariance
+  double chol_ss = 1.0, chol_ts = 0.0, chol_tt = 1.0;        // its lower Cholesky factor
+  double normaliser = 1.0 / (2.0 * 3.14159265358979323846);  // 1 / (2 pi sqrt(det))
+};
+
 // A Gaussian on the tangent plane of `centre`, mean at the centre.
 struct TangentGaussian {
   DVec3 centre{0.0}, axis_s{1, 0, 0}, axis_t{0, 1, 0}, normal{0, 0, 1};
-  double cov_ss = 1.0, cov_st = 0.0, cov_tt = 1.0;           // covariance in (s, t) coordinates
-  double chol_ss = 1.0, chol_ts = 0.0, chol_tt = 1.0;        // lower Cholesky factor
-  double normaliser = 1.0 / (2.0 * 3.14159265358979323846);  // 1 / (2 pi sqrt(det))
+  TangentCovariance covariance;
   double effective_guides = 0.0;
   bool fallback = true;
   double fallback_concentration = 0.0;  // copied from the parameters when falling back
