@@ -111,5 +111,21 @@ TEST(EnsembleFit, FallbackIsTheIsotropicGaussianOfTheParametersWidth) {
   }
 }
 
+// The vMF's normaliser is kept per thread for the last concentration; concentrations
+// alternate here, and both forms must be the textbook density
+// kappa / (2 pi (1 - e^(-2 kappa))) e^(kappa (cos - 1)) every time.
+TEST(EnsembleFit, VmfDensityFollowsEachConcentration) {
+  for (const double kappa : {5.0, 200.0, 5.0, 0.5, 200.0, 0.5}) {
+    for (const double cosine : {1.0, 0.3, -0.8}) {
+      const double expected = kappa /
+                              (2.0 * 3.14159265358979323846 * (1.0 - std::exp(-2.0 * kappa))) *
+                              std::exp(kappa * (cosine - 1.0));
+      EXPECT_NEAR(std::exp(vmf_log_pdf(kappa, cosine)), expected, 1e-12 * expected) << kappa;
+      const DensityParts parts = vmf_pdf_parts(kappa, cosine);
+      EXPECT_NEAR(parts.factor * std::exp(parts.exponent), expected, 1e-12 * expected) << kappa;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace emlt::ensemble

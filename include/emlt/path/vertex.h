@@ -80,7 +80,6 @@ struct PathVertex {
 // A path's vertices: recycled blocks (recycling_allocator.h), as every mutation makes one.
 using PathVertices = std::vector<PathVertex, RecyclingAllocator<PathVertex>>;
 
-
 // Counts non-finite values the layer produced and dropped (they never leave it).
 struct InvalidCounter {
   uint64_t count = 0;
