@@ -269,7 +269,7 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
   Vec3 lower(kInfinity), upper(-kInfinity);
   std::vector<LightPtr> lights;
 
-  for (const MeshDesc& mesh : d.meshes) {
+  for (MeshDesc& mesh : d.meshes) {
     validate_emission(d, mesh.name, mesh.emission);
     if (mesh.indices.size() % 3 != 0)
       throw file_error(d.source, "mesh '" + mesh.name + "': index count is not a multiple of 3");
@@ -284,9 +284,7 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
     g.kind = Geometry::Kind::Triangles;
     g.name = mesh.name;
     assign_material(g, mesh.material, mesh.name);
-    g.positions = mesh.positions;
-    g.normals = mesh.normals;
-    g.uvs = mesh.uvs;
+    g.uvs = std::move(mesh.uvs);
     if (g.uvs.empty() && mesh.material >= 0 && d.materials[size_t(mesh.material)].textured) {
       g.uvs = planar_uvs(mesh.positions);
       d.warnings.push_back(d.source + ": mesh '" + mesh.name +
@@ -327,6 +325,14 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
         g.lights.push_back(lights.back().get());
       }
     }
+    // The mesh's arrays move to the geometry and the description's indices go (the kept
+    // triangles are in g.indices): on a million-triangle mesh a second copy of each held
+    // through the render was a quarter of the heap. One spare float after the positions lets
+    // Embree read them in place (see the BVH below).
+    mesh.positions.reserve(mesh.positions.size() + 1);
+    g.positions = std::move(mesh.positions);
+    g.normals = std::move(mesh.normals);
+    std::vector<uint32_t>().swap(mesh.indices);
     s.stats_.triangles += g.indices.size() / 3;
     s.stats_.area_lights += g.lights.size();
     if (!g.indices.empty()) s.geometries_.push_back(std::move(g));
@@ -470,16 +476,14 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
     RTCGeometry geometry;
     if (g.kind == Geometry::Kind::Triangles) {
       geometry = rtcNewGeometry(s.device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-      auto* vertices = static_cast<float*>(
-          rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                  3 * sizeof(float), g.positions.size()));
-      auto* triangles = static_cast<uint32_t*>(
-          rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                  3 * sizeof(uint32_t), g.indices.size() / 3));
-      if (!vertices || !triangles) throw file_error(d.source, "out of memory building the BVH");
-      for (size_t i = 0; i < g.positions.size(); ++i)
-        std::copy_n(&g.positions[i].x, 3, vertices + 3 * i);
-      std::copy(g.indices.begin(), g.indices.end(), triangles);
+      // Embree reads the geometry's own arrays instead of copies (they live as long as the
+      // scene). It loads a vertex with 16-byte reads, so the last one needs a float after it:
+      // the capacity reserved above.
+      static_assert(sizeof(Vec3) == 3 * sizeof(float));
+      rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                 g.positions.data(), 0, sizeof(Vec3), g.positions.size());
+      rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                 g.indices.data(), 0, 3 * sizeof(uint32_t), g.indices.size() / 3);
     } else {
       // A user geometry with our own root finding (sphere_intersection.h): Embree's
       // point-sphere primitive goes through its generic curve code, which cost a third

@@ -81,6 +81,8 @@ class Scene {
   const Camera& camera() const { return *camera_; }
   const LightSet& lights() const { return lights_; }
   const EnvironmentLight* environment() const { return lights_.environment(); }
+  // The description as built, less its meshes' vertex and index arrays, which the scene's
+  // geometry took over (each MeshDesc keeps its name, material and emission).
   const SceneDescription& description() const { return desc_; }
   const std::vector<std::string>& warnings() const { return desc_.warnings; }
   const SceneStats& stats() const { return stats_; }
