@@ -399,9 +399,11 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     stats_.bootstrap_samples = bootstrap.samples;
     if (bootstrap.empty()) {
       stats_.bootstrap_seconds = elapsed() - bootstrap_start;
-      std::fprintf(
-          stderr,
-          "emlt: warning: no bootstrap path carries light; the MLT part of the image is black\n");
+      // Every rank holds the same gathered pool (bootstrap.cpp); one warning is enough.
+      if (cluster::is_root())
+        std::fprintf(
+            stderr,
+            "emlt: warning: no bootstrap path carries light; the MLT part of the image is black\n");
       run.finish_before_chains();
       result.seconds = elapsed();
       return result;

@@ -5,6 +5,8 @@
 #                                              resumed gives the single-process bits
 #   mpi_check.sh EMLT MPIRUN failure           a rank that cannot read its scene ends every
 #                                              rank with its one-line error, non-zero
+#   mpi_check.sh EMLT MPIRUN dark INTEGRATOR   a scene where no bootstrap path carries light:
+#                                              its warning printed once, not once a rank
 set -euo pipefail
 emlt=$1 mpirun=$2 mode=$3 integrator=${4:-}
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -72,6 +74,20 @@ case $mode in
       { cat "$work/log" >&2; fail "the failing rank's error was not printed"; }
     [ ! -e "$work/f.exr" ] || fail "an image was written"
     echo "a rank without its scene: every rank ended, status $status, one error line"
+    ;;
+  dark)
+    # The Cornell box seen from outside, the camera turned away: every camera path leaves
+    # into the void, and no light path can reach the image.
+    cp -r "$root/scenes/cornell-box/meshes" "$work/"
+    sed 's/"target": \[278, 273, -799\]/"target": [278, 273, -801]/' \
+      "$root/scenes/cornell-box/scene.json" > "$work/dark.json"
+    grep -q -- '-801' "$work/dark.json" || fail "the camera was not turned"
+    "${launch[@]}" -n 2 "$emlt" render "$work/dark.json" --integrator "$integrator" --spp 8 \
+      --mpp 8 --width 48 --height 40 --bootstrap 5000 --threads 1 -q -o "$work/dark.exr" \
+      > "$work/log" 2>&1 || { cat "$work/log" >&2; fail "$integrator: the dark render failed"; }
+    count=$(grep -c "warning: no bootstrap .* carries light" "$work/log" || true)
+    [ "$count" = 1 ] || { cat "$work/log" >&2; fail "$integrator: the warning came $count times"; }
+    echo "$integrator: mpirun -n 2 on a scene without light: one warning"
     ;;
   *) fail "unknown mode $mode" ;;
 esac
