@@ -1,6 +1,7 @@
 #include "emlt/scene/ply_loader.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <charconv>
 #include <cstdint>
@@ -8,7 +9,6 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
-#include <sstream>
 #include <string_view>
 
 #include "emlt/core/error.h"
@@ -82,6 +82,14 @@ struct Element {
 
 enum class Format { Ascii, BinaryLittle, BinaryBig };
 
+// Names the item being read in error messages ("vertex 17"). Formatted only when a message
+// is made: built for every item, the string took a quarter of a million-triangle load.
+struct ItemName {
+  const std::string& element;
+  uint64_t index;
+  std::string str() const { return element + " " + std::to_string(index); }
+};
+
 // The data after the header, read value by value with every read bounds-checked.
 class DataReader {
  public:
@@ -91,88 +99,92 @@ class DataReader {
   size_t remaining() const { return data_.size() - pos_; }
 
   // Any scalar, as a double; `what` names the value for the truncation message.
-  double number(Type type, const std::string& what) {
+  double number(Type type, const ItemName& what) {
     if (format_ == Format::Ascii) {
       const std::string_view text = token(what);
       double value = 0.0;
       const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
       if (ec != std::errc() || end != text.data() + text.size())
-        fail("cannot parse " + printable(text) + " as a number (" + what + ")");
+        fail("cannot parse " + printable(text) + " as a number (" + what.str() + ")");
       return value;
     }
     const unsigned char* bytes = take(size_of(type), what);
-    uint64_t bits = 0;
-    const int n = size_of(type);
-    for (int i = 0; i < n; ++i) {
-      const int shift = format_ == Format::BinaryLittle ? 8 * i : 8 * (n - 1 - i);
-      bits |= uint64_t(bytes[i]) << shift;
-    }
     switch (type) {
       case Type::Int8:
-        return double(int8_t(bits));
+        return double(load<int8_t>(bytes));
       case Type::UInt8:
-        return double(uint8_t(bits));
+        return double(load<uint8_t>(bytes));
       case Type::Int16:
-        return double(int16_t(bits));
+        return double(load<int16_t>(bytes));
       case Type::UInt16:
-        return double(uint16_t(bits));
+        return double(load<uint16_t>(bytes));
       case Type::Int32:
-        return double(int32_t(bits));
+        return double(load<int32_t>(bytes));
       case Type::UInt32:
-        return double(uint32_t(bits));
+        return double(load<uint32_t>(bytes));
       case Type::Float32:
-        return double(std::bit_cast<float>(uint32_t(bits)));
+        return double(load<float>(bytes));
       case Type::Float64:
-        return std::bit_cast<double>(bits);
+        return load<double>(bytes);
     }
     return 0.0;
   }
 
   // A value of an integer type (list counts, indices): exact, and whole in ASCII.
-  int64_t integer(Type type, const std::string& what) {
+  int64_t integer(Type type, const ItemName& what) {
     if (format_ == Format::Ascii) {
       const std::string_view text = token(what);
       int64_t value = 0;
       const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
       if (ec != std::errc() || end != text.data() + text.size())
-        fail("cannot parse " + printable(text) + " as an integer (" + what + ")");
+        fail("cannot parse " + printable(text) + " as an integer (" + what.str() + ")");
       return value;
     }
     return int64_t(number(type, what));  // every integer type fits a double exactly
   }
 
-  void skip(const Property& property, const std::string& what) {
+  void skip(const Property& property, const ItemName& what) {
     if (!property.is_list) {
       skip_value(property.type, what);
       return;
     }
     const int64_t count = integer(property.count_type, what);
-    if (count < 0) fail("negative list length " + std::to_string(count) + " (" + what + ")");
+    if (count < 0) fail("negative list length " + std::to_string(count) + " (" + what.str() + ")");
     for (int64_t i = 0; i < count; ++i) skip_value(property.type, what);
   }
 
   [[noreturn]] void fail(const std::string& problem) const { throw file_error(path_, problem); }
 
  private:
-  void skip_value(Type type, const std::string& what) {
+  void skip_value(Type type, const ItemName& what) {
     if (format_ == Format::Ascii)
       token(what);
     else
       take(size_of(type), what);
   }
 
-  const unsigned char* take(int n, const std::string& what) {
-    if (remaining() < size_t(n)) fail("truncated data (" + what + ")");
+  // A value of the file's byte order: a plain load where it is the machine's.
+  template <class T>
+  T load(const unsigned char* bytes) const {
+    std::array<unsigned char, sizeof(T)> raw;
+    std::memcpy(raw.data(), bytes, sizeof(T));
+    if ((format_ == Format::BinaryBig) != (std::endian::native == std::endian::big))
+      std::reverse(raw.begin(), raw.end());
+    return std::bit_cast<T>(raw);
+  }
+
+  const unsigned char* take(int n, const ItemName& what) {
+    if (remaining() < size_t(n)) fail("truncated data (" + what.str() + ")");
     const auto* bytes = reinterpret_cast<const unsigned char*>(data_.data() + pos_);
     pos_ += size_t(n);
     return bytes;
   }
 
   // The next whitespace-separated word (line breaks are not significant).
-  std::string_view token(const std::string& what) {
+  std::string_view token(const ItemName& what) {
     auto space = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; };
     while (pos_ < data_.size() && space(data_[pos_])) ++pos_;
-    if (pos_ == data_.size()) fail("truncated data (" + what + ")");
+    if (pos_ == data_.size()) fail("truncated data (" + what.str() + ")");
     const size_t begin = pos_;
     while (pos_ < data_.size() && !space(data_[pos_])) ++pos_;
     return data_.substr(begin, pos_ - begin);
@@ -207,11 +219,14 @@ MeshDesc load_ply_mesh(const std::string& path, const Mat4& to_world,
   if (!std::filesystem::is_regular_file(path, ec)) throw file_error(path, "PLY file not found");
   std::string bytes;
   {
-    std::ifstream in(path, std::ios::binary);
+    // Read whole into a string of the file's size (a stream buffer grew and copied it).
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
     if (!in) throw file_error(path, "cannot read file");
-    std::ostringstream text;
-    text << in.rdbuf();
-    bytes = std::move(text).str();
+    const std::streamoff size = in.tellg();
+    if (size < 0) throw file_error(path, "cannot read file");
+    bytes.resize(size_t(size));
+    in.seekg(0);
+    if (!in.read(bytes.data(), size)) throw file_error(path, "cannot read file");
   }
 
   // --- Header: lines up to "end_header" ---
@@ -343,7 +358,7 @@ MeshDesc load_ply_mesh(const std::string& path, const Mat4& to_world,
     }
     std::vector<double> values(element.properties.size(), 0.0);
     for (uint64_t item = 0; item < element.count; ++item) {
-      const std::string what = element.name + " " + std::to_string(item);
+      const ItemName what{element.name, item};
       if (is_vertex) {
         for (size_t i = 0; i < element.properties.size(); ++i) {
           const Property& p = element.properties[i];
@@ -367,14 +382,15 @@ MeshDesc load_ply_mesh(const std::string& path, const Mat4& to_world,
           continue;
         }
         const int64_t n = data.integer(p.count_type, what);
-        if (n < 0) fail_at(path, "negative list length " + std::to_string(n) + " (" + what + ")");
+        if (n < 0)
+          fail_at(path, "negative list length " + std::to_string(n) + " (" + what.str() + ")");
         // Fan triangulation needs only the first and the previous corner.
         uint32_t first = 0, previous = 0;
         for (int64_t k = 0; k < n; ++k) {
           const int64_t index = data.integer(p.type, what);
           if (index < 0 || uint64_t(index) >= vertex->count)
-            fail_at(path, what + " uses vertex " + std::to_string(index) + ", out of range (" +
-                              std::to_string(vertex->count) + " vertices)");
+            fail_at(path, what.str() + " uses vertex " + std::to_string(index) +
+                              ", out of range (" + std::to_string(vertex->count) + " vertices)");
           const auto corner = uint32_t(index);
           if (k == 0)
             first = corner;
