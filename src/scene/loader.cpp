@@ -133,6 +133,12 @@ void drop_non_finite_triangles(SceneDescription& desc, MeshDesc& mesh, const std
            (is_finite(mesh.positions[v]) && (!has_normals || is_finite(mesh.normals[v])) &&
             (!has_uvs || (std::isfinite(mesh.uvs[v].x) && std::isfinite(mesh.uvs[v].y))));
   };
+  // Nearly every mesh is finite throughout: one pass over its vertices settles that without
+  // copying its indices.
+  bool all_finite = true;
+  for (uint32_t v = 0; all_finite && v < uint32_t(mesh.positions.size()); ++v)
+    all_finite = finite_vertex(v);
+  if (all_finite) return;
   std::vector<uint32_t> kept;
   kept.reserve(mesh.indices.size());
   size_t dropped = 0;

@@ -292,6 +292,9 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
                            "planar projection onto its bounding box's two longest sides");
     }
     const bool emissive = !is_black(mesh.emission);
+    // The kept triangles are written back over the mesh's own indices (never ahead of the
+    // one being read), which then become the geometry's.
+    size_t kept = 0;
     for (size_t i = 0; i < mesh.indices.size(); i += 3) {
       uint32_t a = mesh.indices[i], b = mesh.indices[i + 1], c = mesh.indices[i + 2];
       if (a >= mesh.positions.size() || b >= mesh.positions.size() || c >= mesh.positions.size())
@@ -315,7 +318,8 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
         ++s.stats_.dropped_degenerate_triangles;
         continue;
       }
-      g.indices.insert(g.indices.end(), {a, b, c});
+      mesh.indices[kept] = a, mesh.indices[kept + 1] = b, mesh.indices[kept + 2] = c;
+      kept += 3;
       for (const Vec3* p : {&pa, &pb, &pc}) {
         lower = glm::min(lower, *p);
         upper = glm::max(upper, *p);
@@ -325,14 +329,14 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
         g.lights.push_back(lights.back().get());
       }
     }
-    // The mesh's arrays move to the geometry and the description's indices go (the kept
-    // triangles are in g.indices): on a million-triangle mesh a second copy of each held
-    // through the render was a quarter of the heap. One spare float after the positions lets
-    // Embree read them in place (see the BVH below).
+    // The mesh's arrays move to the geometry (on a million-triangle mesh a second copy of
+    // each, held through the render, was a quarter of the heap). One spare float after the
+    // positions lets Embree read them in place (see the BVH below).
+    mesh.indices.resize(kept);
+    g.indices = std::move(mesh.indices);
     mesh.positions.reserve(mesh.positions.size() + 1);
     g.positions = std::move(mesh.positions);
     g.normals = std::move(mesh.normals);
-    std::vector<uint32_t>().swap(mesh.indices);
     s.stats_.triangles += g.indices.size() / 3;
     s.stats_.area_lights += g.lights.size();
     if (!g.indices.empty()) s.geometries_.push_back(std::move(g));

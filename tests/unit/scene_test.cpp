@@ -254,6 +254,31 @@ TEST(Scene, OccludedAndVisibleRespectBlockers) {
   EXPECT_TRUE(scene->visible(Vec3(0.5f, 0.5f, 0), Vec3(0, 0, 1), Vec3(0.5f, 0.5f, 5), n));
 }
 
+TEST(Scene, TrianglesAfterADroppedOneKeepTheirCorners) {
+  // The kept triangles are compacted over the mesh's own indices: each must keep its own
+  // corners and winding wherever it lands.
+  SceneDescription desc = base_description();
+  MeshDesc mesh;
+  mesh.name = "two triangles and two degenerate ones";
+  mesh.material = 0;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {5, 0, 0}, {6, 0, 0},
+                    {5, 1, 0}, {0, 3, 0}, {1, 3, 0}, {0, 4, 0}};
+  mesh.indices = {0, 1, 2,   // collinear: dropped
+                  3, 4, 5,   // kept, normal +z
+                  3, 3, 4,   // repeated vertex: dropped
+                  8, 7, 6};  // kept, normal -z
+  desc.meshes.push_back(mesh);
+  const auto scene = Scene::build(std::move(desc));
+  EXPECT_EQ(scene->stats().dropped_degenerate_triangles, 2u);
+  SurfaceHit hit;
+  ASSERT_TRUE(scene->intersect(ray_towards(Vec3(5.2f, 0.2f, 3), Vec3(5.2f, 0.2f, 0)), hit));
+  expect_near(hit.position, Vec3(5.2f, 0.2f, 0));
+  expect_near(hit.geometric_normal, Vec3(0, 0, 1));
+  ASSERT_TRUE(scene->intersect(ray_towards(Vec3(0.2f, 3.2f, 3), Vec3(0.2f, 3.2f, 0)), hit));
+  expect_near(hit.position, Vec3(0.2f, 3.2f, 0));
+  expect_near(hit.geometric_normal, Vec3(0, 0, -1));
+}
+
 TEST(Scene, DegenerateTrianglesAreDroppedAndCounted) {
   SceneDescription desc = base_description();
   MeshDesc mesh;
