@@ -2,9 +2,12 @@
 
 #include <tbb/task_group.h>
 
+#include <atomic>
 #include <exception>
 #include <functional>
 #include <mutex>
+
+#include "emlt/scene/serialized_loader.h"
 
 namespace emlt {
 
@@ -18,20 +21,29 @@ struct Read {
   std::function<Result()> read;
   std::optional<Result> result;
   std::exception_ptr error;
+  std::atomic<bool> started{false}, done{false};
 
   void run() {
     std::call_once(once, [this] {
+      started = true;
       try {
         result = read();
       } catch (...) {
         error = std::current_exception();
       }
+      done = true;
     });
   }
   // The contents, moved out: a file named twice (the door's checker.png) is announced
-  // twice, or read directly the second time.
-  Result take() {
+  // twice, or read directly the second time. `help` reads another file nobody has begun
+  // (false when there is none): called while a task is still reading this one, so that the
+  // loader's thread works instead of waiting (with two threads, the task's worker and the
+  // loader would otherwise read a scene's files one after the other).
+  template <typename Help>
+  Result take(const Help& help) {
     taken = true;
+    while (started && !done && help()) {
+    }
     run();
     if (error) std::rethrow_exception(error);
     return std::move(*result);
@@ -46,10 +58,28 @@ thread_local LoadPrefetch* t_active = nullptr;
 struct LoadPrefetch::Reads {
   std::vector<std::pair<std::string, std::unique_ptr<Read<Image8>>>> images;
   std::vector<std::pair<Obj, std::unique_ptr<Read<ObjInFileSpace>>>> objs;
+  std::vector<std::pair<MeshFile, std::unique_ptr<Read<PlyInFileSpace>>>> meshes;
   tbb::task_group tasks;
+
+  // Reads one announced file that no one has begun; false if there is none.
+  bool read_one_not_begun() {
+    const auto first_of = [](auto& list) -> bool {
+      for (auto& entry : list)
+        if (!entry.second->started) {
+          entry.second->run();
+          return true;
+        }
+      return false;
+    };
+    return first_of(images) || first_of(objs) || first_of(meshes);
+  }
+  auto helper() {
+    return [this] { return read_one_not_begun(); };
+  }
 };
 
-LoadPrefetch::LoadPrefetch(const std::vector<std::string>& images, const std::vector<Obj>& objs)
+LoadPrefetch::LoadPrefetch(const std::vector<std::string>& images, const std::vector<Obj>& objs,
+                           const std::vector<MeshFile>& meshes)
     : reads_(std::make_unique<Reads>()), outer_(t_active) {
   for (const std::string& path : images) {
     auto read = std::make_unique<Read<Image8>>();
@@ -61,10 +91,19 @@ LoadPrefetch::LoadPrefetch(const std::vector<std::string>& images, const std::ve
     read->read = [obj] { return read_obj_file(obj.path, obj.smooth_normals, obj.flip_v); };
     reads_->objs.emplace_back(obj, std::move(read));
   }
+  for (const MeshFile& file : meshes) {
+    auto read = std::make_unique<Read<PlyInFileSpace>>();
+    read->read = [file] {
+      if (file.format == MeshFile::Format::Ply) return read_ply_file(file.path);
+      return PlyInFileSpace{read_serialized_mesh(file.path, file.shape_index), {}};
+    };
+    reads_->meshes.emplace_back(file, std::move(read));
+  }
   // Images first: the loader reaches textures (declared at the top, or in the BSDFs) before
   // the shapes, and while a task decodes one the loader parses the meshes it needs first.
   for (auto& [path, read] : reads_->images) reads_->tasks.run([r = read.get()] { r->run(); });
   for (auto& [obj, read] : reads_->objs) reads_->tasks.run([r = read.get()] { r->run(); });
+  for (auto& [file, read] : reads_->meshes) reads_->tasks.run([r = read.get()] { r->run(); });
   t_active = this;
 }
 
@@ -76,7 +115,7 @@ LoadPrefetch::~LoadPrefetch() {
 std::optional<Image8> LoadPrefetch::image8(const std::string& path) {
   if (!t_active) return std::nullopt;
   for (auto& [announced, read] : t_active->reads_->images)
-    if (announced == path && !read->taken) return read->take();
+    if (announced == path && !read->taken) return read->take(t_active->reads_->helper());
   return std::nullopt;
 }
 
@@ -86,7 +125,14 @@ std::optional<ObjInFileSpace> LoadPrefetch::obj(const std::string& path, bool sm
   for (auto& [announced, read] : t_active->reads_->objs)
     if (announced.path == path && announced.smooth_normals == smooth_normals &&
         announced.flip_v == flip_v && !read->taken)
-      return read->take();
+      return read->take(t_active->reads_->helper());
+  return std::nullopt;
+}
+
+std::optional<PlyInFileSpace> LoadPrefetch::mesh(const MeshFile& file) {
+  if (!t_active) return std::nullopt;
+  for (auto& [announced, read] : t_active->reads_->meshes)
+    if (announced == file && !read->taken) return read->take(t_active->reads_->helper());
   return std::nullopt;
 }
 

@@ -1,13 +1,14 @@
 // Mitsuba 0.6 XML scenes: the subset that maps onto this renderer (see scenes/README.md).
 // Everything else is reported as a warning naming the element and its line.
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <map>
 #include <optional>
 #include <string_view>
-
-#include <fmt/format.h>
 
 #include "emlt/core/error.h"
 #include "emlt/scene/load_prefetch.h"
@@ -87,6 +88,7 @@ class MitsubaSceneReader {
   LoadPrefetch announce_files(pugi::xml_node scene) const {
     std::vector<std::string> images;
     std::vector<LoadPrefetch::Obj> objs;
+    std::vector<LoadPrefetch::MeshFile> meshes;
     const auto value_of = [](pugi::xml_node node, const char* tag, const char* name) {
       for (pugi::xml_node child : node.children(tag))
         if (std::string_view(child.attribute("name").as_string()) == name)
@@ -105,8 +107,9 @@ class MitsubaSceneReader {
       if (*text == "true" || *text == "false") return *text == "true";
       return std::nullopt;
     };
-    const pugi::xpath_node_set named =
-        scene.select_nodes("//texture[@type='bitmap'] | //shape[@type='obj']");
+    const pugi::xpath_node_set named = scene.select_nodes(
+        "//texture[@type='bitmap'] | //shape[@type='obj'] | //shape[@type='ply'] | "
+        "//shape[@type='serialized']");
     for (const pugi::xpath_node& found : named) {
       const pugi::xml_node node = found.node();
       const auto file = plain_file(node);
@@ -119,11 +122,25 @@ class MitsubaSceneReader {
         if (is_eight_bit_image(*file)) images.push_back(*file);
         continue;
       }
+      const std::string_view type = node.attribute("type").as_string();
+      if (type == "ply") {
+        meshes.push_back({LoadPrefetch::MeshFile::Format::Ply, *file, 0});
+        continue;
+      }
+      if (type == "serialized") {
+        const std::string index = value_of(node, "integer", "shapeIndex").value_or("0");
+        int shape_index = -1;
+        const auto [end, ec] =
+            std::from_chars(index.data(), index.data() + index.size(), shape_index);
+        if (ec == std::errc() && end == index.data() + index.size() && shape_index >= 0)
+          meshes.push_back({LoadPrefetch::MeshFile::Format::Serialized, *file, shape_index});
+        continue;
+      }
       const auto face_normals = flag(node, "faceNormals", false),
                  flip = flag(node, "flipTexCoords", true);
       if (face_normals && flip) objs.push_back({*file, !*face_normals, *flip});
     }
-    return LoadPrefetch(images, objs);
+    return LoadPrefetch(images, objs, meshes);
   }
 
  private:
@@ -472,13 +489,19 @@ class MitsubaSceneReader {
       if (!props.has("filename")) doc_.fail(node, "<shape type=\"serialized\"> needs a 'filename'");
       const std::string file = loader::resolve_path(doc_.path(), props.get_string("filename", ""));
       const int index = props.get_integer("shapeIndex", 0, loader::kShapeIndexRange);
-      mesh = load_serialized_mesh(file, index, to_world);
+      std::optional<PlyInFileSpace> prefetched =
+          LoadPrefetch::mesh({LoadPrefetch::MeshFile::Format::Serialized, file, index});
+      mesh = prefetched ? place_serialized_mesh(std::move(prefetched->mesh), to_world)
+                        : load_serialized_mesh(file, index, to_world);
       loader::drop_non_finite_triangles(desc_, mesh, file);
       read_mesh_normal_options(node, props, mesh, flip);
     } else if (type == "ply") {
       if (!props.has("filename")) doc_.fail(node, "<shape type=\"ply\"> needs a 'filename'");
       const std::string file = loader::resolve_path(doc_.path(), props.get_string("filename", ""));
-      mesh = load_ply_mesh(file, to_world, &desc_.warnings);
+      std::optional<PlyInFileSpace> prefetched =
+          LoadPrefetch::mesh({LoadPrefetch::MeshFile::Format::Ply, file, 0});
+      mesh = prefetched ? place_ply_mesh(std::move(*prefetched), to_world, &desc_.warnings)
+                        : load_ply_mesh(file, to_world, &desc_.warnings);
       loader::drop_non_finite_triangles(desc_, mesh, file);
       read_mesh_normal_options(node, props, mesh, flip);
       props.ignore({"srgb"});  // how vertex colours are read; they are not used

@@ -215,6 +215,22 @@ int find_property(const Element& element, std::initializer_list<const char*> nam
 
 MeshDesc load_ply_mesh(const std::string& path, const Mat4& to_world,
                        std::vector<std::string>* warnings) {
+  return place_ply_mesh(read_ply_file(path), to_world, warnings);
+}
+
+MeshDesc place_ply_mesh(PlyInFileSpace ply, const Mat4& to_world,
+                        std::vector<std::string>* warnings) {
+  if (warnings) warnings->insert(warnings->end(), ply.warnings.begin(), ply.warnings.end());
+  // Mitsuba's PLY loader transforms normals by the inverse transpose but, unlike its
+  // serialized loader, leaves the winding alone under a mirroring transform.
+  transform_mesh(ply.mesh, to_world, false);
+  return std::move(ply.mesh);
+}
+
+PlyInFileSpace read_ply_file(const std::string& path) {
+  PlyInFileSpace ply;
+  MeshDesc& mesh = ply.mesh;
+  std::vector<std::string>* warnings = &ply.warnings;
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw file_error(path, "PLY file not found");
   std::string bytes;
@@ -330,7 +346,6 @@ MeshDesc load_ply_mesh(const std::string& path, const Mat4& to_world,
   const bool has_normals = nx >= 0 && ny >= 0 && nz >= 0, has_uvs = u >= 0 && v >= 0;
   if (vertex->count > UINT32_MAX) fail_at(path, "more vertices than 32-bit indices can address");
 
-  MeshDesc mesh;
   mesh.name = std::filesystem::path(path).filename().string();
   DataReader data(path, std::string_view(bytes).substr(pos), *format);
   size_t short_faces = 0;
@@ -404,14 +419,10 @@ MeshDesc load_ply_mesh(const std::string& path, const Mat4& to_world,
   }
   if (!has_face_list) fail_at(path, "no face element with a vertex_indices list");
   if (mesh.indices.empty()) fail_at(path, "no faces with three or more vertices");
-  if (short_faces > 0 && warnings)
+  if (short_faces > 0)
     warnings->push_back(path + ": " + std::to_string(short_faces) +
                         " faces with fewer than three vertices skipped");
-
-  // Mitsuba's PLY loader transforms normals by the inverse transpose but, unlike its
-  // serialized loader, leaves the winding alone under a mirroring transform.
-  transform_mesh(mesh, to_world, false);
-  return mesh;
+  return ply;
 }
 
 }  // namespace emlt

@@ -177,6 +177,15 @@ std::vector<float> read_reals(InflateReader& in, uint64_t count, int size, const
 }  // namespace
 
 MeshDesc load_serialized_mesh(const std::string& path, int shape_index, const Mat4& to_world) {
+  return place_serialized_mesh(read_serialized_mesh(path, shape_index), to_world);
+}
+
+MeshDesc place_serialized_mesh(MeshDesc mesh, const Mat4& to_world) {
+  transform_mesh(mesh, to_world, true);  // a mirroring transform keeps the facing
+  return mesh;
+}
+
+MeshDesc read_serialized_mesh(const std::string& path, int shape_index) {
   SerializedFile file(path);
   if (file.size() < 4) file.fail("not a Mitsuba serialized mesh (file too short)");
   const int version = file.read_header(0, "");
@@ -288,8 +297,6 @@ MeshDesc load_serialized_mesh(const std::string& path, int shape_index, const Ma
   }
 
   in.finish();
-
-  transform_mesh(mesh, to_world, true);
   return mesh;
 }
 

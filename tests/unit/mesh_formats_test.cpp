@@ -6,9 +6,13 @@
 
 #include <cstring>
 #include <functional>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "emlt/core/error.h"
+#include "emlt/scene/load_prefetch.h"
 #include "emlt/scene/loader.h"
+#include "emlt/scene/ply_loader.h"
+#include "emlt/scene/serialized_loader.h"
 #include "support/test_support.h"
 
 using namespace emlt;
@@ -671,4 +675,76 @@ TEST(MeshFormatsPly, MalformedFilesGiveOneLineNamingTheFile) {
   }
   const std::string missing = error_of([&] { load_xml(dir, ply_shape("missing.ply")); });
   EXPECT_NE(missing.find("missing.ply: PLY file not found"), std::string::npos) << missing;
+}
+
+// PLY and serialized meshes read ahead (load_prefetch.h) and then placed are the meshes the
+// direct loads give, bit for bit: transform, normals, a mirroring transform's winding (kept
+// by PLY, reversed by serialized, as Mitsuba does) and the PLY's warnings.
+TEST(MeshFormatsPrefetch, ReadAheadAndPlacedIsTheDirectLoad) {
+  const auto dir = test::scratch_dir("mesh-prefetch");
+  const std::string ply = write_file(dir, "mesh.ply", std::string(kAsciiPly) + "");
+  const std::string short_face = write_file(
+      dir, "short.ply",
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n2 0 1\n");
+  TestMesh triangle;
+  triangle.positions = {0, 0, 1, 2, 0, 1, 0, 3, 1};
+  triangle.normals = {0, 0, 1, 0, 0, 1, 0, 0, 1};
+  triangle.indices = {0, 1, 2};
+  const std::string serialized =
+      write_file(dir, "two.serialized", serialized_file({quad(), triangle}, 4));
+  const Mat4 mirror = glm::scale(glm::translate(Mat4(1.0f), Vec3(1, 2, 3)), Vec3(2, 1, -1));
+  using File = LoadPrefetch::MeshFile;
+  const auto same = [](const MeshDesc& a, const MeshDesc& b) {
+    ASSERT_EQ(a.positions.size(), b.positions.size());
+    EXPECT_EQ(
+        0, std::memcmp(a.positions.data(), b.positions.data(), a.positions.size() * sizeof(Vec3)));
+    ASSERT_EQ(a.normals.size(), b.normals.size());
+    EXPECT_EQ(0, std::memcmp(a.normals.data(), b.normals.data(), a.normals.size() * sizeof(Vec3)));
+    EXPECT_EQ(a.uvs, b.uvs);
+    EXPECT_EQ(a.indices, b.indices);
+  };
+  {
+    const LoadPrefetch prefetch({}, {},
+                                {{File::Format::Ply, ply, 0},
+                                 {File::Format::Ply, short_face, 0},
+                                 {File::Format::Serialized, serialized, 1},
+                                 {File::Format::Serialized, serialized, 0}});
+    auto read = LoadPrefetch::mesh({File::Format::Ply, ply, 0});
+    ASSERT_TRUE(read.has_value());
+    std::vector<std::string> warnings;
+    same(place_ply_mesh(std::move(*read), mirror, &warnings), load_ply_mesh(ply, mirror));
+    EXPECT_TRUE(warnings.empty());
+    read = LoadPrefetch::mesh({File::Format::Ply, short_face, 0});
+    ASSERT_TRUE(read.has_value());
+    std::vector<std::string> direct_warnings;
+    same(place_ply_mesh(std::move(*read), mirror, &warnings),
+         load_ply_mesh(short_face, mirror, &direct_warnings));
+    EXPECT_EQ(warnings, direct_warnings);
+    ASSERT_EQ(warnings.size(), 1u);
+    for (const int index : {1, 0}) {
+      read = LoadPrefetch::mesh({File::Format::Serialized, serialized, index});
+      ASSERT_TRUE(read.has_value()) << index;
+      EXPECT_TRUE(read->warnings.empty());
+      const MeshDesc placed = place_serialized_mesh(std::move(read->mesh), mirror);
+      same(placed, load_serialized_mesh(serialized, index, mirror));
+      if (index == 0) {  // the quad's first triangle, reversed by the mirroring transform
+        EXPECT_EQ(placed.indices, (std::vector<uint32_t>{0, 2, 1, 0, 3, 2}));
+      }
+    }
+    // Taken once; another shape index is read directly.
+    EXPECT_FALSE(LoadPrefetch::mesh({File::Format::Ply, ply, 0}).has_value());
+    EXPECT_FALSE(LoadPrefetch::mesh({File::Format::Serialized, serialized, 2}).has_value());
+  }
+  // Through the Mitsuba loader, which announces both kinds: the same meshes.
+  const SceneDescription desc = load_xml(
+      dir, ply_shape("mesh.ply") +
+               serialized_shape("two.serialized",
+                                "<integer name=\"shapeIndex\" value=\"1\"/>"
+                                "<transform name=\"toWorld\"><scale z=\"-1\"/></transform>"));
+  ASSERT_EQ(desc.meshes.size(), 2u);
+  EXPECT_EQ(desc.meshes[0].positions, load_ply_mesh(ply, Mat4(1.0f)).positions);
+  EXPECT_EQ(desc.meshes[1].indices,
+            load_serialized_mesh(serialized, 1, glm::scale(Mat4(1.0f), Vec3(1, 1, -1))).indices);
 }

@@ -17,6 +17,7 @@
 
 #include "emlt/render/image.h"
 #include "emlt/scene/obj_loader.h"
+#include "emlt/scene/ply_loader.h"
 
 namespace emlt {
 
@@ -26,8 +27,17 @@ class LoadPrefetch {
     std::string path;
     bool smooth_normals = true, flip_v = true;
   };
-  // Starts reading: 8-bit images (as read_image8 reads them) and OBJ files.
-  LoadPrefetch(const std::vector<std::string>& images, const std::vector<Obj>& objs);
+  // One mesh of a PLY file (shape_index unused) or of a serialized file.
+  struct MeshFile {
+    enum class Format { Ply, Serialized } format = Format::Ply;
+    std::string path;
+    int shape_index = 0;
+    bool operator==(const MeshFile&) const = default;
+  };
+  // Starts reading: 8-bit images (as read_image8 reads them), OBJ, PLY and serialized
+  // meshes (in the file's own space: read_obj_file, read_ply_file, read_serialized_mesh).
+  LoadPrefetch(const std::vector<std::string>& images, const std::vector<Obj>& objs,
+               const std::vector<MeshFile>& meshes = {});
   ~LoadPrefetch();  // waits for the reads under way (a load that failed early)
   LoadPrefetch(const LoadPrefetch&) = delete;
   LoadPrefetch& operator=(const LoadPrefetch&) = delete;
@@ -37,6 +47,8 @@ class LoadPrefetch {
   static std::optional<Image8> image8(const std::string& path);
   static std::optional<ObjInFileSpace> obj(const std::string& path, bool smooth_normals,
                                            bool flip_v);
+  // A serialized mesh comes with no warnings.
+  static std::optional<PlyInFileSpace> mesh(const MeshFile& file);
 
  private:
   struct Reads;

@@ -20,4 +20,9 @@ namespace emlt {
 // `shape_index` out of range. A mesh without triangles is returned empty.
 MeshDesc load_serialized_mesh(const std::string& path, int shape_index, const Mat4& to_world);
 
+// load_serialized_mesh in two steps: the file's part, which a scene's loader may run ahead
+// in parallel (load_prefetch.h), giving the mesh in the file's own space, and its placement.
+MeshDesc read_serialized_mesh(const std::string& path, int shape_index);
+MeshDesc place_serialized_mesh(MeshDesc mesh, const Mat4& to_world);
+
 }  // namespace emlt
