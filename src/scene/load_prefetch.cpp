@@ -108,6 +108,11 @@ LoadPrefetch::LoadPrefetch(const std::vector<std::string>& images, const std::ve
 }
 
 LoadPrefetch::~LoadPrefetch() {
+  // Whatever no task has begun is not read: the loader is done with the prefetch, and when it
+  // ended on an error, that error should not wait for every announced mesh (a scene's first
+  // shape naming a missing file waited 0.2 s for eight 20 MB PLY files). Reads under way
+  // finish.
+  reads_->tasks.cancel();
   reads_->tasks.wait();
   t_active = outer_;
 }

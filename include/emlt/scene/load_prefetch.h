@@ -38,7 +38,7 @@ class LoadPrefetch {
   // meshes (in the file's own space: read_obj_file, read_ply_file, read_serialized_mesh).
   LoadPrefetch(const std::vector<std::string>& images, const std::vector<Obj>& objs,
                const std::vector<MeshFile>& meshes = {});
-  ~LoadPrefetch();  // waits for the reads under way (a load that failed early)
+  ~LoadPrefetch();  // skips the reads not begun, waits for those under way
   LoadPrefetch(const LoadPrefetch&) = delete;
   LoadPrefetch& operator=(const LoadPrefetch&) = delete;
 
