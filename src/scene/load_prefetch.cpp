@@ -58,7 +58,7 @@ thread_local LoadPrefetch* t_active = nullptr;
 struct LoadPrefetch::Reads {
   std::vector<std::pair<std::string, std::unique_ptr<Read<Image8>>>> images;
   std::vector<std::pair<Obj, std::unique_ptr<Read<ObjInFileSpace>>>> objs;
-  std::vector<std::pair<MeshFile, std::unique_ptr<Read<PlyInFileSpace>>>> meshes;
+  std::vector<std::pair<MeshFile, std::unique_ptr<Read<MeshInFileSpace>>>> meshes;
   tbb::task_group tasks;
 
   // Reads one announced file that no one has begun; false if there is none.
@@ -92,10 +92,10 @@ LoadPrefetch::LoadPrefetch(const std::vector<std::string>& images, const std::ve
     reads_->objs.emplace_back(obj, std::move(read));
   }
   for (const MeshFile& file : meshes) {
-    auto read = std::make_unique<Read<PlyInFileSpace>>();
+    auto read = std::make_unique<Read<MeshInFileSpace>>();
     read->read = [file] {
       if (file.format == MeshFile::Format::Ply) return read_ply_file(file.path);
-      return PlyInFileSpace{read_serialized_mesh(file.path, file.shape_index), {}};
+      return MeshInFileSpace{read_serialized_mesh(file.path, file.shape_index), {}};
     };
     reads_->meshes.emplace_back(file, std::move(read));
   }
@@ -134,7 +134,7 @@ std::optional<ObjInFileSpace> LoadPrefetch::obj(const std::string& path, bool sm
   return std::nullopt;
 }
 
-std::optional<PlyInFileSpace> LoadPrefetch::mesh(const MeshFile& file) {
+std::optional<MeshInFileSpace> LoadPrefetch::mesh(const MeshFile& file) {
   if (!t_active) return std::nullopt;
   for (auto& [announced, read] : t_active->reads_->meshes)
     if (announced == file && !read->taken) return read->take(t_active->reads_->helper());

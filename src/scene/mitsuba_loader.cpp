@@ -489,7 +489,7 @@ class MitsubaSceneReader {
       if (!props.has("filename")) doc_.fail(node, "<shape type=\"serialized\"> needs a 'filename'");
       const std::string file = loader::resolve_path(doc_.path(), props.get_string("filename", ""));
       const int index = props.get_integer("shapeIndex", 0, loader::kShapeIndexRange);
-      std::optional<PlyInFileSpace> prefetched =
+      std::optional<MeshInFileSpace> prefetched =
           LoadPrefetch::mesh({LoadPrefetch::MeshFile::Format::Serialized, file, index});
       mesh = prefetched ? place_serialized_mesh(std::move(prefetched->mesh), to_world)
                         : load_serialized_mesh(file, index, to_world);
@@ -498,7 +498,7 @@ class MitsubaSceneReader {
     } else if (type == "ply") {
       if (!props.has("filename")) doc_.fail(node, "<shape type=\"ply\"> needs a 'filename'");
       const std::string file = loader::resolve_path(doc_.path(), props.get_string("filename", ""));
-      std::optional<PlyInFileSpace> prefetched =
+      std::optional<MeshInFileSpace> prefetched =
           LoadPrefetch::mesh({LoadPrefetch::MeshFile::Format::Ply, file, 0});
       mesh = prefetched ? place_ply_mesh(std::move(*prefetched), to_world, &desc_.warnings)
                         : load_ply_mesh(file, to_world, &desc_.warnings);

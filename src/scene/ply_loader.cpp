@@ -218,7 +218,7 @@ MeshDesc load_ply_mesh(const std::string& path, const Mat4& to_world,
   return place_ply_mesh(read_ply_file(path), to_world, warnings);
 }
 
-MeshDesc place_ply_mesh(PlyInFileSpace ply, const Mat4& to_world,
+MeshDesc place_ply_mesh(MeshInFileSpace ply, const Mat4& to_world,
                         std::vector<std::string>* warnings) {
   if (warnings) warnings->insert(warnings->end(), ply.warnings.begin(), ply.warnings.end());
   // Mitsuba's PLY loader transforms normals by the inverse transpose but, unlike its
@@ -227,8 +227,8 @@ MeshDesc place_ply_mesh(PlyInFileSpace ply, const Mat4& to_world,
   return std::move(ply.mesh);
 }
 
-PlyInFileSpace read_ply_file(const std::string& path) {
-  PlyInFileSpace ply;
+MeshInFileSpace read_ply_file(const std::string& path) {
+  MeshInFileSpace ply;
   MeshDesc& mesh = ply.mesh;
   std::vector<std::string>* warnings = &ply.warnings;
   std::error_code ec;

@@ -26,6 +26,14 @@ struct MeshDesc {
   Rgb emission{0.0f};             // area-light radiance, emitted on the normal side
 };
 
+// A mesh as its file holds it, before the shape's transform places it, with the reader's
+// warnings (a PLY file's skipped faces; a serialized mesh has none): what a scene's loader
+// reads ahead in parallel (load_prefetch.h).
+struct MeshInFileSpace {
+  MeshDesc mesh;
+  std::vector<std::string> warnings;
+};
+
 struct SphereDesc {
   std::string name;
   Vec3 center{0.0f};

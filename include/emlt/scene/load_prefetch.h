@@ -48,7 +48,7 @@ class LoadPrefetch {
   static std::optional<ObjInFileSpace> obj(const std::string& path, bool smooth_normals,
                                            bool flip_v);
   // A serialized mesh comes with no warnings.
-  static std::optional<PlyInFileSpace> mesh(const MeshFile& file);
+  static std::optional<MeshInFileSpace> mesh(const MeshFile& file);
 
  private:
   struct Reads;

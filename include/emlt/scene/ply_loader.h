@@ -21,14 +21,9 @@ MeshDesc load_ply_mesh(const std::string& path, const Mat4& to_world,
                        std::vector<std::string>* warnings = nullptr);
 
 // load_ply_mesh in two steps: the file's part, which a scene's loader may run ahead in
-// parallel (load_prefetch.h), giving the mesh in the file's own space and its warnings, and
-// its placement.
-struct PlyInFileSpace {
-  MeshDesc mesh;
-  std::vector<std::string> warnings;
-};
-PlyInFileSpace read_ply_file(const std::string& path);
-MeshDesc place_ply_mesh(PlyInFileSpace ply, const Mat4& to_world,
+// parallel (load_prefetch.h), and the placement.
+MeshInFileSpace read_ply_file(const std::string& path);
+MeshDesc place_ply_mesh(MeshInFileSpace ply, const Mat4& to_world,
                         std::vector<std::string>* warnings);
 
 }  // namespace emlt
