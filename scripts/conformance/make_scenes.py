@@ -9,13 +9,18 @@ subject in the middle. Reference images are rendered by Mitsuba itself
 (scripts/conformance/render_references.sh) and compared with emlt's by
 tests/conformance/check.py.
 
-Standard library only, deterministic: run it again and nothing changes.
+Standard library only, except for the JPEG textures, which are encoded by cjpeg and
+decoded by djpeg (Debian's libjpeg-turbo-progs: libjpeg's defaults, which Mitsuba reads
+JPEG with); their decoded texels go beside them as .ppm for tests/unit/image_io_test.cpp.
+Deterministic: run it again and nothing changes.
     python3 scripts/conformance/make_scenes.py
 """
 import json
 import math
 import os
+import shutil
 import struct
+import subprocess
 import sys
 import zlib
 
@@ -77,6 +82,21 @@ def colour_grid(width, height):
 
 def to_bytes(rows):
     return [[tuple(int(round(255 * c)) for c in px) for px in row] for row in rows]
+
+
+def write_jpeg(path, width, height, pixels, options):
+    """Encodes rows of byte triples with cjpeg (its `options`), and writes libjpeg's default
+    decode of the result to `path` + ".ppm"."""
+    for tool in ("cjpeg", "djpeg"):
+        if not shutil.which(tool):
+            sys.exit(f"make_scenes: {tool} not found (apt-get install libjpeg-turbo-progs)")
+    ppm = b"P6\n%d %d\n255\n" % (width, height) + bytes(v for row in pixels for px in row for v in px)
+    jpeg = subprocess.run(["cjpeg", *options], input=ppm, capture_output=True, check=True).stdout
+    with open(path, "wb") as f:
+        f.write(jpeg)
+    decoded = subprocess.run(["djpeg", "-pnm", path], capture_output=True, check=True).stdout
+    with open(path + ".ppm", "wb") as f:
+        f.write(decoded)
 
 
 def write_obj(path, positions, normals, uvs, faces):
@@ -173,6 +193,10 @@ def write_assets():
     os.makedirs(ASSETS, exist_ok=True)
     grid = colour_grid(32, 32)
     write_png(os.path.join(ASSETS, "grid.png"), 32, 32, to_bytes(grid))
+    # Baseline with 2x2 chroma subsampling (cjpeg's default), and a progressive grey file.
+    write_jpeg(os.path.join(ASSETS, "grid.jpg"), 32, 32, to_bytes(grid), ["-quality", "90"])
+    write_jpeg(os.path.join(ASSETS, "grid-grey.jpg"), 32, 32, to_bytes(grid),
+               ["-quality", "90", "-grayscale", "-progressive"])
     write_exr(os.path.join(ASSETS, "grid.exr"), 32, 32, grid)
     heights = [[(0.5 + 0.5 * math.sin(2 * math.pi * x / 8) * math.sin(2 * math.pi * y / 8),) * 3
                 for x in range(32)] for y in range(32)]
@@ -460,6 +484,10 @@ def build():
     s["tex-png-srgb"] = ("an 8-bit PNG is sRGB-decoded", scene(panel_tex("")), pt_bdpt)
     s["tex-png-gamma"] = ("gamma 1 overrides a PNG's sRGB curve",
                           scene(panel_tex('<float name="gamma" value="1"/>')), pt_bdpt)
+    s["tex-jpg-srgb"] = ("a JPEG is sRGB-decoded, its chroma upsampled as libjpeg does",
+                         scene(panel_tex("", "grid.jpg")), pt_bdpt)
+    s["tex-jpg-grey"] = ("a grey (progressive) JPEG gives three equal channels",
+                         scene(panel_tex("", "grid-grey.jpg")), pt_bdpt)
     s["tex-exr-linear"] = ("an EXR texture is linear", scene(panel_tex("", "grid.exr")), pt_bdpt)
     s["tex-uv-transform"] = ("uscale/vscale and uoffset/voffset with repeat",
                              scene(panel_tex('<float name="uscale" value="3"/><float name="vscale" value="2"/>'

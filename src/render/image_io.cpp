@@ -6,6 +6,8 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <stb/stb_image.h>
+#include <stb/stb_image_write.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -21,12 +23,12 @@
 #include <initializer_list>
 #include <iterator>
 #include <stdexcept>
-#include <stb/stb_image.h>
-#include <stb/stb_image_write.h>
 
 #include "emlt/core/error.h"
-#include "emlt/render/interruption.h"
 #include "emlt/render/image.h"
+#include "emlt/render/interruption.h"
+#include "src/render/image_size.h"
+#include "src/render/jpeg_reader.h"
 
 namespace emlt {
 
@@ -65,24 +67,6 @@ float srgb_to_linear(float c) {
 
 float linear_to_srgb(float c) {
   return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-}
-
-// Every reader checks the size its header claims against these before it allocates or
-// decodes anything, so a corrupt or hostile header cannot ask for gigabytes. 2^28 texels
-// are 3 GiB as float RGB, and a reader may hold a second copy while it converts: 16384 x
-// 16384 (the largest film) and 32768 x 8192 still fit; 2^29 would let one header take
-// 6 GiB or more.
-constexpr int64_t kMaxImageSide = 65536;
-constexpr int64_t kMaxImageTexels = int64_t(1) << 28;
-
-void check_image_size(const std::string& path, int64_t width, int64_t height) {
-  if (width <= 0 || height <= 0) throw file_error(path, "image has zero size");
-  // The sides first, so that their product cannot overflow.
-  if (width > kMaxImageSide || height > kMaxImageSide || width * height > kMaxImageTexels)
-    throw file_error(path, "header claims " + std::to_string(width) + " x " +
-                               std::to_string(height) +
-                               " texels; images may have at most 65536 texels a side and "
-                               "2^28 (about 268 million) in all");
 }
 
 // ---- OpenEXR ---------------------------------------------------------------------------
@@ -229,7 +213,7 @@ void write_pfm(const std::string& path, const Image& image) {
   if (!out) throw WriteFailure("write failed");
 }
 
-// ---- stb formats (Radiance .hdr, PNG/JPEG) ------------------------------------------------
+// ---- stb formats (Radiance .hdr, PNG) ---------------------------------------------------
 
 // The size from the header alone (stbi_info decodes no pixels). stb refuses a PNG
 // header it finds too large as "too large", without the size: that is read here from
@@ -325,10 +309,8 @@ void check_hdr_data(const std::string& path, int64_t width, int64_t height) {
 }
 
 // stb decodes whatever format it recognises in the bytes, whatever the extension (a .png
-// that is a headerless TGA claiming 18505 x 21060 texels in 24 bytes), and decodes data
-// missing at the end as zeros. So the file must start with its format's signature, and
-// a JPEG must be long enough for its 8 x 8 blocks, each of which codes at least one bit
-// (its DC difference).
+// that is a headerless TGA claiming 18505 x 21060 texels in 24 bytes), so the file must
+// start with its format's signature. (JPEG goes to libjpeg: jpeg_reader.cpp.)
 void check_stb_file(const std::string& path, Format format) {
   unsigned char head[8] = {};
   std::ifstream in(path, std::ios::binary);
@@ -339,20 +321,8 @@ void check_stb_file(const std::string& path, Format format) {
   };
   if (format == Format::Png && !starts_with({0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'}))
     throw file_error(path, "not a PNG file");
-  if (format == Format::Jpeg && !starts_with({0xff, 0xd8, 0xff}))
-    throw file_error(path, "not a JPEG file");
   if (format == Format::Hdr && !starts_with({'#', '?'}))
     throw file_error(path, "not a Radiance HDR file");
-  int width = 0, height = 0, components = 0;
-  if (format != Format::Jpeg || !stbi_info(path.c_str(), &width, &height, &components)) return;
-  const int64_t blocks = (int64_t(width) + 7) / 8 * ((int64_t(height) + 7) / 8);
-  std::error_code error;
-  const auto bytes = fs::file_size(path, error);
-  if (!error && int64_t(bytes) < blocks / 8) {
-    throw file_error(path, "truncated JPEG: " + std::to_string(bytes) + " bytes cannot hold " +
-                               std::to_string(width) + " x " + std::to_string(height) +
-                               " texels");
-  }
 }
 
 Image read_hdr(const std::string& path) {
@@ -376,7 +346,9 @@ Image read_hdr(const std::string& path) {
 }
 
 Image8 read_ldr_bytes(const std::string& path) {
-  check_stb_file(path, format_of(path));
+  const Format format = format_of(path);
+  if (format == Format::Jpeg) return read_jpeg(path);
+  check_stb_file(path, format);
   check_stb_image_size(path);
   int width = 0, height = 0, components = 0;
   unsigned char* data = stbi_load(path.c_str(), &width, &height, &components, 3);

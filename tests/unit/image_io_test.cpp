@@ -54,6 +54,24 @@ std::vector<std::string> directory_listing(const fs::path& dir) {
   return names;
 }
 
+// A binary PPM (P6) or PGM (P5) as 3 bytes per texel, a grey file's value repeated.
+Image8 read_pnm(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string magic;
+  int max_value = 0;
+  Image8 image;
+  in >> magic >> image.width >> image.height >> max_value;
+  in.get();  // the single whitespace byte before the texels
+  const int channels = magic == "P6" ? 3 : 1;
+  std::vector<unsigned char> data(size_t(image.width) * size_t(image.height) * size_t(channels));
+  in.read(reinterpret_cast<char*>(data.data()), std::streamsize(data.size()));
+  EXPECT_TRUE((magic == "P5" || magic == "P6") && max_value == 255 && in) << path;
+  for (size_t i = 0; i < data.size(); i += size_t(channels)) {
+    for (int c = 0; c < 3; ++c) image.bytes.push_back(data[i + size_t(channels == 3 ? c : 0)]);
+  }
+  return image;
+}
+
 }  // namespace
 
 TEST(ImageIo, FloatFormatsRoundTripExactly) {
@@ -320,4 +338,47 @@ TEST(ImageIo, SrgbEncodingOfManyValuesMatchesEachValueAlone) {
     for (size_t c = 0; c < 3; ++c) mismatches += alone[c] != bytes[3 * i + c];
   }
   EXPECT_EQ(mismatches, 0);
+}
+
+// JPEG texels are libjpeg's default decode, which is what Mitsuba 0.6 reads JPEG textures
+// with: bit for bit the texels djpeg wrote beside the files (scripts/conformance/
+// make_scenes.py). stb_image's decoder, used before, differs from it by 1 or 2 levels in
+// 259 of grid.jpg's 3072 bytes and 12 of grid-grey.jpg's (its own IDCT and upsampling).
+TEST(ImageIo, JpegTexelsAreLibjpegsDefaultDecode) {
+  const fs::path assets = fs::path(EMLT_SOURCE_DIR) / "tests/conformance/scenes/assets";
+  for (const char* name : {"grid.jpg", "grid-grey.jpg"}) {
+    SCOPED_TRACE(name);
+    const std::string path = (assets / name).string();
+    const Image8 expected = read_pnm(path + ".ppm");
+    const Image8 decoded = read_image8(path);
+    ASSERT_EQ(decoded.width, expected.width);
+    ASSERT_EQ(decoded.height, expected.height);
+    EXPECT_TRUE(decoded.bytes == expected.bytes);
+    const Image linear = read_image(path);  // the same bytes through the sRGB curve
+    EXPECT_EQ(linear.at(31, 31).y, srgb8_levels()[expected.bytes[3 * (31 * 32 + 31) + 1]]);
+  }
+}
+
+// A JPEG cut short, or with damaged entropy-coded data, is an error naming the file, not a
+// texture with grey blocks where the data was missing (libjpeg only warns of either).
+TEST(ImageIo, DamagedJpegIsAFileError) {
+  const fs::path dir = test::scratch_dir("jpeg");
+  std::string bytes;
+  {
+    std::ifstream in(fs::path(EMLT_SOURCE_DIR) / "tests/conformance/scenes/assets/grid.jpg",
+                     std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  ASSERT_GT(bytes.size(), 1000u);
+  for (size_t length : {size_t(2), size_t(40), size_t(300), bytes.size() - 400, bytes.size() - 2}) {
+    const std::string cut = (dir / ("cut" + std::to_string(length) + ".jpg")).string();
+    { std::ofstream(cut, std::ios::binary) << bytes.substr(0, length); }
+    expect_file_error([&] { read_image(cut); }, cut, "JPEG");
+  }
+  // Ones written over the last 200 bytes of scan data: codes no Huffman table holds.
+  std::string damaged = bytes;
+  std::fill(damaged.end() - 202, damaged.end() - 2, '\xff');
+  const std::string path = (dir / "damaged.jpg").string();
+  { std::ofstream(path, std::ios::binary) << damaged; }
+  expect_file_error([&] { read_image8(path); }, path, "corrupt JPEG");
 }
