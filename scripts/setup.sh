@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 packages=(
   build-essential cmake ninja-build pkg-config ccache
   libembree-dev libopenexr-dev libtbb-dev libglm-dev libtinyobjloader-dev
-  nlohmann-json3-dev libcli11-dev libfmt-dev libstb-dev libjpeg-dev libpugixml-dev zlib1g-dev
+  nlohmann-json3-dev libcli11-dev libfmt-dev libstb-dev libjpeg-dev libpng-dev libpugixml-dev zlib1g-dev
   libgtest-dev libbenchmark-dev
   libopenmpi-dev openmpi-bin  # mpirun -n R emlt render ... (optional: EMLT_WITH_MPI)
   clang-14 libclang-rt-14-dev  # libFuzzer targets (scripts/fuzz.sh)

@@ -84,6 +84,26 @@ def to_bytes(rows):
     return [[tuple(int(round(255 * c)) for c in px) for px in row] for row in rows]
 
 
+def write_png_chunks(path, width, height, rows, bits=8, gama=None, srgb=False):
+    """An RGB PNG of `bits`-bit samples (rows of integer triples, row 0 at the top), with a
+    gAMA chunk (the file gamma, e.g. 1.0 or 1 / 2.2) and/or an sRGB chunk when asked."""
+    def chunk(kind, data):
+        body = kind + data
+        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body) & 0xFFFFFFFF)
+
+    sample = ">H" if bits == 16 else ">B"
+    raw = b"".join(b"\x00" + b"".join(struct.pack(sample, v) for px in row for v in px)
+                   for row in rows)
+    extra = b""
+    if srgb:
+        extra += chunk(b"sRGB", b"\x00")
+    if gama is not None:
+        extra += chunk(b"gAMA", struct.pack(">I", int(round(gama * 100000))))
+    with open(path, "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, bits, 2, 0, 0, 0)) +
+                extra + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
+
+
 def write_jpeg(path, width, height, pixels, options):
     """Encodes rows of byte triples with cjpeg (its `options`), and writes libjpeg's default
     decode of the result to `path` + ".ppm"."""
@@ -193,6 +213,17 @@ def write_assets():
     os.makedirs(ASSETS, exist_ok=True)
     grid = colour_grid(32, 32)
     write_png(os.path.join(ASSETS, "grid.png"), 32, 32, to_bytes(grid))
+    # PNG's own curve (Mitsuba reads the gAMA chunk unless an sRGB chunk is there) and
+    # 16-bit samples. The exponent 1.5 is far enough from sRGB's curve (a mid grey 0.5 is
+    # 0.35 against 0.21) for a render to tell them apart; 2.2 would be too close to it.
+    grid8 = to_bytes(grid)
+    write_png_chunks(os.path.join(ASSETS, "grid-gama1.png"), 32, 32, grid8, gama=1.0)
+    write_png_chunks(os.path.join(ASSETS, "grid-gama15.png"), 32, 32, grid8, gama=1 / 1.5)
+    write_png_chunks(os.path.join(ASSETS, "grid-srgb-gama15.png"), 32, 32, grid8, gama=1 / 1.5,
+                     srgb=True)
+    write_png_chunks(os.path.join(ASSETS, "grid16.png"), 32, 32,
+                     [[tuple(int(round(65535 * c)) for c in px) for px in row] for row in grid],
+                     bits=16)
     # Baseline with 2x2 chroma subsampling (cjpeg's default), and a progressive grey file.
     write_jpeg(os.path.join(ASSETS, "grid.jpg"), 32, 32, to_bytes(grid), ["-quality", "90"])
     write_jpeg(os.path.join(ASSETS, "grid-grey.jpg"), 32, 32, to_bytes(grid),
@@ -488,6 +519,17 @@ def build():
                          scene(panel_tex("", "grid.jpg")), pt_bdpt)
     s["tex-jpg-grey"] = ("a grey (progressive) JPEG gives three equal channels",
                          scene(panel_tex("", "grid-grey.jpg")), pt_bdpt)
+    pt_only = ["pt"]  # the texels are the subject; one integrator reads them as any other
+    s["tex-png-gama-linear"] = ("a PNG whose gAMA chunk says 1.0 is linear",
+                                scene(panel_tex("", "grid-gama1.png")), pt_only)
+    s["tex-png-gama-15"] = ("a PNG whose gAMA chunk says 1/1.5 is decoded as v^1.5",
+                            scene(panel_tex("", "grid-gama15.png")), pt_only)
+    s["tex-png-srgb-chunk"] = ("an sRGB chunk outranks a gAMA chunk",
+                               scene(panel_tex("", "grid-srgb-gama15.png")), pt_only)
+    s["tex-png-16bit"] = ("a 16-bit PNG keeps its 16-bit samples", scene(panel_tex("", "grid16.png")),
+                          pt_only)
+    s["tex-gamma-15"] = ("bitmap gamma 1.5 replaces the file's sRGB curve",
+                         scene(panel_tex('<float name="gamma" value="1.5"/>')), pt_only)
     s["tex-exr-linear"] = ("an EXR texture is linear", scene(panel_tex("", "grid.exr")), pt_bdpt)
     s["tex-uv-transform"] = ("uscale/vscale and uoffset/voffset with repeat",
                              scene(panel_tex('<float name="uscale" value="3"/><float name="vscale" value="2"/>'

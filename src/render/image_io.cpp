@@ -27,8 +27,9 @@
 #include "emlt/core/error.h"
 #include "emlt/render/image.h"
 #include "emlt/render/interruption.h"
-#include "src/render/image_size.h"
+#include "src/render/image_file.h"
 #include "src/render/jpeg_reader.h"
+#include "src/render/png_reader.h"
 
 namespace emlt {
 
@@ -213,36 +214,19 @@ void write_pfm(const std::string& path, const Image& image) {
   if (!out) throw WriteFailure("write failed");
 }
 
-// ---- stb formats (Radiance .hdr, PNG) ---------------------------------------------------
+// ---- Radiance .hdr (stb) ----------------------------------------------------------------
 
-// The size from the header alone (stbi_info decodes no pixels). stb refuses a PNG
-// header it finds too large as "too large", without the size: that is read here from
-// the IHDR chunk, which the format puts first. Any other header stb cannot read is left
-// to the decoder, which says why.
 // stb's reason for a failed decode; Debian's build may leave it empty.
 std::string stb_failure() {
   const char* why = stbi_failure_reason();
   return why && *why ? std::string(why) : std::string("corrupt or truncated data");
 }
 
+// The size from the header alone (stbi_info decodes no pixels); a header stb cannot read
+// is left to the decoder, which says why.
 void check_stb_image_size(const std::string& path) {
   int width = 0, height = 0, components = 0;
-  if (stbi_info(path.c_str(), &width, &height, &components)) {
-    check_image_size(path, width, height);
-    return;
-  }
-  unsigned char header[24] = {};
-  std::ifstream in(path, std::ios::binary);
-  in.read(reinterpret_cast<char*>(header), sizeof(header));
-  static const unsigned char kPngIhdr[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (in.gcount() != std::streamsize(sizeof(header)) ||
-      std::memcmp(header, kPngIhdr, sizeof(kPngIhdr)) != 0 || std::memcmp(header + 12, "IHDR", 4))
-    return;
-  const auto big_endian = [&](int at) {
-    return int64_t(header[at]) << 24 | int64_t(header[at + 1]) << 16 |
-           int64_t(header[at + 2]) << 8 | int64_t(header[at + 3]);
-  };
-  check_image_size(path, big_endian(16), big_endian(20));
+  if (stbi_info(path.c_str(), &width, &height, &components)) check_image_size(path, width, height);
 }
 
 // stb's Radiance decoder (Debian's 2.27) loops forever on a run-length scanline holding
@@ -309,24 +293,18 @@ void check_hdr_data(const std::string& path, int64_t width, int64_t height) {
 }
 
 // stb decodes whatever format it recognises in the bytes, whatever the extension (a .png
-// that is a headerless TGA claiming 18505 x 21060 texels in 24 bytes), so the file must
-// start with its format's signature. (JPEG goes to libjpeg: jpeg_reader.cpp.)
-void check_stb_file(const std::string& path, Format format) {
-  unsigned char head[8] = {};
+// that was a headerless TGA claiming 18505 x 21060 texels in 24 bytes, when stb read PNG),
+// so the file must start with the Radiance signature.
+void check_hdr_signature(const std::string& path) {
+  char head[2] = {};
   std::ifstream in(path, std::ios::binary);
-  in.read(reinterpret_cast<char*>(head), sizeof(head));
-  const size_t got = size_t(in.gcount());
-  const auto starts_with = [&](std::initializer_list<unsigned char> signature) {
-    return got >= signature.size() && std::equal(signature.begin(), signature.end(), head);
-  };
-  if (format == Format::Png && !starts_with({0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'}))
-    throw file_error(path, "not a PNG file");
-  if (format == Format::Hdr && !starts_with({'#', '?'}))
+  in.read(head, sizeof(head));
+  if (in.gcount() != 2 || head[0] != '#' || head[1] != '?')
     throw file_error(path, "not a Radiance HDR file");
 }
 
 Image read_hdr(const std::string& path) {
-  check_stb_file(path, Format::Hdr);
+  check_hdr_signature(path);
   check_stb_image_size(path);
   {
     int width = 0, height = 0, components = 0;
@@ -345,30 +323,21 @@ Image read_hdr(const std::string& path) {
   return image;
 }
 
-Image8 read_ldr_bytes(const std::string& path) {
-  const Format format = format_of(path);
-  if (format == Format::Jpeg) return read_jpeg(path);
-  check_stb_file(path, format);
-  check_stb_image_size(path);
-  int width = 0, height = 0, components = 0;
-  unsigned char* data = stbi_load(path.c_str(), &width, &height, &components, 3);
-  if (!data) {
-    throw file_error(path, "cannot decode image (" + stb_failure() + ")");
-  }
-  Image8 image;
-  image.width = width, image.height = height;
-  image.bytes.assign(data, data + 3 * size_t(width) * size_t(height));
-  stbi_image_free(data);
-  return image;
+// ---- PNG and JPEG (libpng, libjpeg: png_reader.cpp, jpeg_reader.cpp) --------------------
+
+StoredImage read_stored_bytes(const std::string& path) {
+  return format_of(path) == Format::Jpeg ? read_jpeg(path) : read_png(path);
 }
 
-Image read_ldr(const std::string& path) {
-  const Image8 bytes = read_ldr_bytes(path);
-  const std::array<float, 256>& to_linear = srgb8_levels();
-  Image image(bytes.width, bytes.height);
-  for (size_t i = 0; i < image.pixels.size(); ++i) {
-    image.pixels[i] = Rgb(to_linear[bytes.bytes[3 * i]], to_linear[bytes.bytes[3 * i + 1]],
-                          to_linear[bytes.bytes[3 * i + 2]]);
+Image decode_stored(const StoredImage& stored) {
+  Image image(stored.width, stored.height);
+  float* out = reinterpret_cast<float*>(image.pixels.data());
+  if (stored.words.empty()) {
+    const std::array<float, 256> to_linear = levels8(stored.gamma);
+    for (size_t i = 0; i < stored.bytes.size(); ++i) out[i] = to_linear[stored.bytes[i]];
+  } else {
+    for (size_t i = 0; i < stored.words.size(); ++i)
+      out[i] = decode_gamma(float(stored.words[i]) / 65535.0f, stored.gamma);
   }
   return image;
 }
@@ -429,32 +398,40 @@ Format check_readable(const std::string& path) {
 
 }  // namespace
 
+float decode_gamma(float value, float gamma) {
+  if (gamma == kSrgbGamma) return srgb_to_linear(value);
+  if (gamma == 1.0f) return value;
+  return value > 0.0f ? std::pow(value, gamma) : 0.0f;
+}
+
+std::array<float, 256> levels8(float gamma) {
+  std::array<float, 256> table{};
+  for (int i = 0; i < 256; ++i) table[size_t(i)] = decode_gamma(float(i) / 255.0f, gamma);
+  return table;
+}
+
 const std::array<float, 256>& srgb8_levels() {
-  static const std::array<float, 256> levels = [] {
-    std::array<float, 256> table{};
-    for (int i = 0; i < 256; ++i) table[size_t(i)] = srgb_to_linear(float(i) / 255.0f);
-    return table;
-  }();
+  static const std::array<float, 256> levels = levels8(kSrgbGamma);
   return levels;
 }
 
-bool is_eight_bit_image(const std::string& path) {
+bool is_stored_image(const std::string& path) {
   const Format format = format_of(path);
   return format == Format::Png || format == Format::Jpeg;
 }
 
-Image8 read_image8(const std::string& path) {
-  if (!is_eight_bit_image(path)) throw file_error(path, "not an 8-bit image format (.png, .jpg)");
+StoredImage read_stored_image(const std::string& path) {
+  if (!is_stored_image(path)) throw file_error(path, "not a PNG or JPEG file (.png, .jpg)");
   check_readable(path);
-  Image8 image;
+  StoredImage image;
   try {
-    image = read_ldr_bytes(path);
+    image = read_stored_bytes(path);
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {  // allocation failures
     throw file_error(path, std::string("cannot read image: ") + e.what());
   }
-  if (image.width <= 0 || image.height <= 0 || image.bytes.empty())
+  if (image.width <= 0 || image.height <= 0 || (image.bytes.empty() && image.words.empty()))
     throw file_error(path, "image has zero size");
   return image;
 }
@@ -469,7 +446,7 @@ Image read_image(const std::string& path) {
       case Format::Hdr: image = read_hdr(path); break;
       case Format::Pfm: image = read_pfm(path); break;
       case Format::Png:
-      case Format::Jpeg: image = read_ldr(path); break;
+      case Format::Jpeg: image = decode_stored(read_stored_bytes(path)); break;
       case Format::Unknown: break;
     }
   } catch (const Error&) {

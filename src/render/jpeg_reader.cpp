@@ -11,11 +11,9 @@
 
 #include <csetjmp>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 
 #include "emlt/core/error.h"
-#include "src/render/image_size.h"
+#include "src/render/image_file.h"
 
 // jpeglib.h uses FILE and size_t without including their headers.
 // clang-format off
@@ -100,13 +98,8 @@ bool read_pixels(Decompressor& d, unsigned char* rgb) {
 
 }  // namespace
 
-Image8 read_jpeg(const std::string& path) {
-  std::string bytes;
-  {
-    std::ifstream in(path, std::ios::binary);
-    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (in.bad()) throw file_error(path, "read error");
-  }
+StoredImage read_jpeg(const std::string& path) {
+  const std::string bytes = read_file_bytes(path);
   if (bytes.size() < 3 || std::memcmp(bytes.data(), "\xff\xd8\xff", 3) != 0)
     throw file_error(path, "not a JPEG file");
 
@@ -125,7 +118,7 @@ Image8 read_jpeg(const std::string& path) {
                                " bytes cannot hold " + std::to_string(width) + " x " +
                                std::to_string(height) + " texels");
   }
-  Image8 image;
+  StoredImage image;
   image.width = int(width), image.height = int(height);
   image.bytes.resize(size_t(width) * size_t(height) * 3);
   if (!read_pixels(d, image.bytes.data())) throw failure("corrupt");

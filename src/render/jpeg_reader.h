@@ -12,6 +12,6 @@ namespace emlt {
 // truncated or corrupt (libjpeg's warnings on damaged data are errors here, as a texture
 // with grey holes in it is not what the scene meant), claims an absurd size, or needs a
 // colour conversion libjpeg lacks (CMYK).
-Image8 read_jpeg(const std::string& path);
+StoredImage read_jpeg(const std::string& path);
 
 }  // namespace emlt

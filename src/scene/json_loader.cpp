@@ -225,7 +225,9 @@ class JsonSceneReader {
         else if (mode != "repeat")
           fail(where + ".wrap", "expected \"repeat\", \"mirror\" or \"clamp\"");
       }
-      return load_bitmap_texture(file, boolean(t, "raw", where, false), uv(), wrap);
+      // "raw": the stored values read linearly (gamma 1), whatever the file's curve.
+      const bool raw = boolean(t, "raw", where, false);
+      return load_bitmap_texture(file, raw ? std::optional<float>(1.0f) : std::nullopt, uv(), wrap);
     }
     if (type == "checkerboard") {
       check_keys(t, where,

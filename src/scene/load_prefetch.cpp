@@ -56,7 +56,7 @@ thread_local LoadPrefetch* t_active = nullptr;
 }  // namespace
 
 struct LoadPrefetch::Reads {
-  std::vector<std::pair<std::string, std::unique_ptr<Read<Image8>>>> images;
+  std::vector<std::pair<std::string, std::unique_ptr<Read<StoredImage>>>> images;
   std::vector<std::pair<Obj, std::unique_ptr<Read<ObjInFileSpace>>>> objs;
   std::vector<std::pair<MeshFile, std::unique_ptr<Read<MeshInFileSpace>>>> meshes;
   tbb::task_group tasks;
@@ -82,8 +82,8 @@ LoadPrefetch::LoadPrefetch(const std::vector<std::string>& images, const std::ve
                            const std::vector<MeshFile>& meshes)
     : reads_(std::make_unique<Reads>()), outer_(t_active) {
   for (const std::string& path : images) {
-    auto read = std::make_unique<Read<Image8>>();
-    read->read = [path] { return read_image8(path); };
+    auto read = std::make_unique<Read<StoredImage>>();
+    read->read = [path] { return read_stored_image(path); };
     reads_->images.emplace_back(path, std::move(read));
   }
   for (const Obj& obj : objs) {
@@ -117,7 +117,7 @@ LoadPrefetch::~LoadPrefetch() {
   t_active = outer_;
 }
 
-std::optional<Image8> LoadPrefetch::image8(const std::string& path) {
+std::optional<StoredImage> LoadPrefetch::stored_image(const std::string& path) {
   if (!t_active) return std::nullopt;
   for (auto& [announced, read] : t_active->reads_->images)
     if (announced == path && !read->taken) return read->take(t_active->reads_->helper());

@@ -119,7 +119,7 @@ class MitsubaSceneReader {
       std::error_code ec;
       if (!std::filesystem::is_regular_file(*file, ec)) continue;
       if (std::string_view(node.name()) == "texture") {
-        if (is_eight_bit_image(*file)) images.push_back(*file);
+        if (is_stored_image(*file)) images.push_back(*file);
         continue;
       }
       const std::string_view type = node.attribute("type").as_string();

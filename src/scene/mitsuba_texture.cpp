@@ -37,13 +37,18 @@ TexturePtr read_bitmap(const Document& doc, pugi::xml_node node, Properties& pro
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec))
     doc.fail(node, "texture image '" + file + "' not found");
-  // gamma -1 (Mitsuba's default) means "as the format says": sRGB for 8-bit images,
-  // linear for float ones; gamma 1 reads 8-bit values linearly.
-  const float gamma = props.get_float("gamma", -1.0f);
-  const bool raw = gamma > 0.0f;
-  if (raw && gamma != 1.0f)
-    doc.warn(node, "bitmap gamma " + std::to_string(gamma) + " is not supported; read as linear",
-             Document::Warning::Approximated);
+  // Mitsuba's `gamma` replaces the file's own curve (an 8-bit file's sRGB, a PNG's gAMA,
+  // a float file's linear): -1 is sRGB, any positive value g the curve v^g. 0, Mitsuba's
+  // default, leaves the file's.
+  std::optional<float> gamma;
+  if (props.has("gamma")) {
+    const float value = props.get_float("gamma", 0.0f);
+    if (value == kSrgbGamma || value > 0.0f)
+      gamma = value;
+    else if (value != 0.0f)
+      doc.fail(node, "bitmap gamma " + std::to_string(value) +
+                         " is not a curve (expected -1 for sRGB or a positive exponent)");
+  }
   // Filtering quality only: bilinear lookups averaged over many samples per pixel.
   props.ignore({"filterType", "maxAnisotropy", "cache"});
   const WrapMode wrap = wrap_mode(doc, node, props);
@@ -53,7 +58,7 @@ TexturePtr read_bitmap(const Document& doc, pugi::xml_node node, Properties& pro
     props.ignore({"channel"});
   }
   try {
-    return load_bitmap_texture(file, raw, transform, wrap);
+    return load_bitmap_texture(file, gamma, transform, wrap);
   } catch (const Error& e) {
     doc.fail(node, e.what());
   }

@@ -1,6 +1,7 @@
 // Image reading/writing: round trips per format, error messages that name the file,
 // atomic writes, and the sRGB preview encoding.
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <cmath>
@@ -55,11 +56,11 @@ std::vector<std::string> directory_listing(const fs::path& dir) {
 }
 
 // A binary PPM (P6) or PGM (P5) as 3 bytes per texel, a grey file's value repeated.
-Image8 read_pnm(const std::string& path) {
+StoredImage read_pnm(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string magic;
   int max_value = 0;
-  Image8 image;
+  StoredImage image;
   in >> magic >> image.width >> image.height >> max_value;
   in.get();  // the single whitespace byte before the texels
   const int channels = magic == "P6" ? 3 : 1;
@@ -70,6 +71,38 @@ Image8 read_pnm(const std::string& path) {
     for (int c = 0; c < 3; ++c) image.bytes.push_back(data[i + size_t(channels == 3 ? c : 0)]);
   }
   return image;
+}
+
+// A PNG file built chunk by chunk: IHDR from the arguments, then `chunks` (type and
+// data), the scanlines' bytes (filter bytes included) compressed into one IDAT, and IEND.
+std::string png_file(uint32_t width, uint32_t height, int bits, int colour, int interlace,
+                     const std::string& scanlines,
+                     const std::vector<std::pair<std::string, std::string>>& chunks = {}) {
+  const auto be32 = [](uint32_t v) {
+    return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
+  };
+  const auto chunk = [&](const std::string& type, const std::string& data) {
+    const std::string body = type + data;
+    const auto crc =
+        uint32_t(crc32(0, reinterpret_cast<const Bytef*>(body.data()), uInt(body.size())));
+    return be32(uint32_t(data.size())) + body + be32(crc);
+  };
+  std::string packed(compressBound(uLong(scanlines.size())), '\0');
+  uLongf packed_size = uLongf(packed.size());
+  compress(reinterpret_cast<Bytef*>(packed.data()), &packed_size,
+           reinterpret_cast<const Bytef*>(scanlines.data()), uLong(scanlines.size()));
+  packed.resize(packed_size);
+  std::string file = "\x89PNG\r\n\x1a\n";
+  file += chunk("IHDR", be32(width) + be32(height) +
+                            std::string{char(bits), char(colour), 0, 0, char(interlace)});
+  for (const auto& [type, data] : chunks) file += chunk(type, data);
+  return file + chunk("IDAT", packed) + chunk("IEND", "");
+}
+
+StoredImage stored_from(const fs::path& dir, const std::string& name, const std::string& bytes) {
+  const std::string path = (dir / name).string();
+  { std::ofstream(path, std::ios::binary) << bytes; }
+  return read_stored_image(path);
 }
 
 }  // namespace
@@ -208,7 +241,7 @@ TEST(ImageIo, MissingMalformedAndUnknownFilesNameThePath) {
   { std::ofstream(empty, std::ios::binary) << "PF\n0 0\n-1.0\n"; }
   expect_file_error([&] { read_image(empty); }, empty, "zero size");
 
-  // A PNG cut after its first chunks: stb gives no reason of its own in Debian's build.
+  // A PNG cut anywhere after its signature: libpng's reason, never an empty one.
   const std::string whole_png = (dir / "whole.png").string();
   write_image(whole_png, gradient(1.0f));
   std::string bytes;
@@ -219,9 +252,9 @@ TEST(ImageIo, MissingMalformedAndUnknownFilesNameThePath) {
   for (size_t length = 40; length <= 200 && length < bytes.size(); length += 20) {
     const std::string cut_png = (dir / ("cut" + std::to_string(length) + ".png")).string();
     { std::ofstream(cut_png, std::ios::binary) << bytes.substr(0, length); }
-    expect_file_error([&] { read_image(cut_png); }, cut_png, "cannot decode image (");
+    expect_file_error([&] { read_image(cut_png); }, cut_png, "file ends early");
     try {
-      read_image8(cut_png);
+      read_stored_image(cut_png);
       ADD_FAILURE() << "no error for " << cut_png;
     } catch (const Error& e) {
       EXPECT_EQ(std::string(e.what()).find("()"), std::string::npos) << "an empty reason";
@@ -349,8 +382,8 @@ TEST(ImageIo, JpegTexelsAreLibjpegsDefaultDecode) {
   for (const char* name : {"grid.jpg", "grid-grey.jpg"}) {
     SCOPED_TRACE(name);
     const std::string path = (assets / name).string();
-    const Image8 expected = read_pnm(path + ".ppm");
-    const Image8 decoded = read_image8(path);
+    const StoredImage expected = read_pnm(path + ".ppm");
+    const StoredImage decoded = read_stored_image(path);
     ASSERT_EQ(decoded.width, expected.width);
     ASSERT_EQ(decoded.height, expected.height);
     EXPECT_TRUE(decoded.bytes == expected.bytes);
@@ -380,5 +413,70 @@ TEST(ImageIo, DamagedJpegIsAFileError) {
   std::fill(damaged.end() - 202, damaged.end() - 2, '\xff');
   const std::string path = (dir / "damaged.jpg").string();
   { std::ofstream(path, std::ios::binary) << damaged; }
-  expect_file_error([&] { read_image8(path); }, path, "corrupt JPEG");
+  expect_file_error([&] { read_stored_image(path); }, path, "corrupt JPEG");
+}
+
+// PNG files read as Mitsuba 0.6 reads them with libpng (Bitmap::readPNG): every colour
+// type to three samples, 16-bit samples kept, Adam7 interlacing undone.
+TEST(ImageIo, PngColourTypesExpandAsMitsubasReader) {
+  const fs::path dir = test::scratch_dir("png-types");
+  using Bytes = std::vector<unsigned char>;
+  // Palette of two entries (index 1 is transparent by tRNS: the alpha is dropped).
+  const StoredImage palette =
+      stored_from(dir, "palette.png",
+                  png_file(2, 1, 8, 3, 0, std::string("\0\x01\x00", 3),
+                           {{"PLTE", "\x10\x20\x30\xc0\xd0\xe0"}, {"tRNS", "\xff\x00"}}));
+  EXPECT_EQ(palette.bytes, (Bytes{0xc0, 0xd0, 0xe0, 0x10, 0x20, 0x30}));
+  // Grey with alpha: the grey value three times.
+  const StoredImage grey_alpha =
+      stored_from(dir, "grey-alpha.png", png_file(1, 1, 8, 4, 0, std::string("\0\x40\x80", 3)));
+  EXPECT_EQ(grey_alpha.bytes, (Bytes{0x40, 0x40, 0x40}));
+  // 2-bit grey scaled to 8 bits (level 1 of 3 -> 85), four texels in one byte.
+  const StoredImage two_bit =
+      stored_from(dir, "grey2.png", png_file(4, 1, 2, 0, 0, std::string("\0\x1b", 2)));
+  EXPECT_EQ(two_bit.bytes, (Bytes{0, 0, 0, 85, 85, 85, 170, 170, 170, 255, 255, 255}));
+  // 16-bit grey: the samples as stored, in `words`.
+  const StoredImage sixteen =
+      stored_from(dir, "grey16.png", png_file(1, 1, 16, 0, 0, std::string("\0\x12\x34", 3)));
+  EXPECT_TRUE(sixteen.bytes.empty());
+  EXPECT_EQ(sixteen.words, (std::vector<uint16_t>{0x1234, 0x1234, 0x1234}));
+  // Adam7 interlaced 2 x 2 grey: pass 1 holds (0, 0), pass 6 (1, 0), pass 7 the second row.
+  const StoredImage interlaced = stored_from(
+      dir, "adam7.png", png_file(2, 2, 8, 0, 1, std::string("\0\x0a\0\x0b\0\x0c\x0d", 7)));
+  EXPECT_EQ(interlaced.bytes, (Bytes{10, 10, 10, 11, 11, 11, 12, 12, 12, 13, 13, 13}));
+  // A bad CRC on a critical chunk, and data that decompresses short of the image.
+  std::string bad_crc = png_file(1, 1, 8, 0, 0, std::string("\0\x01", 2));
+  bad_crc[29] ^= 1;  // IHDR's CRC (8 signature + 8 length/type + 13 data = byte 29)
+  expect_file_error([&] { stored_from(dir, "crc.png", bad_crc); }, (dir / "crc.png").string(),
+                    "PNG");
+  expect_file_error(
+      [&] { stored_from(dir, "short.png", png_file(4, 4, 8, 2, 0, std::string("\0\x01", 2))); },
+      (dir / "short.png").string(), "PNG");
+}
+
+// The file's curve: Mitsuba reads a PNG's sRGB chunk first, then its gAMA chunk (the
+// exponent 1 / gAMA), else sRGB; the conformance scenes tex-png-* show it in renders.
+TEST(ImageIo, PngCurveComesFromItsSrgbOrGamaChunk) {
+  const fs::path assets = fs::path(EMLT_SOURCE_DIR) / "tests/conformance/scenes/assets";
+  const auto gamma_of = [&](const char* name) {
+    return read_stored_image((assets / name).string()).gamma;
+  };
+  EXPECT_EQ(gamma_of("grid.png"), kSrgbGamma);
+  EXPECT_EQ(gamma_of("grid-gama1.png"), 1.0f);
+  EXPECT_NEAR(gamma_of("grid-gama15.png"), 1.5f, 1e-4f);  // gAMA 66667 / 100000
+  EXPECT_EQ(gamma_of("grid-srgb-gama15.png"), kSrgbGamma);
+  // read_image decodes by that curve.
+  const std::string linear_path = (assets / "grid-gama1.png").string();
+  const StoredImage linear = read_stored_image(linear_path);
+  EXPECT_EQ(read_image(linear_path).at(0, 0).x, float(linear.bytes[0]) / 255.0f);
+  const std::string power_path = (assets / "grid-gama15.png").string();
+  const StoredImage power = read_stored_image(power_path);
+  EXPECT_EQ(read_image(power_path).at(5, 9).y,
+            std::pow(float(power.bytes[3 * (9 * 32 + 5) + 1]) / 255.0f, power.gamma));
+  // A 16-bit file's samples, decoded without rounding to 8 bits.
+  const std::string wide_path = (assets / "grid16.png").string();
+  const StoredImage wide = read_stored_image(wide_path);
+  ASSERT_EQ(wide.words.size(), 32u * 32u * 3u);
+  EXPECT_EQ(wide.words[0], 62258);  // the top-left marker's 0.95
+  EXPECT_EQ(read_image(wide_path).at(0, 0).x, decode_gamma(62258.0f / 65535.0f, kSrgbGamma));
 }

@@ -31,11 +31,11 @@ TEST(LoadPrefetch, GivesWhatTheDirectReadsGiveOnceEach) {
   const std::string missing = (dir / "missing.obj").string();
 
   const ObjInFileSpace direct = read_obj_file(obj, true, true);
-  const Image8 direct_image = read_image8(png);
+  const StoredImage direct_image = read_stored_image(png);
   const std::string missing_error = error_of([&] { read_obj_file(missing, true, true); });
   {
     const LoadPrefetch prefetch({png}, {{obj, true, true}, {missing, true, true}});
-    const auto image = LoadPrefetch::image8(png);
+    const auto image = LoadPrefetch::stored_image(png);
     ASSERT_TRUE(image.has_value());
     EXPECT_EQ(image->bytes, direct_image.bytes);
     EXPECT_EQ(image->width, 5);
@@ -55,12 +55,12 @@ TEST(LoadPrefetch, GivesWhatTheDirectReadsGiveOnceEach) {
               missing_error);
     EXPECT_NE(missing_error, "");
     // Taken once: a second request, other options or another file are read directly.
-    EXPECT_FALSE(LoadPrefetch::image8(png).has_value());
+    EXPECT_FALSE(LoadPrefetch::stored_image(png).has_value());
     EXPECT_FALSE(LoadPrefetch::obj(obj, true, true).has_value());
     EXPECT_FALSE(LoadPrefetch::obj(obj, false, true).has_value());
-    EXPECT_FALSE(LoadPrefetch::image8((dir / "other.png").string()).has_value());
+    EXPECT_FALSE(LoadPrefetch::stored_image((dir / "other.png").string()).has_value());
   }
-  EXPECT_FALSE(LoadPrefetch::image8(png).has_value());  // none active once it is gone
+  EXPECT_FALSE(LoadPrefetch::stored_image(png).has_value());  // none active once it is gone
 }
 
 // A mesh read in the file's space and then placed is the mesh the file describes in the

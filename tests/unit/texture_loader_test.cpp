@@ -91,7 +91,7 @@ constexpr const char* kXml = R"(<?xml version="1.0"?>
   <shape type="disk"><bsdf type="conductor"><string name="material" value="none"/></bsdf></shape>
   <shape type="disk"><bsdf type="roughconductor"><string name="material" value="W"/>
     <texture type="bitmap" name="alpha"><string name="filename" value="checker.png"/>
-      <float name="gamma" value="1"/></texture></bsdf></shape>
+      <float name="gamma" value="2.2"/></texture></bsdf></shape>
   <shape type="disk"><bsdf type="dielectric"/></shape>
   <shape type="disk">
     <bsdf type="mask"><texture type="bitmap" name="opacity"><string name="filename" value="checker.png"/></texture>
@@ -218,3 +218,21 @@ TEST(TextureLoader, JsonAcceptsTexturesWhereverAColourGoes) {
 }
 
 }  // namespace
+
+// Mitsuba's bitmap `gamma` is -1 (sRGB) or an exponent; another negative value is no curve
+// and is refused by name, not read as some other curve.
+TEST(TextureLoader, BitmapGammaThatIsNoCurveIsAnError) {
+  const auto dir = test::scratch_dir("texture-loader-gamma");
+  write_test_images(dir);
+  const std::string path = write_file(dir, "scene.xml", R"(<scene version="0.6.0">
+  <shape type="rectangle"><bsdf type="diffuse"><texture type="bitmap" name="reflectance">
+    <string name="filename" value="checker.png"/><float name="gamma" value="-2"/></texture></bsdf>
+    <emitter type="area"><spectrum name="radiance" value="1"/></emitter></shape>
+</scene>)");
+  try {
+    load_scene_description(path);
+    ADD_FAILURE() << "gamma -2 was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("bitmap gamma -2"), std::string::npos) << e.what();
+  }
+}

@@ -93,8 +93,8 @@ TEST(BitmapTexture, PngIsDecodedFromSrgbUnlessRaw) {
   image.at(1, 0) = Rgb(decode(64.0f / 255.0f));
   const std::string path = (dir / "levels.png").string();
   write_image(path, image);
-  const TexturePtr srgb = load_bitmap_texture(path, false, {}, WrapMode::Clamp);
-  const TexturePtr raw = load_bitmap_texture(path, true, {}, WrapMode::Clamp);
+  const TexturePtr srgb = load_bitmap_texture(path, std::nullopt, {}, WrapMode::Clamp);
+  const TexturePtr raw = load_bitmap_texture(path, 1.0f, {}, WrapMode::Clamp);
   EXPECT_NEAR(srgb->eval(Vec2(0.25f, 0.5f)).x, decode(128.0f / 255.0f), 1e-5f);
   EXPECT_NEAR(raw->eval(Vec2(0.25f, 0.5f)).x, 128.0f / 255.0f, 1e-6f);
   EXPECT_NEAR(raw->eval(Vec2(0.75f, 0.5f)).y, 64.0f / 255.0f, 1e-6f);
@@ -115,8 +115,8 @@ TEST(BitmapTexture, EightBitTexelsReadBackExactlyAsDecoded) {
   const std::string path = (dir / "levels.png").string();
   write_image(path, levels);
   const Image decoded = read_image(path);
-  const TexturePtr srgb = load_bitmap_texture(path, false, {}, WrapMode::Clamp);
-  const TexturePtr raw = load_bitmap_texture(path, true, {}, WrapMode::Clamp);
+  const TexturePtr srgb = load_bitmap_texture(path, std::nullopt, {}, WrapMode::Clamp);
+  const TexturePtr raw = load_bitmap_texture(path, 1.0f, {}, WrapMode::Clamp);
   const std::vector<unsigned char> bytes = to_srgb8(decoded);
   for (int i = 0; i < 256; ++i) {
     const Vec2 centre((float(i) + 0.5f) / 256.0f, 0.5f);  // bilinear weight 1 on texel i
@@ -148,9 +148,9 @@ TEST(BitmapTexture, EightBitStorageReadsTheDecodedFloatsExactly) {
     for (int c = 0; c < 3; ++c) raw_values.pixels[i][c] = float(bytes[3 * i + size_t(c)]) / 255.0f;
   for (const WrapMode wrap : {WrapMode::Repeat, WrapMode::Mirror, WrapMode::Clamp}) {
     const UvTransform transform{Vec2(1.7f, 2.3f), Vec2(-0.4f, 0.15f)};
-    const TexturePtr stored = load_bitmap_texture(path, false, transform, wrap);
+    const TexturePtr stored = load_bitmap_texture(path, std::nullopt, transform, wrap);
     const TexturePtr floats = make_bitmap_texture(decoded, transform, wrap);
-    const TexturePtr stored_raw = load_bitmap_texture(path, true, transform, wrap);
+    const TexturePtr stored_raw = load_bitmap_texture(path, 1.0f, transform, wrap);
     const TexturePtr floats_raw = make_bitmap_texture(raw_values, transform, wrap);
     for (int i = 0; i < 2000; ++i) {
       const Vec2 uv(float(i % 50) / 17.0f - 1.0f, float(i / 50) / 13.0f - 1.0f);

@@ -3,6 +3,7 @@
 // goes to a temporary file in the same directory which is then renamed over the target, so
 // a crash never leaves a truncated image behind.
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -20,22 +21,35 @@ struct Image {
   const Rgb& at(int x, int y) const { return pixels[size_t(y) * width + x]; }
 };
 
-// Reads .exr (OpenEXR, RGB or Y channels), .hdr (Radiance), .pfm, .png/.jpg (sRGB decoded
-// to linear). Throws emlt::Error "<path>: <problem>" on a missing/malformed file or on
-// NaN/Inf texels.
+// A file's transfer curve in Mitsuba's convention (its Bitmap gamma): kSrgbGamma for the
+// sRGB curve, otherwise the exponent g that takes a stored value v in [0, 1] to v^g (1:
+// linear). PNG and JPEG files are sRGB unless a PNG's gAMA chunk (and no sRGB chunk) gives
+// its own exponent; float formats are linear.
+constexpr float kSrgbGamma = -1.0f;
+// Stored value -> linear value (a power curve takes negative values to 0).
+float decode_gamma(float value, float gamma);
+
+// Reads .exr (OpenEXR, RGB or Y channels), .hdr (Radiance), .pfm, .png/.jpg (decoded to
+// linear by the file's own curve). Throws emlt::Error "<path>: <problem>" on a
+// missing/malformed file or on NaN/Inf texels.
 Image read_image(const std::string& path);
 
-// An 8-bit file (.png, .jpg) as it stores its texels: 3 bytes per pixel (RGB, a grey or
-// alpha file expanded as read_image expands it), row-major, row 0 at the top. read_image
-// decodes byte b of such a file to srgb8_levels()[b].
-struct Image8 {
+// A PNG or JPEG file as it stores its texels, as Mitsuba 0.6 reads them (libpng, libjpeg):
+// 3 samples per pixel (RGB; a grey file's value repeated, palettes expanded, alpha
+// dropped), row-major, row 0 at the top; 8-bit samples in `bytes`, or a 16-bit PNG's in
+// `words` (then `bytes` is empty). read_image decodes each sample v / max by `gamma`.
+struct StoredImage {
   int width = 0, height = 0;
   std::vector<unsigned char> bytes;
+  std::vector<uint16_t> words;
+  float gamma = kSrgbGamma;  // the file's own curve
 };
-bool is_eight_bit_image(const std::string& path);  // by extension
+bool is_stored_image(const std::string& path);  // by extension: .png, .jpg, .jpeg
 // Throws as read_image does (and for a file of another format).
-Image8 read_image8(const std::string& path);
-const std::array<float, 256>& srgb8_levels();
+StoredImage read_stored_image(const std::string& path);
+// The linear values of the 256 levels of an 8-bit sample under `gamma`.
+std::array<float, 256> levels8(float gamma);
+const std::array<float, 256>& srgb8_levels();  // levels8(kSrgbGamma), computed once
 
 // Writes by extension: .exr (half-free float RGB), .pfm, .png (tone-mapped sRGB preview),
 // .hdr. Throws emlt::Error for an unknown extension or an I/O failure.

@@ -34,7 +34,7 @@ class LoadPrefetch {
     int shape_index = 0;
     bool operator==(const MeshFile&) const = default;
   };
-  // Starts reading: 8-bit images (as read_image8 reads them), OBJ, PLY and serialized
+  // Starts reading: 8-bit images (as read_stored_image reads them), OBJ, PLY and serialized
   // meshes (in the file's own space: read_obj_file, read_ply_file, read_serialized_mesh).
   LoadPrefetch(const std::vector<std::string>& images, const std::vector<Obj>& objs,
                const std::vector<MeshFile>& meshes = {});
@@ -44,7 +44,7 @@ class LoadPrefetch {
 
   // The announced file's contents from the active prefetch of this thread: read now if no
   // task has begun it, waited for if one has. nullopt when nothing announced it.
-  static std::optional<Image8> image8(const std::string& path);
+  static std::optional<StoredImage> stored_image(const std::string& path);
   static std::optional<ObjInFileSpace> obj(const std::string& path, bool smooth_normals,
                                            bool flip_v);
   // A serialized mesh comes with no warnings.

@@ -7,6 +7,7 @@
 // (u, v) convention (Mitsuba 0.6's): v = 0 is the image's top row, u grows to the right,
 // and the pattern repeats with period 1. OBJ files are the other way up in v, so the
 // loaders flip their `vt` (Mitsuba's default `flipTexCoords`).
+#include <concepts>
 #include <memory>
 #include <optional>
 #include <string>
@@ -53,12 +54,16 @@ enum class WrapMode { Repeat, Mirror, Clamp };
 // image holds linear values.
 TexturePtr make_bitmap_texture(Image image, const UvTransform& transform = {},
                                WrapMode wrap = WrapMode::Repeat, std::string name = "bitmap");
-// Reads the file with read_image (PNG/JPG are decoded from sRGB to linear). With `raw`
-// the 8-bit values of a PNG/JPG are used as they are (value / 255, Mitsuba's gamma = 1);
-// float formats (EXR, HDR, PFM) are always linear. Throws emlt::Error naming the file.
-TexturePtr load_bitmap_texture(const std::string& path, bool raw = false,
-                               const UvTransform& transform = {},
-                               WrapMode wrap = WrapMode::Repeat);
+// Reads the file as read_image does: PNG/JPG decoded by the file's own curve (sRGB, or a
+// PNG's gAMA), float formats (EXR, HDR, PFM) linear. A `gamma` given replaces the file's
+// curve, as Mitsuba's bitmap `gamma` does (kSrgbGamma, or the exponent: 1 reads the
+// stored values linearly). Throws emlt::Error naming the file.
+TexturePtr load_bitmap_texture(const std::string& path, std::optional<float> gamma = {},
+                               const UvTransform& transform = {}, WrapMode wrap = WrapMode::Repeat);
+// (A bool would silently become the exponent 0 or 1: say 1.0f or std::nullopt.)
+template <std::same_as<bool> Bool>
+TexturePtr load_bitmap_texture(const std::string& path, Bool, const UvTransform& = {},
+                               WrapMode = WrapMode::Repeat) = delete;
 
 // Mitsuba's `scale`: the nested texture times a factor.
 TexturePtr make_scale_texture(TexturePtr inner, const Rgb& factor);

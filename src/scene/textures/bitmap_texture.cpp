@@ -129,22 +129,36 @@ TexturePtr make_bitmap_texture(Image image, const UvTransform& transform, WrapMo
   return std::make_shared<BitmapTexture>(std::move(image), transform, wrap, std::move(name));
 }
 
-TexturePtr load_bitmap_texture(const std::string& path, bool raw, const UvTransform& transform,
-                               WrapMode wrap) {
+TexturePtr load_bitmap_texture(const std::string& path, std::optional<float> gamma,
+                               const UvTransform& transform, WrapMode wrap) {
   std::string name = std::filesystem::path(path).filename().string();
-  if (!is_eight_bit_image(path))
-    return make_bitmap_texture(read_image(path), transform, wrap, name);
-  // The file's own bytes, never decoded to floats and encoded back (that round trip was
-  // a third of loading the public Veach door's textures). A raw (linear) texture reads
-  // byte b as b / 255, an sRGB one as read_image would decode it.
-  std::optional<Image8> prefetched = LoadPrefetch::image8(path);
-  Image8 image = prefetched ? std::move(*prefetched) : read_image8(path);
+  if (!is_stored_image(path)) {
+    Image image = read_image(path);
+    // A float file is linear; a gamma given for it bends its values all the same, as
+    // Mitsuba's does.
+    if (gamma && *gamma != 1.0f) {
+      for (Rgb& texel : image.pixels)
+        texel = Rgb(decode_gamma(texel.x, *gamma), decode_gamma(texel.y, *gamma),
+                    decode_gamma(texel.z, *gamma));
+    }
+    return make_bitmap_texture(std::move(image), transform, wrap, name);
+  }
+  // The file's own samples, never decoded to floats and encoded back (that round trip was
+  // a third of loading the public Veach door's textures). Sample v of an 8-bit file reads
+  // as the level the curve gives v / 255; a 16-bit PNG is decoded to floats.
+  std::optional<StoredImage> prefetched = LoadPrefetch::stored_image(path);
+  StoredImage image = prefetched ? std::move(*prefetched) : read_stored_image(path);
+  const float curve = gamma.value_or(image.gamma);
+  if (!image.words.empty()) {
+    Image decoded(image.width, image.height);
+    float* out = reinterpret_cast<float*>(decoded.pixels.data());
+    for (size_t i = 0; i < image.words.size(); ++i)
+      out[i] = decode_gamma(float(image.words[i]) / 65535.0f, curve);
+    return make_bitmap_texture(std::move(decoded), transform, wrap, name);
+  }
   EightBitTexels texels;
   texels.bytes = std::move(image.bytes);
-  if (raw)
-    for (int b = 0; b < 256; ++b) texels.levels[size_t(b)] = float(b) / 255.0f;
-  else
-    texels.levels = srgb8_levels();
+  texels.levels = levels8(curve);
   return std::make_shared<BitmapTexture>(image.width, image.height, std::move(texels), transform,
                                          wrap, std::move(name));
 }

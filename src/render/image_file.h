@@ -1,7 +1,10 @@
-// The largest image any reader accepts (image_io.cpp, jpeg_reader.cpp).
+// What every image reader shares (image_io.cpp, png_reader.cpp, jpeg_reader.cpp): the
+// largest image it accepts, and the file's bytes.
 #pragma once
 
 #include <cstdint>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "emlt/core/error.h"
@@ -24,6 +27,14 @@ inline void check_image_size(const std::string& path, int64_t width, int64_t hei
                                std::to_string(height) +
                                " texels; images may have at most 65536 texels a side and "
                                "2^28 (about 268 million) in all");
+}
+
+// The whole file; an error names it when it cannot be read.
+inline std::string read_file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in.is_open() || in.bad()) throw file_error(path, "cannot read the file");
+  return bytes;
 }
 
 }  // namespace emlt

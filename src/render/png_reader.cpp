@@ -1,0 +1,136 @@
+// PNG through libpng rather than stb_image: Mitsuba reads a PNG's gAMA chunk (a file
+// written with gAMA 1.0 is linear to Mitsuba, sRGB to stb's users) and keeps 16-bit
+// samples, which stb_image's 8-bit interface rounds; and libpng reports every problem
+// through its error callback, where Debian's stb is built with its asserts on.
+//
+// libpng reports a fatal error through the error callback, which must not return; here it
+// jumps back to the setjmp in the function that made the failing call. Only libpng's C
+// frames lie between the two, and the functions holding a setjmp keep no C++ object alive
+// across it, so the jump skips no destructor.
+#include "src/render/png_reader.h"
+
+#include <png.h>
+
+#include <bit>
+#include <csetjmp>
+#include <cstdio>
+#include <cstring>
+
+#include "emlt/core/error.h"
+#include "src/render/image_file.h"
+
+namespace emlt {
+namespace {
+
+struct PngFailure {
+  std::jmp_buf jump;
+  char message[256];
+};
+
+[[noreturn]] void give_up(png_structp png, png_const_charp message) {
+  auto* failure = static_cast<PngFailure*>(png_get_error_ptr(png));
+  std::snprintf(failure->message, sizeof(failure->message), "%s", message);
+  std::longjmp(failure->jump, 1);
+}
+
+// Warnings concern ancillary data (a colour profile libpng thinks wrong, a damaged text
+// chunk, which libpng skips): the texels are whole, as Mitsuba, which logs them, reads them.
+void ignore_warning(png_structp, png_const_charp) {}
+
+struct MemoryReader {
+  const std::string* bytes;
+  size_t at;
+};
+
+void read_from_memory(png_structp png, png_bytep out, size_t length) {
+  auto* reader = static_cast<MemoryReader*>(png_get_io_ptr(png));
+  if (length > reader->bytes->size() - reader->at) png_error(png, "file ends early");
+  std::memcpy(out, reader->bytes->data() + reader->at, length);
+  reader->at += length;
+}
+
+struct Decompressor {
+  png_structp png = nullptr;
+  png_infop info = nullptr;
+  PngFailure failure{};
+  MemoryReader reader{};
+  ~Decompressor() { png_destroy_read_struct(&png, info ? &info : nullptr, nullptr); }
+};
+
+// The header, and the transformations that turn every colour type into 3 samples a pixel
+// (8 or 16 bits, 16-bit ones in the machine's byte order).
+bool read_header(Decompressor& d, png_uint_32* width, png_uint_32* height, int* bits, int* passes,
+                 float* gamma) {
+  if (setjmp(d.failure.jump)) return false;
+  png_set_read_fn(d.png, &d.reader, read_from_memory);
+  png_read_info(d.png, d.info);
+  int colour = 0;
+  png_get_IHDR(d.png, d.info, width, height, bits, &colour, nullptr, nullptr, nullptr);
+  if (colour == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(d.png);
+  if (*bits < 8) png_set_expand_gray_1_2_4_to_8(d.png);  // (palettes are 8-bit once expanded)
+  if (*bits == 16 && std::endian::native == std::endian::little) png_set_swap(d.png);
+  png_set_strip_alpha(d.png);  // also drops what a tRNS chunk would have made alpha
+  if (colour == PNG_COLOR_TYPE_GRAY || colour == PNG_COLOR_TYPE_GRAY_ALPHA)
+    png_set_gray_to_rgb(d.png);
+  int intent = 0;
+  double file_gamma = 0.0;
+  if (png_get_sRGB(d.png, d.info, &intent))
+    *gamma = kSrgbGamma;
+  else if (png_get_gAMA(d.png, d.info, &file_gamma) && file_gamma > 0.0)
+    *gamma = float(1.0 / file_gamma);
+  else
+    *gamma = kSrgbGamma;
+  // Interlaced files need every pass over every row (png_read_row, pass by pass).
+  *passes = png_set_interlace_handling(d.png);
+  png_read_update_info(d.png, d.info);
+  *bits = png_get_bit_depth(d.png, d.info);
+  if (png_get_channels(d.png, d.info) != 3) png_error(d.png, "unexpected channel count");
+  return true;
+}
+
+bool read_rows(Decompressor& d, unsigned char* data, size_t stride, png_uint_32 height,
+               int passes) {
+  if (setjmp(d.failure.jump)) return false;
+  for (int pass = 0; pass < passes; ++pass)
+    for (png_uint_32 y = 0; y < height; ++y) png_read_row(d.png, data + y * stride, nullptr);
+  png_read_end(d.png, nullptr);
+  return true;
+}
+
+}  // namespace
+
+StoredImage read_png(const std::string& path) {
+  const std::string bytes = read_file_bytes(path);
+  if (bytes.size() < 8 || png_sig_cmp(reinterpret_cast<png_const_bytep>(bytes.data()), 0, 8) != 0)
+    throw file_error(path, "not a PNG file");
+
+  Decompressor d;
+  d.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &d.failure, give_up, ignore_warning);
+  if (d.png) d.info = png_create_info_struct(d.png);
+  if (!d.png || !d.info) throw file_error(path, "cannot set up the PNG decoder");
+  d.reader = {&bytes, 0};
+
+  png_uint_32 width = 0, height = 0;
+  int bits = 8, passes = 1;
+  StoredImage image;
+  if (!read_header(d, &width, &height, &bits, &passes, &image.gamma))
+    throw file_error(path, std::string("cannot read PNG: ") + d.failure.message);
+  check_image_size(path, width, height);
+  image.width = int(width), image.height = int(height);
+  const size_t samples = size_t(width) * size_t(height) * 3;
+  unsigned char* data = nullptr;
+  size_t stride = size_t(width) * 3;
+  if (bits == 16) {
+    image.words.resize(samples);
+    data = reinterpret_cast<unsigned char*>(image.words.data());
+    stride *= 2;
+  } else {
+    image.bytes.resize(samples);
+    data = image.bytes.data();
+  }
+  if (!read_rows(d, data, stride, height, passes))
+    throw file_error(path, std::string("corrupt PNG: ") + d.failure.message);
+  return image;
+}
+
+}  // namespace emlt
