@@ -535,6 +535,9 @@ def build():
                              scene(panel_tex('<float name="uscale" value="3"/><float name="vscale" value="2"/>'
                                              '<float name="uoffset" value="0.25"/><float name="voffset" value="0.1"/>')),
                              pt_bdpt)
+    s["tex-wrap-zero-one"] = ("uvscale 2 with wrapModeU zero and wrapModeV one",
+                              scene(panel_tex('<float name="uvscale" value="2"/><string name="wrapModeU" value="zero"/>'
+                                              '<string name="wrapModeV" value="one"/>')), pt_only)
     s["tex-wrap-clamp"] = ("uvscale 2 with wrapMode clamp",
                            scene(panel_tex('<float name="uvscale" value="2"/><string name="wrapMode" value="clamp"/>')),
                            pt_bdpt)

@@ -222,8 +222,12 @@ class JsonSceneReader {
           wrap = WrapMode::Mirror;
         else if (mode == "clamp")
           wrap = WrapMode::Clamp;
+        else if (mode == "zero")
+          wrap = WrapMode::Zero;
+        else if (mode == "one")
+          wrap = WrapMode::One;
         else if (mode != "repeat")
-          fail(where + ".wrap", "expected \"repeat\", \"mirror\" or \"clamp\"");
+          fail(where + ".wrap", "expected \"repeat\", \"mirror\", \"clamp\", \"zero\" or \"one\"");
       }
       // "raw": the stored values read linearly (gamma 1), whatever the file's curve.
       const bool raw = boolean(t, "raw", where, false);

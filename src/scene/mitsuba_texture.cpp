@@ -18,17 +18,21 @@ UvTransform uv_transform(Properties& props) {
   return t;
 }
 
-WrapMode wrap_mode(const Document& doc, pugi::xml_node node, Properties& props) {
+// Mitsuba's wrapMode sets both axes; wrapModeU and wrapModeV override it per axis.
+TextureWrap wrap_modes(const Document& doc, pugi::xml_node node, Properties& props) {
   const std::string both = props.get_string("wrapMode", "repeat");
-  const std::string u = props.get_string("wrapModeU", both), v = props.get_string("wrapModeV", both);
-  if (u != v) doc.warn(node, "different wrap modes in u and v; using '" + u + "' for both",
-             Document::Warning::Approximated);
-  if (u == "repeat") return WrapMode::Repeat;
-  if (u == "mirror") return WrapMode::Mirror;
-  if (u == "clamp") return WrapMode::Clamp;
-  doc.warn(node, "wrap mode '" + u + "' is not supported; using 'clamp'",
-           Document::Warning::Approximated);
-  return WrapMode::Clamp;
+  const auto mode = [&](const std::string& name) {
+    const std::string value = props.get_string(name, both);
+    if (value == "repeat") return WrapMode::Repeat;
+    if (value == "mirror") return WrapMode::Mirror;
+    if (value == "clamp") return WrapMode::Clamp;
+    if (value == "zero" || value == "black") return WrapMode::Zero;
+    if (value == "one" || value == "white") return WrapMode::One;
+    doc.fail(node, "unknown wrap mode '" + value +
+                       "' (expected repeat, mirror, clamp, zero/black or one/white)");
+  };
+  const WrapMode u = mode("wrapModeU");
+  return TextureWrap(u, mode("wrapModeV"));
 }
 
 TexturePtr read_bitmap(const Document& doc, pugi::xml_node node, Properties& props) {
@@ -51,7 +55,7 @@ TexturePtr read_bitmap(const Document& doc, pugi::xml_node node, Properties& pro
   }
   // Filtering quality only: bilinear lookups averaged over many samples per pixel.
   props.ignore({"filterType", "maxAnisotropy", "cache"});
-  const WrapMode wrap = wrap_mode(doc, node, props);
+  const TextureWrap wrap = wrap_modes(doc, node, props);
   const UvTransform transform = uv_transform(props);
   if (props.has("channel")) {
     doc.warn(node, "bitmap 'channel' is not supported; using the RGB channels");

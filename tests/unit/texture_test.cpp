@@ -70,6 +70,20 @@ TEST(BitmapTexture, WrapModes) {
   expect_rgb_near(clamp->eval(Vec2(7.0f, 0.25f)), Rgb(0, 1, 0), 1e-6f, "clamp far");
   const TexturePtr mirror = make_bitmap_texture(quad_image(), {}, WrapMode::Mirror);
   expect_rgb_near(mirror->eval(Vec2(1.25f, 0.25f)), Rgb(0, 1, 0), 1e-5f, "mirror");
+  // Zero and one: texels outside the image are 0 or 1, blended with the edge's.
+  const TexturePtr zero = make_bitmap_texture(quad_image(), {}, WrapMode::Zero);
+  expect_rgb_near(zero->eval(Vec2(0.0f, 0.25f)), Rgb(0.5f, 0, 0), 1e-6f, "zero seam");
+  expect_rgb_near(zero->eval(Vec2(3.0f, 0.25f)), Rgb(0.0f), 1e-6f, "zero far");
+  const TexturePtr one = make_bitmap_texture(quad_image(), {}, WrapMode::One);
+  expect_rgb_near(one->eval(Vec2(0.0f, 0.25f)), Rgb(1, 0.5f, 0.5f), 1e-6f, "one seam");
+  // One mode per axis (Mitsuba's wrapModeU, wrapModeV); u decides a corner outside both.
+  const TexturePtr clamp_zero =
+      make_bitmap_texture(quad_image(), {}, TextureWrap(WrapMode::Clamp, WrapMode::Zero));
+  expect_rgb_near(clamp_zero->eval(Vec2(7.0f, 0.25f)), Rgb(0, 1, 0), 1e-6f, "u clamped");
+  expect_rgb_near(clamp_zero->eval(Vec2(0.25f, 7.0f)), Rgb(0.0f), 1e-6f, "v zero");
+  const TexturePtr one_zero =
+      make_bitmap_texture(quad_image(), {}, TextureWrap(WrapMode::One, WrapMode::Zero));
+  expect_rgb_near(one_zero->eval(Vec2(-3.0f, -3.0f)), Rgb(1.0f), 1e-6f, "u first");
 }
 
 TEST(BitmapTexture, UvTransformScalesThenOffsets) {

@@ -48,22 +48,31 @@ using TexturePtr = std::shared_ptr<const Texture>;
 
 TexturePtr make_constant_texture(const Rgb& value);
 
-enum class WrapMode { Repeat, Mirror, Clamp };
+// Mitsuba's wrap modes: outside the image a texel repeats, mirrors, clamps to the edge, or
+// is 0 or 1 (`zero`/`black`, `one`/`white`).
+enum class WrapMode { Repeat, Mirror, Clamp, Zero, One };
+// One mode per texture axis (Mitsuba's wrapModeU and wrapModeV); a single mode sets both.
+struct TextureWrap {
+  WrapMode u = WrapMode::Repeat, v = WrapMode::Repeat;
+  TextureWrap() = default;
+  TextureWrap(WrapMode both) : u(both), v(both) {}  // NOLINT: a mode is a wrap for both axes
+  TextureWrap(WrapMode u_mode, WrapMode v_mode) : u(u_mode), v(v_mode) {}
+};
 
 // Bilinear lookup with texel centres at ((i + 0.5) / width, (j + 0.5) / height). The
 // image holds linear values.
 TexturePtr make_bitmap_texture(Image image, const UvTransform& transform = {},
-                               WrapMode wrap = WrapMode::Repeat, std::string name = "bitmap");
+                               TextureWrap wrap = {}, std::string name = "bitmap");
 // Reads the file as read_image does: PNG/JPG decoded by the file's own curve (sRGB, or a
 // PNG's gAMA), float formats (EXR, HDR, PFM) linear. A `gamma` given replaces the file's
 // curve, as Mitsuba's bitmap `gamma` does (kSrgbGamma, or the exponent: 1 reads the
 // stored values linearly). Throws emlt::Error naming the file.
 TexturePtr load_bitmap_texture(const std::string& path, std::optional<float> gamma = {},
-                               const UvTransform& transform = {}, WrapMode wrap = WrapMode::Repeat);
+                               const UvTransform& transform = {}, TextureWrap wrap = {});
 // (A bool would silently become the exponent 0 or 1: say 1.0f or std::nullopt.)
 template <std::same_as<bool> Bool>
 TexturePtr load_bitmap_texture(const std::string& path, Bool, const UvTransform& = {},
-                               WrapMode = WrapMode::Repeat) = delete;
+                               TextureWrap = {}) = delete;
 
 // Mitsuba's `scale`: the nested texture times a factor.
 TexturePtr make_scale_texture(TexturePtr inner, const Rgb& factor);

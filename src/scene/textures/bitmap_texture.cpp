@@ -26,7 +26,7 @@ struct EightBitTexels {
 
 class BitmapTexture final : public Texture {
  public:
-  BitmapTexture(Image image, const UvTransform& transform, WrapMode wrap, std::string name)
+  BitmapTexture(Image image, const UvTransform& transform, TextureWrap wrap, std::string name)
       : width_(image.width),
         height_(image.height),
         image_(std::move(image)),
@@ -35,7 +35,7 @@ class BitmapTexture final : public Texture {
         name_(std::move(name)) {}
 
   BitmapTexture(int width, int height, EightBitTexels texels, const UvTransform& transform,
-                WrapMode wrap, std::string name)
+                TextureWrap wrap, std::string name)
       : width_(width),
         height_(height),
         eight_bit_(std::move(texels)),
@@ -53,8 +53,8 @@ class BitmapTexture final : public Texture {
     const float fx = x - x0, fy = y - y0;
     const int64_t ix = int64_t(x0), iy = int64_t(y0);
     // Each of the two columns and rows is wrapped once (the four texels share them).
-    const int left = wrap(ix, width_), right = wrap_next(ix, left, width_);
-    const int top = wrap(iy, height_), bottom = wrap_next(iy, top, height_);
+    const int left = wrap(ix, width_, wrap_.u), right = wrap_next(ix, left, width_, wrap_.u);
+    const int top = wrap(iy, height_, wrap_.v), bottom = wrap_next(iy, top, height_, wrap_.v);
     return (1.0f - fy) * ((1.0f - fx) * at(left, top) + fx * at(right, top)) +
            fy * ((1.0f - fx) * at(left, bottom) + fx * at(right, bottom));
   }
@@ -72,7 +72,13 @@ class BitmapTexture final : public Texture {
   std::string name() const override { return name_; }
 
  private:
+  // Indices wrap() gives a texel outside the image under Zero and One.
+  static constexpr int kZeroTexel = -1, kOneTexel = -2;
+
   Rgb at(int x, int y) const {
+    // The u axis decides first, as in Mitsuba's MIP map.
+    if (x < 0) return Rgb(x == kZeroTexel ? 0.0f : 1.0f);
+    if (y < 0) return Rgb(y == kZeroTexel ? 0.0f : 1.0f);
     const size_t i = size_t(y) * size_t(width_) + size_t(x);
     if (!eight_bit_) return image_.pixels[i];
     const uint8_t* b = &eight_bit_->bytes[3 * i];
@@ -82,16 +88,20 @@ class BitmapTexture final : public Texture {
 
   // wrap(i + 1, size) given wrapped = wrap(i, size): under Repeat the next texel of a
   // tiled texture is the wrapped one's neighbour, with no second division.
-  int wrap_next(int64_t i, int wrapped, int size) const {
-    if (wrap_ == WrapMode::Repeat) return wrapped + 1 == size ? 0 : wrapped + 1;
-    return wrap(i + 1, size);
+  static int wrap_next(int64_t i, int wrapped, int size, WrapMode mode) {
+    if (mode == WrapMode::Repeat) return wrapped + 1 == size ? 0 : wrapped + 1;
+    return wrap(i + 1, size, mode);
   }
 
-  int wrap(int64_t i, int size) const {
+  static int wrap(int64_t i, int size, WrapMode mode) {
     // Inside the image every mode leaves the index as it is, and a lookup's texels mostly
     // are: skip the 64-bit divisions, which cost more than the rest of the lookup.
     if (i >= 0 && i < size) return int(i);
-    switch (wrap_) {
+    switch (mode) {
+      case WrapMode::Zero:
+        return kZeroTexel;
+      case WrapMode::One:
+        return kOneTexel;
       case WrapMode::Clamp:
         return int(glm::clamp<int64_t>(i, 0, size - 1));
       case WrapMode::Mirror: {
@@ -115,13 +125,13 @@ class BitmapTexture final : public Texture {
   Image image_;                              // float texels, empty when eight_bit_ holds them
   std::optional<EightBitTexels> eight_bit_;  // texels of an 8-bit file
   UvTransform transform_;
-  WrapMode wrap_;
+  TextureWrap wrap_;
   std::string name_;
 };
 
 }  // namespace
 
-TexturePtr make_bitmap_texture(Image image, const UvTransform& transform, WrapMode wrap,
+TexturePtr make_bitmap_texture(Image image, const UvTransform& transform, TextureWrap wrap,
                                std::string name) {
   if (image.width <= 0 || image.height <= 0 ||
       image.pixels.size() != size_t(image.width) * size_t(image.height))
@@ -130,7 +140,7 @@ TexturePtr make_bitmap_texture(Image image, const UvTransform& transform, WrapMo
 }
 
 TexturePtr load_bitmap_texture(const std::string& path, std::optional<float> gamma,
-                               const UvTransform& transform, WrapMode wrap) {
+                               const UvTransform& transform, TextureWrap wrap) {
   std::string name = std::filesystem::path(path).filename().string();
   if (!is_stored_image(path)) {
     Image image = read_image(path);
