@@ -323,8 +323,10 @@ def sensor(width=64, height=64, fov=50, fov_axis=None, transform=None, rfilter="
 """
 
 
-def integrator(kind="path", max_depth=6, rr_depth=None):
+def integrator(kind="path", max_depth=6, rr_depth=None, hide_emitters=False):
     extra = '\n    <integer name="rrDepth" value="%d"/>' % rr_depth if rr_depth is not None else ""
+    if hide_emitters:
+        extra += '\n    <boolean name="hideEmitters" value="true"/>'
     return (f'  <integrator type="{kind}">\n    <integer name="maxDepth" value="{max_depth}"/>'
             f'{extra}\n  </integrator>\n')
 
@@ -653,6 +655,15 @@ def build():
     s["light-constant"] = ("constant environment emitter", scene(sphere(WHITE) + rect(WHITE, '<scale value="3"/><rotate x="1" angle="-90"/>'),
                                                                  light='  <emitter type="constant"><rgb name="radiance" value="0.8, 0.9, 1.2"/></emitter>\n',
                                                                  walls=False), pt_bdpt)
+    # hideEmitters (Mitsuba's path tracer): the ceiling light, in view, is black, and so is
+    # the sky seen past the room; what they light is not. emlt's other integrators leave
+    # out the same one-segment paths, so all three are checked against Mitsuba's path image.
+    s["light-hide-emitters"] = ("hideEmitters: an area light seen directly is black",
+                          scene(sphere(WHITE), integ=integrator(hide_emitters=True)), pt_bdpt + ["mlt"])
+    s["light-hide-emitters-env"] = ("hideEmitters: the sky seen directly is black",
+                              scene(sphere(WHITE) + rect(WHITE, '<scale value="3"/><rotate x="1" angle="-90"/>'),
+                                    light='  <emitter type="constant"><rgb name="radiance" value="0.8, 0.9, 1.2"/></emitter>\n',
+                                    walls=False, integ=integrator(hide_emitters=True)), pt_bdpt + ["mlt"])
     s["light-envmap"] = ("envmap orientation (toWorld) and scale",
                          scene(sphere('<bsdf type="roughconductor"><string name="material" value="Al"/><float name="alpha" value="0.05"/></bsdf>') +
                                rect(WHITE, '<scale value="3"/><rotate x="1" angle="-90"/>'),
@@ -679,7 +690,7 @@ def main():
         for key, value in old.get(entry["name"], {}).items():
             entry.setdefault(key, value)
     with open(path, "w") as f:
-        json.dump({"scenes": manifest}, f, indent=1)
+        json.dump({"scenes": manifest}, f, indent=2)
         f.write("\n")
     print(f"wrote {len(manifest)} scenes to {os.path.relpath(SCENES, ROOT)}")
 

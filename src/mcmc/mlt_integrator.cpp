@@ -291,7 +291,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   stats_.strategies.assign(mix.size(), StrategyStats{});
 
   MutationContext ctx{scene};
-  ctx.min_edges = settings.direct_separate ? 3 : 1;
+  ctx.min_edges = settings.direct_separate ? 3 : settings.shortest_path();
   ctx.max_edges = settings.max_depth < 0 ? BidirectionalPathTracer::kUnlimitedDepth
                                          : std::min(settings.max_depth, kMaxPathVertices - 1);
   ctx.lens_max_radius = std::sqrt(0.05f * float(pixels) / kPi);

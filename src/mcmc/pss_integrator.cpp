@@ -88,7 +88,7 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
   const float sigma = float(settings.pss_sigma);
   stats_ = MltStatistics{};
 
-  const int min_edges = settings.direct_separate ? 3 : 1;
+  const int min_edges = settings.direct_separate ? 3 : settings.shortest_path();
   const int max_edges = settings.max_depth < 0 ? BidirectionalPathTracer::kUnlimitedDepth
                                                : std::min(settings.max_depth, kMaxPathVertices - 1);
 

@@ -94,7 +94,7 @@ class BdptSampler {
       if (options_.only_t >= 1 && t != options_.only_t) continue;
       for (int s = 0; s <= int(light.size()); ++s) {
         const int segments = s + t - 1;
-        if (segments < 1) continue;
+        if (segments < settings_.shortest_path()) continue;
         if (segments > max_depth_) break;
         if (options_.only_s >= 0 && s != options_.only_s) continue;
         evaluate_strategy(rng, s, t, scratch, pixel, strategy_pixel, out);

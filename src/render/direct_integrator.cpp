@@ -16,10 +16,10 @@ Rgb DirectIntegrator::radiance(const Scene& scene, const RenderSettings& setting
   SurfaceHit hit;
   if (!scene.intersect(ray, hit)) {
     const EnvironmentLight* env = scene.environment();
-    return env ? env->radiance(ray.direction) : Rgb(0.0f);
+    return env && !settings.hide_emitters ? env->radiance(ray.direction) : Rgb(0.0f);
   }
   const Vec3 wo = -ray.direction;
-  Rgb result = hit.emitted(wo);
+  Rgb result = settings.hide_emitters ? Rgb(0.0f) : hit.emitted(wo);
   if (settings.max_depth >= 0 && settings.max_depth < 2) return result;
   DirectLightingOptions options;
   options.samples = settings.direct_samples;

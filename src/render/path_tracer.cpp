@@ -7,7 +7,7 @@ namespace emlt {
 
 Rgb PathTracer::radiance(const Scene& scene, const RenderSettings& settings, const Ray& ray,
                          Rng& rng) {
-  return path_tracer_estimate(scene, settings, ray, rng, 1, nullptr);
+  return path_tracer_estimate(scene, settings, ray, rng, settings.shortest_path(), nullptr);
 }
 
 Rgb PathTracer::radiance(const Scene& scene, const RenderSettings& settings, const Ray& ray,

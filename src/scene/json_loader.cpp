@@ -366,12 +366,13 @@ class JsonSceneReader {
   }
 
   void read_integrator(const json& i) {
-    check_keys(i, "integrator", {"type", "max_depth", "rr_depth", "spp"});
+    check_keys(i, "integrator", {"type", "max_depth", "rr_depth", "spp", "hide_emitters"});
     RenderSettings& s = desc_.defaults;
     if (i.contains("type")) s.integrator = string(i["type"], "integrator.type");
     s.max_depth = integer(i, "max_depth", "integrator", s.max_depth, loader::kMaxDepthRange);
     s.rr_depth = integer(i, "rr_depth", "integrator", s.rr_depth, loader::kRrDepthRange);
     s.spp = integer(i, "spp", "integrator", s.spp, loader::kSppRange);
+    s.hide_emitters = boolean(i, "hide_emitters", "integrator", s.hide_emitters);
   }
 
   void conductor_ior(const json& m, const std::string& where, Rgb* eta, Rgb* k) const {

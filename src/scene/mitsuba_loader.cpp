@@ -172,11 +172,11 @@ class MitsubaSceneReader {
           "emitterSamples", "bsdfSamples", "granularity"})
       if (props.has(name)) tuning.push_back(name);
     for (const std::string& name : tuning) props.ignore({name.c_str()});
-    // Switches whose default is what emlt does; switched on, they change the image and are
+    s.hide_emitters = props.get_boolean("hideEmitters", s.hide_emitters);
+    // A switch whose default is what emlt does; switched on, it changes the image and is
     // reported as unsupported.
-    for (const char* name : {"strictNormals", "hideEmitters"})
-      if (props.get_boolean(name, false))
-        doc_.warn(node, std::string("'") + name + "' is not supported; rendered as if false");
+    if (props.get_boolean("strictNormals", false))
+      doc_.warn(node, "'strictNormals' is not supported; rendered as if false");
     if (!tuning.empty()) {
       std::string names;
       for (const std::string& name : tuning) names += (names.empty() ? "'" : ", '") + name + "'";

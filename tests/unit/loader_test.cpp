@@ -170,6 +170,21 @@ TEST(Loader, DefinesOverrideDefaultsInXmlAndJson) {
   EXPECT_NE(missing.find("$x"), std::string::npos) << missing;
 }
 
+// Mitsuba's hideEmitters (and JSON's hide_emitters) reach the render settings, with no
+// warning: every integrator honours it (the conformance scenes light-hide-emitters*).
+TEST(Loader, HideEmittersIsASetting) {
+  const auto dir = test::scratch_dir("hide-emitters");
+  const SceneDescription xml = load_scene_description(write_file(dir, "hide.xml", small_xml(R"(
+  <integrator type="path"><boolean name="hideEmitters" value="true"/></integrator>)")));
+  EXPECT_TRUE(xml.defaults.hide_emitters);
+  EXPECT_TRUE(xml.warnings.empty());
+  EXPECT_FALSE(
+      load_scene_description(write_file(dir, "show.xml", small_xml(""))).defaults.hide_emitters);
+  std::string json = small_json("", "");
+  json.insert(1, R"("integrator": {"type": "pt", "hide_emitters": true}, )");
+  EXPECT_TRUE(load_scene_description(write_file(dir, "hide.json", json)).defaults.hide_emitters);
+}
+
 TEST(Loader, BadInputGivesOneLineErrorNamingFileAndProblem) {
   const auto dir = test::scratch_dir("bad");
   write_file(dir, "light.obj", kLightOnlyObj);

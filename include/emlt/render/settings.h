@@ -29,6 +29,10 @@ struct RenderSettings {
   int width = 0, height = 0;  // 0: from the scene
   int max_depth = -1;  // longest path in segments; -1 = unlimited (Russian roulette ends it)
   int rr_depth = 5;  // Russian roulette starts after this many segments
+  // Mitsuba's hideEmitters: light that reaches the camera without scattering (paths of one
+  // segment: an emitter or the sky seen directly) is left out, by every integrator.
+  bool hide_emitters = false;
+  int shortest_path() const { return hide_emitters ? 2 : 1; }  // in segments
   MisHeuristic mis = MisHeuristic::Power;
   int direct_samples = 1;  // light and BSDF samples per direct-lighting estimate
   DirectPointSet direct_point_set = DirectPointSet::Independent;
