@@ -85,8 +85,9 @@ def to_bytes(rows):
 
 
 def write_png_chunks(path, width, height, rows, bits=8, gama=None, srgb=False):
-    """An RGB PNG of `bits`-bit samples (rows of integer triples, row 0 at the top), with a
-    gAMA chunk (the file gamma, e.g. 1.0 or 1 / 2.2) and/or an sRGB chunk when asked."""
+    """An RGB PNG of `bits`-bit samples (rows of integer triples, or quadruples for RGBA;
+    row 0 at the top), with a gAMA chunk (the file gamma, e.g. 1.0 or 1 / 2.2) and/or an
+    sRGB chunk when asked."""
     def chunk(kind, data):
         body = kind + data
         return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body) & 0xFFFFFFFF)
@@ -100,7 +101,8 @@ def write_png_chunks(path, width, height, rows, bits=8, gama=None, srgb=False):
     if gama is not None:
         extra += chunk(b"gAMA", struct.pack(">I", int(round(gama * 100000))))
     with open(path, "wb") as f:
-        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, bits, 2, 0, 0, 0)) +
+        colour_type = 6 if len(rows[0][0]) == 4 else 2
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, bits, colour_type, 0, 0, 0)) +
                 extra + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
 
 
@@ -221,6 +223,10 @@ def write_assets():
     write_png_chunks(os.path.join(ASSETS, "grid-gama15.png"), 32, 32, grid8, gama=1 / 1.5)
     write_png_chunks(os.path.join(ASSETS, "grid-srgb-gama15.png"), 32, 32, grid8, gama=1 / 1.5,
                      srgb=True)
+    # The colour grid with the holes pattern as its alpha channel (for bitmap `channel`).
+    write_png_chunks(os.path.join(ASSETS, "grid-alpha.png"), 32, 32,
+                     [[px + (0 if ((x // 8) + (y // 8)) % 2 else 255,) for x, px in enumerate(row)]
+                      for y, row in enumerate(grid8)])
     write_png_chunks(os.path.join(ASSETS, "grid16.png"), 32, 32,
                      [[tuple(int(round(65535 * c)) for c in px) for px in row] for row in grid],
                      bits=16)
@@ -496,6 +502,13 @@ def build():
     s["bsdf-mask"] = ("mask: opacity from a bitmap",
                       scene(rect('<bsdf type="mask"><texture type="bitmap" name="opacity">' + bitmap("holes.png") +
                                  '</texture>' + DIFFUSE % "0.8, 0.8, 0.3" + "</bsdf>", PANEL)), pt_bdpt)
+    s["tex-channel-alpha"] = ("mask opacity from an RGBA PNG's alpha (bitmap channel a, linear)",
+                              scene(rect('<bsdf type="mask"><texture type="bitmap" name="opacity">' +
+                                         bitmap("grid-alpha.png", '<string name="channel" value="a"/>') +
+                                         '</texture>' + DIFFUSE % "0.8, 0.8, 0.3" + "</bsdf>", PANEL)), ["pt"])
+    s["tex-channel-g"] = ("bitmap channel g: the green channel, sRGB-decoded, as a grey texture",
+                          scene(rect(TEXTURED % bitmap("grid-alpha.png", '<string name="channel" value="g"/>'),
+                                     PANEL)), ["pt"])
     s["bsdf-bumpmap"] = ("bumpmap: a bitmap height field scaled by a scale texture",
                          scene(rect('<bsdf type="bumpmap"><texture type="scale"><float name="scale" value="0.02"/>'
                                     '<texture type="bitmap">' + bitmap("bumps.png") + '</texture></texture>' +

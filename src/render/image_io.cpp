@@ -415,6 +415,34 @@ const std::array<float, 256>& srgb8_levels() {
   return levels;
 }
 
+StoredImage select_channel(StoredImage image, const std::string& channel, const std::string& path) {
+  std::string wanted = channel;
+  for (char& c : wanted) c = char(std::tolower(static_cast<unsigned char>(c)));
+  const size_t index = wanted.size() == 1 ? image.channels.find(wanted[0]) : std::string::npos;
+  if (index == std::string::npos) {
+    std::string names;
+    for (char c : image.channels) names += (names.empty() ? "" : ", ") + std::string(1, c);
+    throw file_error(path, "has no channel '" + channel + "' (its channels: " + names + ")");
+  }
+  const bool alpha = image.channels[index] == 'a';
+  // Grey files ("l", "ya") hold their value in every colour sample.
+  const size_t colour = image.channels.size() <= 2 ? 0 : index;
+  const auto pick = [&](auto& samples, const auto& alpha_samples) {
+    for (size_t i = 0; i < samples.size(); i += 3) {
+      const auto value = alpha ? alpha_samples[i / 3] : samples[i + colour];
+      samples[i] = samples[i + 1] = samples[i + 2] = value;
+    }
+  };
+  if (image.words.empty())
+    pick(image.bytes, image.alpha_bytes);
+  else
+    pick(image.words, image.alpha_words);
+  if (alpha) image.gamma = 1.0f;  // Mitsuba: an alpha channel is linear
+  image.channels = std::string(1, image.channels[index]);
+  image.alpha_bytes.clear(), image.alpha_words.clear();
+  return image;
+}
+
 bool is_stored_image(const std::string& path) {
   const Format format = format_of(path);
   return format == Format::Png || format == Format::Jpeg;

@@ -120,6 +120,7 @@ StoredImage read_jpeg(const std::string& path) {
   }
   StoredImage image;
   image.width = int(width), image.height = int(height);
+  image.channels = d.info.num_components == 1 ? "l" : "rgb";
   image.bytes.resize(size_t(width) * size_t(height) * 3);
   if (!read_pixels(d, image.bytes.data())) throw failure("corrupt");
   return image;

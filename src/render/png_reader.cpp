@@ -15,6 +15,8 @@
 #include <csetjmp>
 #include <cstdio>
 #include <cstring>
+#include <string>
+#include <vector>
 
 #include "emlt/core/error.h"
 #include "src/render/image_file.h"
@@ -57,10 +59,11 @@ struct Decompressor {
   ~Decompressor() { png_destroy_read_struct(&png, info ? &info : nullptr, nullptr); }
 };
 
-// The header, and the transformations that turn every colour type into 3 samples a pixel
-// (8 or 16 bits, 16-bit ones in the machine's byte order).
+// The header, and the transformations that turn every colour type into 4 samples a pixel,
+// RGBA (8 or 16 bits, 16-bit ones in the machine's byte order; alpha 1 where the file has
+// none). `channels`: the file's channels as Mitsuba names them (a tRNS chunk is alpha).
 bool read_header(Decompressor& d, png_uint_32* width, png_uint_32* height, int* bits, int* passes,
-                 float* gamma) {
+                 float* gamma, std::string* channels) {
   if (setjmp(d.failure.jump)) return false;
   png_set_read_fn(d.png, &d.reader, read_from_memory);
   png_read_info(d.png, d.info);
@@ -69,9 +72,13 @@ bool read_header(Decompressor& d, png_uint_32* width, png_uint_32* height, int* 
   if (colour == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(d.png);
   if (*bits < 8) png_set_expand_gray_1_2_4_to_8(d.png);  // (palettes are 8-bit once expanded)
   if (*bits == 16 && std::endian::native == std::endian::little) png_set_swap(d.png);
-  png_set_strip_alpha(d.png);  // also drops what a tRNS chunk would have made alpha
-  if (colour == PNG_COLOR_TYPE_GRAY || colour == PNG_COLOR_TYPE_GRAY_ALPHA)
-    png_set_gray_to_rgb(d.png);
+  const bool transparency = png_get_valid(d.png, d.info, PNG_INFO_tRNS) != 0;
+  if (transparency) png_set_tRNS_to_alpha(d.png);
+  const bool grey = colour == PNG_COLOR_TYPE_GRAY || colour == PNG_COLOR_TYPE_GRAY_ALPHA;
+  const bool alpha = transparency || (colour & PNG_COLOR_MASK_ALPHA) != 0;
+  *channels = grey ? (alpha ? "ya" : "l") : (alpha ? "rgba" : "rgb");
+  if (grey) png_set_gray_to_rgb(d.png);
+  if (!alpha) png_set_add_alpha(d.png, 0xffff, PNG_FILLER_AFTER);
   int intent = 0;
   double file_gamma = 0.0;
   if (png_get_sRGB(d.png, d.info, &intent))
@@ -84,7 +91,7 @@ bool read_header(Decompressor& d, png_uint_32* width, png_uint_32* height, int* 
   *passes = png_set_interlace_handling(d.png);
   png_read_update_info(d.png, d.info);
   *bits = png_get_bit_depth(d.png, d.info);
-  if (png_get_channels(d.png, d.info) != 3) png_error(d.png, "unexpected channel count");
+  if (png_get_channels(d.png, d.info) != 4) png_error(d.png, "unexpected channel count");
   return true;
 }
 
@@ -95,6 +102,19 @@ bool read_rows(Decompressor& d, unsigned char* data, size_t stride, png_uint_32 
     for (png_uint_32 y = 0; y < height; ++y) png_read_row(d.png, data + y * stride, nullptr);
   png_read_end(d.png, nullptr);
   return true;
+}
+
+// RGBA samples into RGB and alpha.
+template <class Sample>
+void split_alpha(const std::vector<Sample>& rgba, std::vector<Sample>& rgb,
+                 std::vector<Sample>& alpha) {
+  const size_t texels = rgba.size() / 4;
+  rgb.resize(texels * 3);
+  alpha.resize(texels);
+  for (size_t i = 0; i < texels; ++i) {
+    rgb[3 * i] = rgba[4 * i], rgb[3 * i + 1] = rgba[4 * i + 1], rgb[3 * i + 2] = rgba[4 * i + 2];
+    alpha[i] = rgba[4 * i + 3];
+  }
 }
 
 }  // namespace
@@ -113,23 +133,24 @@ StoredImage read_png(const std::string& path) {
   png_uint_32 width = 0, height = 0;
   int bits = 8, passes = 1;
   StoredImage image;
-  if (!read_header(d, &width, &height, &bits, &passes, &image.gamma))
+  if (!read_header(d, &width, &height, &bits, &passes, &image.gamma, &image.channels))
     throw file_error(path, std::string("cannot read PNG: ") + d.failure.message);
   check_image_size(path, width, height);
   image.width = int(width), image.height = int(height);
-  const size_t samples = size_t(width) * size_t(height) * 3;
-  unsigned char* data = nullptr;
-  size_t stride = size_t(width) * 3;
+  const size_t texels = size_t(width) * size_t(height);
   if (bits == 16) {
-    image.words.resize(samples);
-    data = reinterpret_cast<unsigned char*>(image.words.data());
-    stride *= 2;
+    std::vector<uint16_t> rgba(texels * 4);
+    if (!read_rows(d, reinterpret_cast<unsigned char*>(rgba.data()), size_t(width) * 8, height,
+                   passes))
+      throw file_error(path, std::string("corrupt PNG: ") + d.failure.message);
+    split_alpha(rgba, image.words, image.alpha_words);
   } else {
-    image.bytes.resize(samples);
-    data = image.bytes.data();
+    std::vector<unsigned char> rgba(texels * 4);
+    if (!read_rows(d, rgba.data(), size_t(width) * 4, height, passes))
+      throw file_error(path, std::string("corrupt PNG: ") + d.failure.message);
+    split_alpha(rgba, image.bytes, image.alpha_bytes);
   }
-  if (!read_rows(d, data, stride, height, passes))
-    throw file_error(path, std::string("corrupt PNG: ") + d.failure.message);
+  if (image.channels.back() != 'a') image.alpha_bytes.clear(), image.alpha_words.clear();
   return image;
 }
 

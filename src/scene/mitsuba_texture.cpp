@@ -57,12 +57,17 @@ TexturePtr read_bitmap(const Document& doc, pugi::xml_node node, Properties& pro
   props.ignore({"filterType", "maxAnisotropy", "cache"});
   const TextureWrap wrap = wrap_modes(doc, node, props);
   const UvTransform transform = uv_transform(props);
+  std::string channel;
   if (props.has("channel")) {
-    doc.warn(node, "bitmap 'channel' is not supported; using the RGB channels");
-    props.ignore({"channel"});
+    channel = props.get_string("channel", "");
+    if (!is_stored_image(file)) {
+      doc.warn(node, "bitmap 'channel' of a float image is not supported; using the RGB channels",
+               Document::Warning::Approximated);
+      channel.clear();
+    }
   }
   try {
-    return load_bitmap_texture(file, gamma, transform, wrap);
+    return load_bitmap_texture(file, gamma, transform, wrap, channel);
   } catch (const Error& e) {
     doc.fail(node, e.what());
   }

@@ -421,20 +421,26 @@ TEST(ImageIo, DamagedJpegIsAFileError) {
 TEST(ImageIo, PngColourTypesExpandAsMitsubasReader) {
   const fs::path dir = test::scratch_dir("png-types");
   using Bytes = std::vector<unsigned char>;
-  // Palette of two entries (index 1 is transparent by tRNS: the alpha is dropped).
-  const StoredImage palette =
-      stored_from(dir, "palette.png",
-                  png_file(2, 1, 8, 3, 0, std::string("\0\x01\x00", 3),
-                           {{"PLTE", "\x10\x20\x30\xc0\xd0\xe0"}, {"tRNS", "\xff\x00"}}));
+  // Palette of two entries; tRNS makes entry 0 transparent (alpha, kept beside the colour).
+  const StoredImage palette = stored_from(
+      dir, "palette.png",
+      png_file(2, 1, 8, 3, 0, std::string("\0\x01\x00", 3),
+               {{"PLTE", "\x10\x20\x30\xc0\xd0\xe0"}, {"tRNS", std::string("\x00\xff", 2)}}));
   EXPECT_EQ(palette.bytes, (Bytes{0xc0, 0xd0, 0xe0, 0x10, 0x20, 0x30}));
+  EXPECT_EQ(palette.channels, "rgba");
+  EXPECT_EQ(palette.alpha_bytes, (Bytes{0xff, 0x00}));
   // Grey with alpha: the grey value three times.
   const StoredImage grey_alpha =
       stored_from(dir, "grey-alpha.png", png_file(1, 1, 8, 4, 0, std::string("\0\x40\x80", 3)));
   EXPECT_EQ(grey_alpha.bytes, (Bytes{0x40, 0x40, 0x40}));
+  EXPECT_EQ(grey_alpha.channels, "ya");
+  EXPECT_EQ(grey_alpha.alpha_bytes, (Bytes{0x80}));
   // 2-bit grey scaled to 8 bits (level 1 of 3 -> 85), four texels in one byte.
   const StoredImage two_bit =
       stored_from(dir, "grey2.png", png_file(4, 1, 2, 0, 0, std::string("\0\x1b", 2)));
   EXPECT_EQ(two_bit.bytes, (Bytes{0, 0, 0, 85, 85, 85, 170, 170, 170, 255, 255, 255}));
+  EXPECT_EQ(two_bit.channels, "l");
+  EXPECT_TRUE(two_bit.alpha_bytes.empty());
   // 16-bit grey: the samples as stored, in `words`.
   const StoredImage sixteen =
       stored_from(dir, "grey16.png", png_file(1, 1, 16, 0, 0, std::string("\0\x12\x34", 3)));
@@ -479,4 +485,29 @@ TEST(ImageIo, PngCurveComesFromItsSrgbOrGamaChunk) {
   ASSERT_EQ(wide.words.size(), 32u * 32u * 3u);
   EXPECT_EQ(wide.words[0], 62258);  // the top-left marker's 0.95
   EXPECT_EQ(read_image(wide_path).at(0, 0).x, decode_gamma(62258.0f / 65535.0f, kSrgbGamma));
+}
+
+// Mitsuba's bitmap `channel`: one channel of the file in all three samples; alpha linear.
+TEST(ImageIo, ChannelOfAStoredImage) {
+  const fs::path assets = fs::path(EMLT_SOURCE_DIR) / "tests/conformance/scenes/assets";
+  const std::string path = (assets / "grid-alpha.png").string();
+  const StoredImage rgba = read_stored_image(path);
+  ASSERT_EQ(rgba.channels, "rgba");
+  const StoredImage green = select_channel(rgba, "G", path);
+  EXPECT_EQ(green.gamma, kSrgbGamma);
+  const StoredImage alpha = select_channel(rgba, "a", path);
+  EXPECT_EQ(alpha.gamma, 1.0f);
+  for (size_t i : {size_t(0), size_t(8), size_t(8 * 32 + 8), size_t(1023)}) {
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_EQ(green.bytes[3 * i + size_t(c)], rgba.bytes[3 * i + 1]) << i;
+      EXPECT_EQ(alpha.bytes[3 * i + size_t(c)], rgba.alpha_bytes[i]) << i;
+    }
+  }
+  EXPECT_EQ(alpha.bytes[0], 255);    // the holes pattern: opaque top-left block,
+  EXPECT_EQ(alpha.bytes[3 * 8], 0);  // a hole right of it
+  expect_file_error([&] { select_channel(rgba, "y", path); }, path, "its channels: r, g, b, a");
+  const std::string grey = (assets / "grid-grey.jpg").string();
+  EXPECT_EQ(read_stored_image(grey).channels, "l");
+  expect_file_error([&] { select_channel(read_stored_image(grey), "r", path); }, path,
+                    "its channels: l");
 }

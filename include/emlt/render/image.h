@@ -43,7 +43,17 @@ struct StoredImage {
   std::vector<unsigned char> bytes;
   std::vector<uint16_t> words;
   float gamma = kSrgbGamma;  // the file's own curve
+  // The file's channels as Mitsuba names them: "l" (grey), "ya" (grey and alpha), "rgb" or
+  // "rgba" (a PNG's tRNS chunk counts as alpha); the alpha samples, one per texel, in
+  // alpha_bytes or alpha_words (as bytes or words hold the colour), when it has alpha.
+  std::string channels = "rgb";
+  std::vector<unsigned char> alpha_bytes;
+  std::vector<uint16_t> alpha_words;
 };
+// The image with one of its channels (a name from `channels`) in all three samples of each
+// texel, as Mitsuba's bitmap `channel` reads it; alpha is linear whatever the file's curve.
+// Throws emlt::Error naming `path` and the channels there are when it has no such channel.
+StoredImage select_channel(StoredImage image, const std::string& channel, const std::string& path);
 bool is_stored_image(const std::string& path);  // by extension: .png, .jpg, .jpeg
 // Throws as read_image does (and for a file of another format).
 StoredImage read_stored_image(const std::string& path);

@@ -66,9 +66,12 @@ TexturePtr make_bitmap_texture(Image image, const UvTransform& transform = {},
 // Reads the file as read_image does: PNG/JPG decoded by the file's own curve (sRGB, or a
 // PNG's gAMA), float formats (EXR, HDR, PFM) linear. A `gamma` given replaces the file's
 // curve, as Mitsuba's bitmap `gamma` does (kSrgbGamma, or the exponent: 1 reads the
-// stored values linearly). Throws emlt::Error naming the file.
+// stored values linearly). `channel` (PNG and JPEG): one of the file's channels as a grey
+// texture, Mitsuba's bitmap `channel` (select_channel; alpha is linear, whatever `gamma`).
+// Throws emlt::Error naming the file.
 TexturePtr load_bitmap_texture(const std::string& path, std::optional<float> gamma = {},
-                               const UvTransform& transform = {}, TextureWrap wrap = {});
+                               const UvTransform& transform = {}, TextureWrap wrap = {},
+                               const std::string& channel = "");
 // (A bool would silently become the exponent 0 or 1: say 1.0f or std::nullopt.)
 template <std::same_as<bool> Bool>
 TexturePtr load_bitmap_texture(const std::string& path, Bool, const UvTransform& = {},

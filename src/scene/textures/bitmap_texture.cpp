@@ -140,8 +140,11 @@ TexturePtr make_bitmap_texture(Image image, const UvTransform& transform, Textur
 }
 
 TexturePtr load_bitmap_texture(const std::string& path, std::optional<float> gamma,
-                               const UvTransform& transform, TextureWrap wrap) {
+                               const UvTransform& transform, TextureWrap wrap,
+                               const std::string& channel) {
   std::string name = std::filesystem::path(path).filename().string();
+  if (!channel.empty() && !is_stored_image(path))
+    throw file_error(path, "a channel of a float image cannot be chosen (only of PNG and JPEG)");
   if (!is_stored_image(path)) {
     Image image = read_image(path);
     // A float file is linear; a gamma given for it bends its values all the same, as
@@ -158,6 +161,10 @@ TexturePtr load_bitmap_texture(const std::string& path, std::optional<float> gam
   // as the level the curve gives v / 255; a 16-bit PNG is decoded to floats.
   std::optional<StoredImage> prefetched = LoadPrefetch::stored_image(path);
   StoredImage image = prefetched ? std::move(*prefetched) : read_stored_image(path);
+  if (!channel.empty()) {
+    image = select_channel(std::move(image), channel, path);
+    if (image.channels == "a") gamma.reset();  // alpha stays linear (select_channel)
+  }
   const float curve = gamma.value_or(image.gamma);
   if (!image.words.empty()) {
     Image decoded(image.width, image.height);
