@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "emlt/core/error.h"
@@ -59,9 +60,9 @@ struct Decompressor {
   ~Decompressor() { png_destroy_read_struct(&png, info ? &info : nullptr, nullptr); }
 };
 
-// The header, and the transformations that turn every colour type into 4 samples a pixel,
-// RGBA (8 or 16 bits, 16-bit ones in the machine's byte order; alpha 1 where the file has
-// none). `channels`: the file's channels as Mitsuba names them (a tRNS chunk is alpha).
+// The header, and the transformations that turn every colour type into RGB, or RGBA when
+// the file has alpha (8 or 16 bits a sample, 16-bit ones in the machine's byte order).
+// `channels`: the file's channels as Mitsuba names them (a tRNS chunk is alpha).
 bool read_header(Decompressor& d, png_uint_32* width, png_uint_32* height, int* bits, int* passes,
                  float* gamma, std::string* channels) {
   if (setjmp(d.failure.jump)) return false;
@@ -78,7 +79,6 @@ bool read_header(Decompressor& d, png_uint_32* width, png_uint_32* height, int* 
   const bool alpha = transparency || (colour & PNG_COLOR_MASK_ALPHA) != 0;
   *channels = grey ? (alpha ? "ya" : "l") : (alpha ? "rgba" : "rgb");
   if (grey) png_set_gray_to_rgb(d.png);
-  if (!alpha) png_set_add_alpha(d.png, 0xffff, PNG_FILLER_AFTER);
   int intent = 0;
   double file_gamma = 0.0;
   if (png_get_sRGB(d.png, d.info, &intent))
@@ -91,7 +91,8 @@ bool read_header(Decompressor& d, png_uint_32* width, png_uint_32* height, int* 
   *passes = png_set_interlace_handling(d.png);
   png_read_update_info(d.png, d.info);
   *bits = png_get_bit_depth(d.png, d.info);
-  if (png_get_channels(d.png, d.info) != 4) png_error(d.png, "unexpected channel count");
+  if (png_get_channels(d.png, d.info) != (alpha ? 4 : 3))
+    png_error(d.png, "unexpected channel count");
   return true;
 }
 
@@ -137,20 +138,23 @@ StoredImage read_png(const std::string& path) {
     throw file_error(path, std::string("cannot read PNG: ") + d.failure.message);
   check_image_size(path, width, height);
   image.width = int(width), image.height = int(height);
+  // Without alpha the rows go straight into the image; with it, through an RGBA buffer.
   const size_t texels = size_t(width) * size_t(height);
-  if (bits == 16) {
-    std::vector<uint16_t> rgba(texels * 4);
-    if (!read_rows(d, reinterpret_cast<unsigned char*>(rgba.data()), size_t(width) * 8, height,
-                   passes))
+  const size_t samples = image.channels.back() == 'a' ? 4 : 3;
+  const auto decode = [&](auto& colour, auto& alpha) {
+    using Sample = typename std::decay_t<decltype(colour)>::value_type;
+    std::vector<Sample> rgba;
+    std::vector<Sample>& rows = samples == 4 ? rgba : colour;
+    rows.resize(texels * samples);
+    if (!read_rows(d, reinterpret_cast<unsigned char*>(rows.data()),
+                   size_t(width) * samples * sizeof(Sample), height, passes))
       throw file_error(path, std::string("corrupt PNG: ") + d.failure.message);
-    split_alpha(rgba, image.words, image.alpha_words);
-  } else {
-    std::vector<unsigned char> rgba(texels * 4);
-    if (!read_rows(d, rgba.data(), size_t(width) * 4, height, passes))
-      throw file_error(path, std::string("corrupt PNG: ") + d.failure.message);
-    split_alpha(rgba, image.bytes, image.alpha_bytes);
-  }
-  if (image.channels.back() != 'a') image.alpha_bytes.clear(), image.alpha_words.clear();
+    if (samples == 4) split_alpha(rgba, colour, alpha);
+  };
+  if (bits == 16)
+    decode(image.words, image.alpha_words);
+  else
+    decode(image.bytes, image.alpha_bytes);
   return image;
 }
 

@@ -1,5 +1,7 @@
 // Mitsuba 0.6 <texture> elements: bitmap, checkerboard, scale, and references to
 // textures declared with an id.
+#include <fmt/core.h>
+
 #include <filesystem>
 
 #include "emlt/core/error.h"
@@ -50,7 +52,7 @@ TexturePtr read_bitmap(const Document& doc, pugi::xml_node node, Properties& pro
     if (value == kSrgbGamma || value > 0.0f)
       gamma = value;
     else if (value != 0.0f)
-      doc.fail(node, "bitmap gamma " + std::to_string(value) +
+      doc.fail(node, fmt::format("bitmap gamma {}", value) +
                          " is not a curve (expected -1 for sRGB or a positive exponent)");
   }
   // Filtering quality only: bilinear lookups averaged over many samples per pixel.

@@ -35,8 +35,8 @@ float decode_gamma(float value, float gamma);
 Image read_image(const std::string& path);
 
 // A PNG or JPEG file as it stores its texels, as Mitsuba 0.6 reads them (libpng, libjpeg):
-// 3 samples per pixel (RGB; a grey file's value repeated, palettes expanded, alpha
-// dropped), row-major, row 0 at the top; 8-bit samples in `bytes`, or a 16-bit PNG's in
+// 3 samples per pixel (RGB; a grey file's value repeated, palettes expanded, alpha kept
+// apart below), row-major, row 0 at the top; 8-bit samples in `bytes`, or a 16-bit PNG's in
 // `words` (then `bytes` is empty). read_image decodes each sample v / max by `gamma`.
 struct StoredImage {
   int width = 0, height = 0;
