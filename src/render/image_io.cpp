@@ -329,19 +329,6 @@ StoredImage read_stored_bytes(const std::string& path) {
   return format_of(path) == Format::Jpeg ? read_jpeg(path) : read_png(path);
 }
 
-Image decode_stored(const StoredImage& stored) {
-  Image image(stored.width, stored.height);
-  float* out = reinterpret_cast<float*>(image.pixels.data());
-  if (stored.words.empty()) {
-    const std::array<float, 256> to_linear = levels8(stored.gamma);
-    for (size_t i = 0; i < stored.bytes.size(); ++i) out[i] = to_linear[stored.bytes[i]];
-  } else {
-    for (size_t i = 0; i < stored.words.size(); ++i)
-      out[i] = decode_gamma(float(stored.words[i]) / 65535.0f, stored.gamma);
-  }
-  return image;
-}
-
 void write_hdr(const std::string& path, const Image& image) {
   if (!stbi_write_hdr(path.c_str(), image.width, image.height, 3,
                       reinterpret_cast<const float*>(image.pixels.data()))) {
@@ -443,6 +430,19 @@ StoredImage select_channel(StoredImage image, const std::string& channel, const 
   return image;
 }
 
+Image decode_stored_image(const StoredImage& stored, float gamma) {
+  Image image(stored.width, stored.height);
+  float* out = reinterpret_cast<float*>(image.pixels.data());
+  if (stored.words.empty()) {
+    const std::array<float, 256> to_linear = levels8(gamma);
+    for (size_t i = 0; i < stored.bytes.size(); ++i) out[i] = to_linear[stored.bytes[i]];
+  } else {
+    for (size_t i = 0; i < stored.words.size(); ++i)
+      out[i] = decode_gamma(float(stored.words[i]) / 65535.0f, gamma);
+  }
+  return image;
+}
+
 bool is_stored_image(const std::string& path) {
   const Format format = format_of(path);
   return format == Format::Png || format == Format::Jpeg;
@@ -474,7 +474,11 @@ Image read_image(const std::string& path) {
       case Format::Hdr: image = read_hdr(path); break;
       case Format::Pfm: image = read_pfm(path); break;
       case Format::Png:
-      case Format::Jpeg: image = decode_stored(read_stored_bytes(path)); break;
+      case Format::Jpeg: {
+        const StoredImage stored = read_stored_bytes(path);
+        image = decode_stored_image(stored, stored.gamma);
+        break;
+      }
       case Format::Unknown: break;
     }
   } catch (const Error&) {

@@ -54,6 +54,8 @@ struct StoredImage {
 // texel, as Mitsuba's bitmap `channel` reads it; alpha is linear whatever the file's curve.
 // Throws emlt::Error naming `path` and the channels there are when it has no such channel.
 StoredImage select_channel(StoredImage image, const std::string& channel, const std::string& path);
+// Linear float RGB from the stored samples under `gamma` (read_image passes the file's own).
+Image decode_stored_image(const StoredImage& image, float gamma);
 bool is_stored_image(const std::string& path);  // by extension: .png, .jpg, .jpeg
 // Throws as read_image does (and for a file of another format).
 StoredImage read_stored_image(const std::string& path);

@@ -166,13 +166,8 @@ TexturePtr load_bitmap_texture(const std::string& path, std::optional<float> gam
     if (image.channels == "a") gamma.reset();  // alpha stays linear (select_channel)
   }
   const float curve = gamma.value_or(image.gamma);
-  if (!image.words.empty()) {
-    Image decoded(image.width, image.height);
-    float* out = reinterpret_cast<float*>(decoded.pixels.data());
-    for (size_t i = 0; i < image.words.size(); ++i)
-      out[i] = decode_gamma(float(image.words[i]) / 65535.0f, curve);
-    return make_bitmap_texture(std::move(decoded), transform, wrap, name);
-  }
+  if (!image.words.empty())
+    return make_bitmap_texture(decode_stored_image(image, curve), transform, wrap, name);
   EightBitTexels texels;
   texels.bytes = std::move(image.bytes);
   texels.levels = levels8(curve);
