@@ -55,6 +55,10 @@ class BitmapTexture final : public Texture {
     // Each of the two columns and rows is wrapped once (the four texels share them).
     const int left = wrap(ix, width_, wrap_.u), right = wrap_next(ix, left, width_, wrap_.u);
     const int top = wrap(iy, height_, wrap_.v), bottom = wrap_next(iy, top, height_, wrap_.v);
+    // One test for the four texels: only Zero and One give an index below 0.
+    if ((left | right | top | bottom) >= 0)
+      return (1.0f - fy) * ((1.0f - fx) * texel(left, top) + fx * texel(right, top)) +
+             fy * ((1.0f - fx) * texel(left, bottom) + fx * texel(right, bottom));
     return (1.0f - fy) * ((1.0f - fx) * at(left, top) + fx * at(right, top)) +
            fy * ((1.0f - fx) * at(left, bottom) + fx * at(right, bottom));
   }
@@ -75,10 +79,15 @@ class BitmapTexture final : public Texture {
   // Indices wrap() gives a texel outside the image under Zero and One.
   static constexpr int kZeroTexel = -1, kOneTexel = -2;
 
+  // A texel or, under Zero and One, the constant outside the image; the u axis decides
+  // first, as in Mitsuba's MIP map.
   Rgb at(int x, int y) const {
-    // The u axis decides first, as in Mitsuba's MIP map.
     if (x < 0) return Rgb(x == kZeroTexel ? 0.0f : 1.0f);
     if (y < 0) return Rgb(y == kZeroTexel ? 0.0f : 1.0f);
+    return texel(x, y);
+  }
+
+  Rgb texel(int x, int y) const {
     const size_t i = size_t(y) * size_t(width_) + size_t(x);
     if (!eight_bit_) return image_.pixels[i];
     const uint8_t* b = &eight_bit_->bytes[3 * i];
