@@ -2,19 +2,37 @@
 
 namespace emlt {
 
+namespace {
+
+// sin and cos of an angle within [-pi/4, pi/4], the range the concentric map's angles are
+// reduced to: Taylor polynomials to x^9 and x^10, whose truncation error there (below
+// 2e-9) is under a float's rounding, so no range reduction and no libm call are needed.
+// The concentric map runs for every diffuse bounce, and sincosf was a third of its time.
+void sin_cos_within_quarter(float x, float* sin_x, float* cos_x) {
+  const float x2 = x * x;
+  *sin_x =
+      x * (1.0f + x2 * (-1.0f / 6.0f +
+                        x2 * (1.0f / 120.0f + x2 * (-1.0f / 5040.0f + x2 * (1.0f / 362880.0f)))));
+  *cos_x = 1.0f + x2 * (-0.5f + x2 * (1.0f / 24.0f +
+                                      x2 * (-1.0f / 720.0f +
+                                            x2 * (1.0f / 40320.0f + x2 * (-1.0f / 3628800.0f)))));
+}
+
+}  // namespace
+
 Vec2 square_to_uniform_disk_concentric(const Vec2& u) {
   // Shirley-Chiu concentric map: keeps strata compact, which helps lens sampling.
   const float a = 2.0f * u.x - 1.0f, b = 2.0f * u.y - 1.0f;
   if (a == 0.0f && b == 0.0f) return {0.0f, 0.0f};
-  float r, phi;
+  float sin_t, cos_t;
   if (std::abs(a) > std::abs(b)) {
-    r = a;
-    phi = (kPi / 4.0f) * (b / a);
-  } else {
-    r = b;
-    phi = kPi / 2.0f - (kPi / 4.0f) * (a / b);
+    // phi = (pi/4) (b/a), within [-pi/4, pi/4]
+    sin_cos_within_quarter((kPi / 4.0f) * (b / a), &sin_t, &cos_t);
+    return {a * cos_t, a * sin_t};
   }
-  return {r * std::cos(phi), r * std::sin(phi)};
+  // phi = pi/2 - t with t = (pi/4) (a/b): cos phi = sin t, sin phi = cos t
+  sin_cos_within_quarter((kPi / 4.0f) * (a / b), &sin_t, &cos_t);
+  return {b * sin_t, b * cos_t};
 }
 
 Vec3 square_to_uniform_sphere(const Vec2& u) {

@@ -126,16 +126,27 @@ TEST(EmltUnbiased, FullMixConvergesToBdptOnTheCornellBox) {
 }
 
 // Each mix converges to BDPT on the shipped scene (16 x 16): 2 x 2 tiles within
-// tile_tolerance and, when fine_tolerance > 0, the 4 x 4 tiles' deviation below it.
+// tile_tolerance and, when fine_tolerance > 0, the 4 x 4 tiles' deviation below it. With
+// `seeds` > 1 the image is the mean of that many renders with consecutive seeds from
+// run.seed, each of run.mpp / seeds mutations per pixel.
 void expect_mixes_converge(const char* scene_name, std::initializer_list<const char*> mixes,
                            EmltRun run, double tile_tolerance, double total_tolerance,
-                           double fine_tolerance = 0.0) {
+                           double fine_tolerance = 0.0, int seeds = 1) {
   const auto scene = shipped_scene(scene_name, 16);
   const Image reference = bdpt_reference(*scene, 4096);
+  const uint64_t first_seed = run.seed;
+  run.mpp /= seeds;
   for (const char* mix : mixes) {
     SCOPED_TRACE(mix);
     run.mutations = mix;
-    const Image image = emlt_image(*scene, run);
+    Image image;
+    for (int k = 0; k < seeds; ++k) {
+      run.seed = first_seed + uint64_t(k);
+      const Image one = emlt_image(*scene, run);
+      if (k == 0) image = Image(one.width, one.height);
+      for (size_t i = 0; i < one.pixels.size(); ++i)
+        image.pixels[i] += one.pixels[i] / float(seeds);
+    }
     expect_converged_to(image, reference, 2, tile_tolerance, total_tolerance);
     if (fine_tolerance > 0.0) {
       EXPECT_LT(tile_deviation(image, reference, 4), fine_tolerance);
@@ -144,7 +155,12 @@ void expect_mixes_converge(const char* scene_name, std::initializer_list<const c
 }
 
 TEST(EmltUnbiased, AnisotropicAndLinearPresetsConvergeOnTheCornellBox) {
-  expect_mixes_converge("cornell-box", {"emlt-ani", "emlt-lin"}, EmltRun{}, 0.06, 0.04, 0.04);
+  // Three seeds of 1,000 mutations per pixel each: the anisotropic kernel's 4 x 4 tile
+  // deviation is heavy-tailed from one seed to the next (0.017-0.056 over 16 single seeds
+  // of 2,000, two of them above 0.04), where the mean of three keeps a margin.
+  EmltRun run;
+  run.mpp = 3000;
+  expect_mixes_converge("cornell-box", {"emlt-ani", "emlt-lin"}, run, 0.06, 0.04, 0.04, 3);
 }
 
 TEST(EmltUnbiased, FullMixAndPresetsConvergeOnTheDoorScene) {
