@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "emlt/core/warp.h"
+
 namespace emlt::perturbation {
 
 namespace {
@@ -31,8 +33,7 @@ bool consistent_side(const PathVertex& v, const Vec3& w_world, const Vec3& w_loc
 
 Vec2 sample_image_offset(float r_min, float r_max, const Vec2& u) {
   const float radius = r_max * std::exp(-std::log(r_max / r_min) * u.x);
-  const float phi = kTwoPi * u.y;
-  return {radius * std::cos(phi), radius * std::sin(phi)};
+  return radius * unit_circle_point(u.y);
 }
 
 Vec3 perturb_direction(const Vec3& w, double theta_min, double theta_max, const Vec2& u) {

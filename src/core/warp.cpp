@@ -2,24 +2,6 @@
 
 namespace emlt {
 
-namespace {
-
-// sin and cos of an angle within [-pi/4, pi/4], the range the concentric map's angles are
-// reduced to: Taylor polynomials to x^9 and x^10, whose truncation error there (below
-// 2e-9) is under a float's rounding, so no range reduction and no libm call are needed.
-// The concentric map runs for every diffuse bounce, and sincosf was a third of its time.
-void sin_cos_within_quarter(float x, float* sin_x, float* cos_x) {
-  const float x2 = x * x;
-  *sin_x =
-      x * (1.0f + x2 * (-1.0f / 6.0f +
-                        x2 * (1.0f / 120.0f + x2 * (-1.0f / 5040.0f + x2 * (1.0f / 362880.0f)))));
-  *cos_x = 1.0f + x2 * (-0.5f + x2 * (1.0f / 24.0f +
-                                      x2 * (-1.0f / 720.0f +
-                                            x2 * (1.0f / 40320.0f + x2 * (-1.0f / 3628800.0f)))));
-}
-
-}  // namespace
-
 Vec2 square_to_uniform_disk_concentric(const Vec2& u) {
   // Shirley-Chiu concentric map: keeps strata compact, which helps lens sampling.
   const float a = 2.0f * u.x - 1.0f, b = 2.0f * u.y - 1.0f;
@@ -38,15 +20,15 @@ Vec2 square_to_uniform_disk_concentric(const Vec2& u) {
 Vec3 square_to_uniform_sphere(const Vec2& u) {
   const float z = 1.0f - 2.0f * u.x;
   const float r = safe_sqrt(1.0f - z * z);
-  const float phi = kTwoPi * u.y;
-  return {r * std::cos(phi), r * std::sin(phi), z};
+  const Vec2 circle = unit_circle_point(u.y);
+  return {r * circle.x, r * circle.y, z};
 }
 
 Vec3 square_to_uniform_hemisphere(const Vec2& u) {
   const float z = u.x;
   const float r = safe_sqrt(1.0f - z * z);
-  const float phi = kTwoPi * u.y;
-  return {r * std::cos(phi), r * std::sin(phi), z};
+  const Vec2 circle = unit_circle_point(u.y);
+  return {r * circle.x, r * circle.y, z};
 }
 
 Vec3 square_to_cosine_hemisphere(const Vec2& u) {
@@ -59,8 +41,8 @@ Vec3 square_to_cosine_hemisphere(const Vec2& u) {
 Vec3 square_to_uniform_cone(const Vec2& u, float cos_max) {
   const float z = 1.0f - u.x * (1.0f - cos_max);
   const float r = safe_sqrt(1.0f - z * z);
-  const float phi = kTwoPi * u.y;
-  return {r * std::cos(phi), r * std::sin(phi), z};
+  const Vec2 circle = unit_circle_point(u.y);
+  return {r * circle.x, r * circle.y, z};
 }
 
 Vec2 square_to_uniform_triangle(const Vec2& u) {

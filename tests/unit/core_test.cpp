@@ -120,6 +120,21 @@ TEST(Warp, ConcentricDiskIsTheExactMapToFloatRounding) {
   // A float's spacing near 1 is 1.2e-7; a Taylor series cut one term earlier errs by 3e-7.
   EXPECT_LT(worst, 2.5e-7);
 }
+TEST(Warp, UnitCirclePointIsCosAndSinOfTheTurn) {
+  // cos and sin of 2 pi u by quarter turns and polynomials (warp.h), against double libm,
+  // over a grid that includes every quarter's seams and both ends.
+  const int n = 1 << 16;
+  double worst = 0.0;
+  for (int i = 0; i <= n; ++i) {
+    const float u = float(i) / float(n);
+    const Vec2 p = unit_circle_point(u);
+    const double phi = 2.0 * M_PI * double(u);
+    worst = std::max({worst, std::abs(p.x - std::cos(phi)), std::abs(p.y - std::sin(phi))});
+  }
+  // One float spacing near 1 is 6e-8 to 1.2e-7; a wrong quadrant or sign errs by ~1.
+  EXPECT_LT(worst, 2.5e-7);
+}
+
 TEST(ChiSquare, RejectsAWrongDistribution) {
   // Guard on the guard: the test must be able to fail.
   std::vector<double> obs(10, 100.0), exp(10, 100.0);

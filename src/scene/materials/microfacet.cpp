@@ -1,5 +1,7 @@
 #include "src/scene/materials/microfacet.h"
 
+#include "emlt/core/warp.h"
+
 namespace emlt {
 
 namespace {
@@ -86,9 +88,9 @@ Vec3 MicrofacetDistribution::sample_ggx_visible(const Vec3& wo, const Vec2& u) c
   // Uniform point on the unit disk, then warp the lower half onto the part of the
   // projected hemisphere that faces v (it shrinks to a half-ellipse at grazing v).
   const float r = std::sqrt(u.x);
-  const float phi = kTwoPi * u.y;
-  const float p1 = r * std::cos(phi);
-  float p2 = r * std::sin(phi);
+  const Vec2 circle = unit_circle_point(u.y);
+  const float p1 = r * circle.x;
+  float p2 = r * circle.y;
   const float s = 0.5f * (1.0f + v.z);
   p2 = (1.0f - s) * safe_sqrt(1.0f - p1 * p1) + s * p2;
   const Vec3 n_h = p1 * t1 + p2 * t2 + safe_sqrt(1.0f - p1 * p1 - p2 * p2) * v;
@@ -100,8 +102,8 @@ Vec3 MicrofacetDistribution::sample_beckmann(const Vec2& u) const {
   // with variances alpha_u^2 / 2 and alpha_v^2 / 2: Box-Muller. The normal of slope
   // (x, y) is (-x, -y, 1) normalised; the sign is immaterial (the Gaussian is symmetric).
   const float r = std::sqrt(-std::log1p(-glm::min(u.x, kOneMinusEpsilon)));
-  const float phi = kTwoPi * u.y;
-  return glm::normalize(Vec3(alpha_u_ * r * std::cos(phi), alpha_v_ * r * std::sin(phi), 1.0f));
+  const Vec2 circle = unit_circle_point(u.y);
+  return glm::normalize(Vec3(alpha_u_ * r * circle.x, alpha_v_ * r * circle.y, 1.0f));
 }
 
 Vec3 MicrofacetDistribution::sample_phong(const Vec2& u) const {
