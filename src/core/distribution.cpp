@@ -28,9 +28,18 @@ float Distribution1D::pmf(size_t i) const {
 }
 
 size_t Distribution1D::sample_discrete(float u, float* pmf_out, float* remapped) const {
-  // First bucket whose upper cdf exceeds u; buckets of zero mass are never returned.
-  const auto it = std::upper_bound(cdf_.begin() + 1, cdf_.end(), double(u));
-  size_t i = std::min<size_t>(size_t(it - cdf_.begin()) - 1, weights_.size() - 1);
+  // First bucket whose upper cdf exceeds u; buckets of zero mass are never returned. A
+  // short table (a scene's few emitters) is scanned in order, which finds the same bucket
+  // as the binary search with fewer branches.
+  const double target = double(u);
+  size_t i;
+  if (weights_.size() <= kLinearScanSize) {
+    i = 0;
+    while (i + 1 < weights_.size() && !(cdf_[i + 1] > target)) ++i;
+  } else {
+    const auto it = std::upper_bound(cdf_.begin() + 1, cdf_.end(), target);
+    i = std::min<size_t>(size_t(it - cdf_.begin()) - 1, weights_.size() - 1);
+  }
   while (i > 0 && cdf_[i + 1] - cdf_[i] <= 0.0) --i;  // guard u on a flat tail
   const double mass = cdf_[i + 1] - cdf_[i];
   if (pmf_out) *pmf_out = static_cast<float>(mass);

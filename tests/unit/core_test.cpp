@@ -58,6 +58,43 @@ TEST(Distribution1D, DiscreteFrequenciesMatchWeights) {
   EXPECT_GT(test::chi_square_test(counts, expected).p_value, 1e-3);
 }
 
+TEST(Distribution1D, BucketIsTheFirstWhoseCdfExceedsU) {
+  // Short tables are scanned, long ones searched (distribution.cpp): either way the bucket
+  // is the first of non-zero mass whose cumulative weight exceeds u, zero-mass buckets at
+  // the start, the middle and the end included, and u at every bucket's edges.
+  for (const size_t size : {1, 2, 3, 15, 16, 17, 40}) {
+    std::vector<float> weights(size);
+    for (size_t i = 0; i < size; ++i)
+      weights[i] = (i % 3 == 1 || i + 1 == size) ? 0.0f : float(i + 1);
+    if (size <= 2) weights.assign(size, 1.0f);
+    const Distribution1D d(weights);
+    double total = 0.0;
+    for (const float w : weights) total += w;
+    std::vector<float> edges{0.0f, 0.5f, kOneMinusEpsilon};
+    double sum = 0.0;
+    for (const float w : weights) {
+      sum += w;
+      const float edge = float(sum / total);
+      edges.insert(edges.end(), {edge, std::nextafter(edge, 0.0f), std::nextafter(edge, 1.0f)});
+    }
+    for (int k = 0; k < 1000; ++k) edges.push_back((float(k) + 0.5f) / 1000.0f);
+    for (const float u : edges) {
+      if (!(u >= 0.0f && u < 1.0f)) continue;
+      size_t expected = size - 1;
+      double cdf = 0.0;
+      for (size_t i = 0; i < size; ++i) {
+        cdf += weights[i] / total;
+        if (cdf > double(u) && weights[i] > 0.0f) {
+          expected = i;
+          break;
+        }
+      }
+      while (expected > 0 && weights[expected] == 0.0f) --expected;
+      EXPECT_EQ(d.sample_discrete(u), expected) << "size " << size << ", u " << u;
+    }
+  }
+}
+
 TEST(Distribution2D, PdfMatchesSamplerAndIntegratesToOne) {
   std::vector<float> w(8 * 4);
   for (size_t i = 0; i < w.size(); ++i) w[i] = float((i * 7) % 5);

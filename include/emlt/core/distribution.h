@@ -28,6 +28,7 @@ class Distribution1D {
   float pdf(float x) const;
 
  private:
+  static constexpr size_t kLinearScanSize = 16;
   std::vector<float> weights_;
   std::vector<double> cdf_;  // size()+1 entries, cdf_[0] = 0, cdf_.back() = 1
   double total_ = 0.0;
