@@ -56,6 +56,8 @@ class Scene {
   // scene with more puts them all in the BVH as a user geometry with the same root finding.
   static constexpr size_t kMaxDirectSpheres = 8;
 
+  // On a hit, sets every field of `hit` (callers reuse one record along a path); on a
+  // miss, leaves it as it was.
   bool intersect(const Ray& ray, SurfaceHit& hit) const;
   // The closest-hit query alone, without filling a SurfaceHit (bench/ray_rate.cpp times
   // it): Embree's BVH and the spheres kept outside it. On a hit, query.ray.tfar is the
