@@ -10,16 +10,38 @@ T_1 / (n T_n) by wall clock and by the render's own time (emlt's closing line: w
 loading, BVH build and writing the image), and the CPU time over T_1's (above 1: threads
 spinning or contending). --ceiling also runs n single-thread renders at once and gives T_1
 over the slowest of them: the machine's own ceiling (shared caches, memory bandwidth, turbo),
-which no threading of emlt's can beat. Writes out/thread-scaling/{results.json,table.md}.
+which no threading of emlt's can beat; --ceiling-at 4,8,16 measures it at those counts too.
+--compute-ceiling does the same for a loop that touches no memory beyond the core's own
+caches (a Python loop): where even that slows down with n copies, the loss is the
+processors' (shared physical cores, clocks), not memory. --variant LABEL=BUILD_DIR runs a
+second build's emlt at the largest count, beside the first, on the same machine (an A/B of a
+change). Writes out/thread-scaling/{results.json,table.md}.
 """
 import argparse
 import json
 import os
+import subprocess
 import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import suite  # noqa: E402  (the suite's scenes and its process runner)
+
+
+# About a second of interpreted integer work that stays in the core's own caches; it prints
+# its own time, so that starting n interpreters at once (slow under some VMs) does not count.
+SPIN = ("import time\nt = time.perf_counter()\nx = 0\nfor i in range(12_000_000):\n"
+        "    x = (x * 31 + i) & 0xFFFFFFFF\nprint(time.perf_counter() - t)\n")
+
+
+def compute_ceiling(counts):
+    """T1 over the slowest of n copies of SPIN started together, for each n."""
+    def walls(copies):
+        procs = [subprocess.Popen([sys.executable, "-c", SPIN], stdout=subprocess.PIPE, text=True)
+                 for _ in range(copies)]
+        return [float(proc.communicate()[0]) for proc in procs]
+    one = min(walls(1)[0] for _ in range(2))
+    return {str(n): one / max(walls(n)) for n in counts if n > 1}
 
 
 def table(figures, counts):
@@ -42,10 +64,28 @@ def table(figures, counts):
                 if "render_s" in r and "render_s" in one:
                     render = f" ({one['render_s'] / (n * r['render_s']):.2f})"
                 cells.append(f"{r['wall_s']:.2f}, {eff:.2f}{render}, {r['cpu_s'] / one['cpu_s']:.2f}")
-            ceiling = runs.get("ceiling")
-            ceiling_cell = f"{ceiling:.2f}" if ceiling else ""
+            ceilings = [(k.split(":")[1], v) for k, v in runs.items() if k.startswith("ceiling:")]
+            ceiling_cell = ", ".join(f"{n}: {v:.2f}" for n, v in ceilings)
             lines.append(f"| {f['scene']} | {method} | {one['wall_s']:.2f} | " + " | ".join(cells) +
                          f" | {ceiling_cell} |")
+    variants = [(f, method, key, r) for f in figures for method, runs in f["runs"].items()
+                for key, r in runs.items() if "@" in key]
+    if variants:
+        lines += ["", "Variants at the largest count (same machine, same run): wall s and efficiency "
+                  "against the same T1, beside the main build's.", "",
+                  "| scene | method | variant | main: s, efficiency | variant: s, efficiency |",
+                  "|---|---|---|---|---|"]
+        for f, method, key, r in variants:
+            n, label = key.split("@")
+            runs = f["runs"][method]
+            one, main_run = runs["1"], runs[n]
+            lines.append(f"| {f['scene']} | {method} | {label} ({n} threads) | {main_run['wall_s']:.2f}, "
+                         f"{one['wall_s'] / (int(n) * main_run['wall_s']):.2f} | {r['wall_s']:.2f}, "
+                         f"{one['wall_s'] / (int(n) * r['wall_s']):.2f} |")
+    compute = figures[0].get("compute_ceiling")
+    if compute:
+        lines += ["", "Compute-only ceiling (n copies of a cache-resident loop, T1 over the slowest): " +
+                  ", ".join(f"{n}: {v:.2f}" for n, v in compute.items())]
     return "\n".join(lines) + "\n"
 
 
@@ -62,6 +102,15 @@ def main():
     parser.add_argument("--repeat", type=int, default=1)
     parser.add_argument("--ceiling", action="store_true",
                         help="also the largest count's single-thread renders at once")
+    parser.add_argument("--variant-methods", default="pt,bdpt," + ",".join(suite.MCMC),
+                        help="the methods the variants run (default: all)")
+    parser.add_argument("--pairs", type=int, default=3,
+                        help="runs of each --variant, alternating with the main build's (default 3)")
+    parser.add_argument("--ceiling-at", help="counts at which to measure the ceiling (default: the largest)")
+    parser.add_argument("--compute-ceiling", action="store_true",
+                        help="also the ceiling of a cache-resident loop at every count")
+    parser.add_argument("--variant", action="append", default=[], metavar="LABEL=BUILD_DIR",
+                        help="another build's emlt, run at the largest count beside the main one")
     args = parser.parse_args()
     args.quick = False
     counts = [int(n) for n in args.threads.split(",")]
@@ -79,21 +128,53 @@ def main():
     methods = args.methods.split(",")
     if not set(methods) <= {"pt", "bdpt"} | set(suite.MCMC):
         sys.exit(f"thread_scaling: --methods takes pt, bdpt, {', '.join(suite.MCMC)}")
+    variants = []
+    for spec in args.variant:
+        label, _, build = spec.partition("=")
+        if not label or not build or "@" in label or not os.access(os.path.join(build, "emlt"), os.X_OK):
+            sys.exit(f"thread_scaling: --variant {spec}: want LABEL=BUILD_DIR holding an emlt binary")
+        variants.append((label, os.path.join(os.path.abspath(build), "emlt")))
     runner = suite.Suite(args)
+    ceiling_counts = [int(n) for n in args.ceiling_at.split(",")] if args.ceiling_at else counts[-1:]
+    compute = compute_ceiling(counts) if args.compute_ceiling else None
+    if compute:
+        print("compute-only ceiling: " + ", ".join(f"{n}: {v:.2f}" for n, v in compute.items()), flush=True)
     figures = []
     for scene in scenes:
         fig = {"scene": scene.name, "size": f"{scene.width}x{scene.height}", "work_factor": args.work,
                "cpus": os.cpu_count(), "host": os.uname().nodename,
                "time": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), "runs": {}}
+        if compute:
+            fig["compute_ceiling"] = compute
         for method in methods:
             count = max(1, round({"pt": scene.pt_spp, "bdpt": scene.bdpt_spp}.get(method, scene.mpp) * args.work))
             runs = {}
             for n in counts:
                 runs[str(n)] = runner.emlt_render(scene, method, count, n)
                 print(f"{scene.name} {method} {n} threads: {runs[str(n)]['wall_s']:.2f} s", flush=True)
-            if args.ceiling and counts[-1] > 1:
-                runs["ceiling"] = runs["1"]["wall_s"] / max(runner.concurrent_walls(scene, method, count,
-                                                                                  counts[-1]))
+            # Variants alternate with the main build, --pairs times, on a machine whose speed
+            # drifts; each keeps its median run, the main build's runs included.
+            if variants and method in args.variant_methods.split(","):
+                main_emlt, n = runner.emlt, counts[-1]
+                alternated = {"main": [runs[str(n)]]}
+                for k in range(args.pairs):
+                    for label, binary in variants:
+                        runner.emlt = binary
+                        alternated.setdefault(label, []).append(runner.emlt_render(scene, method, count, n))
+                        runner.emlt = main_emlt
+                    if k + 1 < args.pairs:
+                        alternated["main"].append(runner.emlt_render(scene, method, count, n))
+                for label, results in alternated.items():
+                    results.sort(key=lambda r: r["wall_s"])
+                    median = dict(results[(len(results) - 1) // 2], walls=[r["wall_s"] for r in results])
+                    runs[str(n) if label == "main" else f"{n}@{label}"] = median
+                    print(f"{scene.name} {method} {n} threads, {label}: " +
+                          ", ".join(f"{w:.2f}" for w in median["walls"]) + " s", flush=True)
+            if args.ceiling:
+                for n in ceiling_counts:
+                    if n > 1:
+                        runs[f"ceiling:{n}"] = runs["1"]["wall_s"] / max(
+                            runner.concurrent_walls(scene, method, count, n))
             fig["runs"][method] = runs
         figures.append(fig)
         os.makedirs(args.out, exist_ok=True)

@@ -120,29 +120,44 @@ class ThreadScaling(unittest.TestCase):
 
     def test_cornell_box_at_one_and_two_threads(self):
         with tempfile.TemporaryDirectory() as out:
+            # The same build as a variant: it runs (alternating with the main one) for mlt only.
             result = subprocess.run(
                 [sys.executable, os.path.join(ROOT, "bench", "thread_scaling.py"), "--threads", "1,2",
-                 "--work", "0.125", "--scenes", "cornell-box", "--ceiling", "--build", BUILD, "--out", out],
+                 "--work", "0.125", "--scenes", "cornell-box", "--ceiling", "--build", BUILD, "--out", out,
+                 "--variant", f"same={BUILD}", "--variant-methods", "mlt", "--pairs", "2",
+                 "--compute-ceiling"],
                 capture_output=True, text=True, timeout=600)
             self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
             with open(os.path.join(out, "results.json")) as f:
                 (figure,) = json.load(f)
             self.assertEqual(set(figure["runs"]), {"pt", "mlt"})
+            self.assertEqual(set(figure["compute_ceiling"]), {"2"})
+            self.assertGreater(figure["compute_ceiling"]["2"], 0)
             for method, runs in figure["runs"].items():
-                self.assertEqual(set(runs), {"1", "2", "ceiling"}, method)
+                variant = {"2@same"} if method == "mlt" else set()
+                self.assertEqual(set(runs), {"1", "2", "ceiling:2"} | variant, method)
                 # The suite's 32 samples (or mutations) per pixel at an eighth: 4.
                 self.assertEqual(runs["1"]["work"], 256 * 256 * 4, method)
                 self.assertEqual(runs["2"]["work"], runs["1"]["work"], method)
-                self.assertGreater(runs["ceiling"], 0, method)
+                self.assertGreater(runs["ceiling:2"], 0, method)
+            # Two runs each of the main build and the variant at 2 threads, the median kept.
+            mlt = figure["runs"]["mlt"]
+            for key in ("2", "2@same"):
+                self.assertEqual(len(mlt[key]["walls"]), 2, key)
+                self.assertEqual(mlt[key]["wall_s"], min(mlt[key]["walls"]), key)
+                self.assertEqual(mlt[key]["work"], mlt["1"]["work"], key)
             with open(os.path.join(out, "table.md")) as f:
                 table = f.read()
             self.assertIn("| cornell-box | pt |", table)
             self.assertIn("| cornell-box | mlt |", table)
+            self.assertIn("| cornell-box | mlt | same (2 threads) |", table)
+            self.assertIn("Compute-only ceiling", table)
 
     def test_bad_arguments_are_refused(self):
         for args, message in ((["--threads", "2,4"], "the first thread count must be 1"),
                               (["--scenes", "nope"], "unknown scene(s) nope"),
-                              (["--methods", "pt,nope"], "--methods takes")):
+                              (["--methods", "pt,nope"], "--methods takes"),
+                              (["--variant", "nolabel"], "want LABEL=BUILD_DIR")):
             result = subprocess.run([sys.executable, os.path.join(ROOT, "bench", "thread_scaling.py"),
                                      "--build", BUILD] + args, capture_output=True, text=True)
             self.assertNotEqual(result.returncode, 0, args)
