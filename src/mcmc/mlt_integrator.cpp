@@ -30,7 +30,7 @@ namespace {
 
 constexpr uint64_t kChainStream = 0xc4a1ull << 40;
 constexpr uint64_t kSeedStream = 0x5eedull << 40;
-constexpr int kMaxBlocks = 64;
+constexpr int kMaxBlocks = 256;
 constexpr int kMaxFilms = 16;
 // The phase a checkpoint falls in.
 
@@ -53,9 +53,10 @@ struct Chain {
 // What one block of chains counts: its strategies' statistics. Blocks are a fixed partition
 // of the chains, so the counters sum to the same bits on any thread count; kept per block
 // rather than per chain because a chain visited for a single step (EMLT) would miss the
-// cache on its own counters. Up to 64 blocks, so that with 16 threads each still takes
-// several per sweep and the last ones do not leave cores idle (on 2 cores 16 and 64 blocks
-// measure the same).
+// cache on its own counters. Up to 256 blocks, so that with 16 threads each takes 16 per
+// sweep and the last ones leave cores idle only briefly (greedy scheduling of measured block
+// times: 0.95 of the ideal at 16 threads with 64 blocks, 0.99 with 256; docs/performance.md,
+// "To 16 threads").
 struct BlockOutput {
   // Each on its own cache lines: blocks run on different cores.
   struct alignas(64) Counters : StrategyStats {};

@@ -17,7 +17,10 @@ namespace emlt {
 
 namespace {
 
-constexpr int kTileSize = 16;
+// 8 x 8 pixels: a pass of a 256 x 256 image is 1,024 tasks, so that on 16 cores the last
+// tiles of a pass leave the others idle only briefly (16 x 16 tiles ran pt 1-6 % slower at
+// 16 threads; docs/performance.md, "To 16 threads"). A tile's samples do not depend on it.
+constexpr int kTileSize = 8;
 
 // Samples from each pixel's count up to `last`, added to its sum in sample order. Returns
 // early (every pixel's count saying how far it got) when an interruption is requested.
@@ -120,7 +123,13 @@ bool PixelRenderState::behind(int samples, int width) const {
   return false;
 }
 
-bool owns_row(int y) { return (y / kTileSize) % cluster::size() == cluster::rank(); }
+// Bands of 16 rows, not tied to the tile size (a tile skips the rows of other ranks' bands):
+// BDPT assigns its 16 x 16 tiles by their first row.
+constexpr int kRankBandRows = 16;
+
+bool owns_row(int y) {
+  return (y / kRankBandRows) % cluster::size() == cluster::rank();
+}
 
 RenderResult render_pixels(const Scene& scene, const RenderSettings& settings,
                            ProgressReporter& progress, const RadianceEstimator& radiance,

@@ -12,8 +12,8 @@
 namespace emlt::checkpoint_file {
 
 // Raised whenever the layout of any integrator's state or of the header changes.
-// 2: PSSMLT's per-length counters.
-inline constexpr uint32_t kVersion = 2;
+// 2: PSSMLT's per-length counters. 3: MLT/EMLT's counters in up to 256 blocks (were 64).
+inline constexpr uint32_t kVersion = 3;
 
 struct Contents {
   std::string header;
