@@ -1,6 +1,9 @@
 #include "emlt/mcmc/ensemble_guides.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 
 #include "mutations/ensemble/adaptive_alpha.h"
@@ -41,34 +44,46 @@ void EnsembleGuides::build(std::span<const Path* const> paths, int width, int he
 
   // Each path is read once per swap (instead of once per guided step that draws it as a
   // guide). The reads are scattered, so the paths a few entries ahead are prefetched; the
-  // writes are in order.
+  // writes are in order. In parallel over chunks of each type's entries, each entry written
+  // by one task: the layout is the same on any thread count. (Built serially, the other
+  // threads waited through every swap, and the paper's schedule swaps every few steps per
+  // path: 16 threads ran EMLT 10 % slower.)
   std::vector<Vec2> raster(paths_.size());
-  for (size_t g = 0; g < blocks_.size(); ++g) {
+  constexpr size_t kChunk = 1024;
+  tbb::parallel_for(size_t(0), blocks_.size(), [&](size_t g) {
     Block& block = blocks_[g];
     const std::span<const uint32_t> members = index_.group_members(g);
     const size_t vertices = index_.group_type(g).vertices;
-    for (size_t k = 0; k < block.stride; ++k) {
-      if (k + 16 < members.size()) __builtin_prefetch(paths_[members[k + 16]]);
-      if (k + 8 < members.size()) {
-        const Path* ahead = paths_[members[k + 8]];
-        for (const PathVertex& v : ahead->vertices) __builtin_prefetch(&v);
-        // The raster, at the end of the last vertex, usually lies on a line of its own.
-        __builtin_prefetch(&ahead->vertices.back().raster);
+    tbb::parallel_for(size_t(0), (block.stride + kChunk - 1) / kChunk, [&](size_t chunk) {
+      const size_t begin = chunk * kChunk, end = std::min(block.stride, begin + kChunk);
+      bool environment = false;
+      for (size_t k = begin; k < end; ++k) {
+        if (k + 16 < members.size()) __builtin_prefetch(paths_[members[k + 16]]);
+        if (k + 8 < members.size()) {
+          const Path* ahead = paths_[members[k + 8]];
+          for (const PathVertex& v : ahead->vertices) __builtin_prefetch(&v);
+          // The raster, at the end of the last vertex, usually lies on a line of its own.
+          __builtin_prefetch(&ahead->vertices.back().raster);
+        }
+        const uint32_t member = members[k % members.size()];
+        const Path* path = paths_[member];
+        assert(path->vertices.size() == vertices);
+        for (size_t i = 0; i < vertices; ++i) {
+          const PathVertex& v = path->vertices[i];
+          for (size_t axis = 0; axis < 3; ++axis)
+            coordinates_[3 * block.vertex_data + (3 * i + axis) * block.stride + k] =
+                v.position[int(axis)];
+          environment |= v.is_environment();
+        }
+        guide_paths_[block.first + k] = path;
+        rasters_[block.first + k] = path->raster();  // the last vertex, just read
+        // The entries past the members repeat them: one write per member.
+        if (k < members.size()) raster[member] = rasters_[block.first + k];
       }
-      const uint32_t member = members[k % members.size()];
-      const Path* path = paths_[member];
-      assert(path->vertices.size() == vertices);
-      for (size_t i = 0; i < vertices; ++i) {
-        const PathVertex& v = path->vertices[i];
-        for (size_t axis = 0; axis < 3; ++axis)
-          coordinates_[3 * block.vertex_data + (3 * i + axis) * block.stride + k] =
-              v.position[int(axis)];
-        block.has_environment |= v.is_environment();
-      }
-      guide_paths_[block.first + k] = path;
-      rasters_[block.first + k] = raster[member] = path->raster();  // the last vertex, just read
-    }
-  }
+      if (environment)
+        std::atomic_ref<bool>(block.has_environment).store(true, std::memory_order_relaxed);
+    });
+  });
   // The vertices at which every guide of a type is the same point (no sky vertex): a
   // pinhole camera's lens point, in every guided lens perturbation's similarity.
   same_point_.clear();

@@ -701,8 +701,10 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   std::vector<const Path*> frozen(ensemble_size);
   bool guides_ready = false;
   if (ensemble) ctx.ensemble = &guides;
+  tbb::task_arena arena(threads);
   // Y's tree and α from the frozen half (the other one than the sweep's), which nothing
-  // changes during the sweep: rebuilding it on resume gives the same guides.
+  // changes during the sweep: rebuilding it on resume gives the same guides. Built on the
+  // render's threads (the arena), not every core of the machine.
   const auto build_guides = [&] {
     const auto tree_start = std::chrono::steady_clock::now();
     const uint64_t other = (1 - half) * ensemble_size;
@@ -710,13 +712,12 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
       const Chain& y = chains[size_t(other + i)];
       frozen[i] = y.target > 0.0 ? &y.current : nullptr;
     }
-    guides.build(frozen, width, height, settings.seed, ensemble_params);
+    arena.execute([&] { guides.build(frozen, width, height, settings.seed, ensemble_params); });
     stats_.tree_seconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - tree_start).count();
     guides_ready = true;
   };
 
-  tbb::task_arena arena(threads);
   progress.start(options_.name.c_str(), timed ? 0 : planned, settings.time_limit_s);
   progress.advance(done);
   // Under MPI, rank 0's clock decides the time budget for every rank (a broadcast).

@@ -4,6 +4,7 @@
 // the same function of the state in both directions and equal to what is sampled; the
 // statistical tests check the ratios, these check the shortcuts behind them.
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <bit>
@@ -224,6 +225,30 @@ Path synthetic_path(Rng& rng, int vertices, uint64_t mask, bool sky) {
   return path;
 }
 
+// A view holds M consecutive members of its type's list (cyclically, as PathTypeIndex::guides
+// chooses them), each guide's own pointer, raster, positions and sky data.
+void expect_window_of_members(const GuideView& view, const std::vector<const Path*>& members,
+                              size_t m) {
+  ASSERT_EQ(view.size(), std::min(members.size(), m));
+  const size_t start = size_t(std::find(members.begin(), members.end(), view[0]) - members.begin());
+  ASSERT_LT(start, members.size());
+  for (size_t n = 0; n < view.size(); ++n) {
+    ASSERT_EQ(view[n], members[(start + n) % members.size()]);
+    const Path& guide = *view[n];
+    EXPECT_EQ(view.paths()[n], &guide);
+    EXPECT_EQ(view.rasters()[n], guide.raster());
+    for (int i = 0; i < int(guide.vertices.size()); ++i) {
+      EXPECT_EQ(view.position(n, i), guide.vertices[size_t(i)].position);
+      for (int axis = 0; axis < 3; ++axis)
+        EXPECT_EQ(view.coordinates(i, axis)[n], double(guide.vertices[size_t(i)].position[axis]));
+      if (view.has_environment()) {
+        EXPECT_EQ(view.environment(i)[n] != 0, guide.vertices[size_t(i)].is_environment());
+        EXPECT_EQ(view.sky_directions(i)[n], guide.vertices[size_t(i)].sky_direction);
+      }
+    }
+  }
+}
+
 }  // namespace
 
 TEST(EnsembleGuideView, HoldsTheGuidePathsOwnDataForEveryWindow) {
@@ -251,27 +276,7 @@ TEST(EnsembleGuideView, HoldsTheGuidePathsOwnDataForEveryWindow) {
       if (p.type == type_of->type) members.push_back(&p);
     for (uint64_t step = 0; step < 40; ++step) {
       const GuideView view = ensemble.upsilon(type_of->type, 4, step);
-      ASSERT_EQ(view.size(), std::min<size_t>(members.size(), 16));
-      // M consecutive members, cyclically, as PathTypeIndex::guides chooses them.
-      const size_t start =
-          size_t(std::find(members.begin(), members.end(), view[0]) - members.begin());
-      ASSERT_LT(start, members.size());
-      for (size_t n = 0; n < view.size(); ++n) {
-        const Path& guide = *view[n];
-        ASSERT_EQ(&guide, members[(start + n) % members.size()]);
-        EXPECT_EQ(view.paths()[n], &guide);
-        EXPECT_EQ(view.rasters()[n], guide.raster());
-        for (int i = 0; i < int(guide.vertices.size()); ++i) {
-          EXPECT_EQ(view.position(n, i), guide.vertices[size_t(i)].position);
-          for (int axis = 0; axis < 3; ++axis)
-            EXPECT_EQ(view.coordinates(i, axis)[n],
-                      double(guide.vertices[size_t(i)].position[axis]));
-          if (view.has_environment()) {
-            EXPECT_EQ(view.environment(i)[n] != 0, guide.vertices[size_t(i)].is_environment());
-            EXPECT_EQ(view.sky_directions(i)[n], guide.vertices[size_t(i)].sky_direction);
-          }
-        }
-      }
+      expect_window_of_members(view, members, 16);
       EXPECT_EQ(view.has_environment(), type_of == &paths[5]);
       // The same (type, chain, step): the same Υ.
       EXPECT_EQ(ensemble.upsilon(type_of->type, 4, step)[0], view[0]);
@@ -280,6 +285,42 @@ TEST(EnsembleGuideView, HoldsTheGuidePathsOwnDataForEveryWindow) {
   PathType absent;
   absent.vertices = 9;
   EXPECT_TRUE(ensemble.upsilon(absent, 0, 0).empty());
+}
+
+// The layout is written in parallel, in chunks of a type's entries: types of thousands of
+// members span several chunks, and a member lit by the sky in a late chunk must still mark
+// its type. Built on 4 threads, every window holds its guides' own data, as built on one.
+TEST(EnsembleGuideView, LargeTypesBuiltInParallelHoldTheGuidePathsOwnData) {
+  Rng rng(21, 4);
+  std::vector<Path> paths;
+  for (int i = 0; i < 5200; ++i)
+    paths.push_back(i % 2 == 0 ? synthetic_path(rng, 4, 0, i == 4800)
+                               : synthetic_path(rng, 5, 0b100, false));
+  std::vector<const Path*> pointers;
+  for (const Path& p : paths) pointers.push_back(&p);
+  EnsembleParams params;
+  params.neighbours = 16;
+  EnsembleGuides parallel, serial;
+  tbb::task_arena(4).execute([&] { parallel.build(pointers, 64, 64, 3, params); });
+  tbb::task_arena(1).execute([&] { serial.build(pointers, 64, 64, 3, params); });
+  ASSERT_EQ(parallel.size(), paths.size());
+  EXPECT_EQ(std::bit_cast<uint64_t>(parallel.alpha()), std::bit_cast<uint64_t>(serial.alpha()));
+
+  for (const Path* type_of : {&paths[0], &paths[1]}) {
+    std::vector<const Path*> members;
+    for (const Path& p : paths)
+      if (p.type == type_of->type) members.push_back(&p);
+    for (uint64_t chain = 0; chain < 40; ++chain)
+      for (uint64_t step = 0; step < 40; ++step) {
+        const GuideView view = parallel.upsilon(type_of->type, chain, step);
+        expect_window_of_members(view, members, 16);
+        ASSERT_EQ(view.has_environment(), type_of == &paths[0]);
+        // Built on one thread: the same window.
+        const GuideView one = serial.upsilon(type_of->type, chain, step);
+        ASSERT_EQ(one[0], view[0]);
+        ASSERT_EQ(one.has_environment(), view.has_environment());
+      }
+  }
 }
 
 // A vertex at which every guide of the type is the same point (a pinhole camera's lens
