@@ -113,7 +113,16 @@ def main():
                         help="another build's emlt, run at the largest count beside the main one")
     args = parser.parse_args()
     args.quick = False
-    counts = [int(n) for n in args.threads.split(",")]
+    def thread_counts(flag, text):
+        try:
+            values = [int(n) for n in text.split(",")]
+        except ValueError:
+            values = []
+        if not values or min(values) < 1:
+            sys.exit(f"thread_scaling: {flag} takes thread counts such as 1,4,16 (got {text!r})")
+        return values
+
+    counts = thread_counts("--threads", args.threads)
     if counts[0] != 1:
         sys.exit("thread_scaling: the first thread count must be 1 (the baseline)")
     scenes = list(suite.SCENES)
@@ -135,7 +144,7 @@ def main():
             sys.exit(f"thread_scaling: --variant {spec}: want LABEL=BUILD_DIR holding an emlt binary")
         variants.append((label, os.path.join(os.path.abspath(build), "emlt")))
     runner = suite.Suite(args)
-    ceiling_counts = [int(n) for n in args.ceiling_at.split(",")] if args.ceiling_at else counts[-1:]
+    ceiling_counts = thread_counts("--ceiling-at", args.ceiling_at) if args.ceiling_at else counts[-1:]
     compute = compute_ceiling(counts) if args.compute_ceiling else None
     if compute:
         print("compute-only ceiling: " + ", ".join(f"{n}: {v:.2f}" for n, v in compute.items()), flush=True)

@@ -157,7 +157,9 @@ class ThreadScaling(unittest.TestCase):
         for args, message in ((["--threads", "2,4"], "the first thread count must be 1"),
                               (["--scenes", "nope"], "unknown scene(s) nope"),
                               (["--methods", "pt,nope"], "--methods takes"),
-                              (["--variant", "nolabel"], "want LABEL=BUILD_DIR")):
+                              (["--variant", "nolabel"], "want LABEL=BUILD_DIR"),
+                              (["--ceiling-at", "4,x"], "--ceiling-at takes thread counts"),
+                              (["--threads", "1,0"], "--threads takes thread counts")):
             result = subprocess.run([sys.executable, os.path.join(ROOT, "bench", "thread_scaling.py"),
                                      "--build", BUILD] + args, capture_output=True, text=True)
             self.assertNotEqual(result.returncode, 0, args)
