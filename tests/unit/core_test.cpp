@@ -157,6 +157,7 @@ TEST(Warp, ConcentricDiskIsTheExactMapToFloatRounding) {
   // A float's spacing near 1 is 1.2e-7; a Taylor series cut one term earlier errs by 3e-7.
   EXPECT_LT(worst, 2.5e-7);
 }
+
 TEST(Warp, UnitCirclePointIsCosAndSinOfTheTurn) {
   // cos and sin of 2 pi u by quarter turns and polynomials (warp.h), against double libm,
   // over a grid that includes every quarter's seams and both ends.
