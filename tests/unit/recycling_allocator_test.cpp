@@ -31,11 +31,22 @@ TEST(RecyclingAllocator, BlocksFreedOnAnotherThreadJoinItsCache) {
   void* made = nullptr;
   std::thread maker([&] { made = recycling::allocate(300); });
   maker.join();
-  recycling::deallocate(made, 300);        // freed here: this thread's cache now has it
-  void* again = recycling::allocate(320);  // the same 320-byte class
+  // Freed on a fresh thread, whose cache starts empty (this test thread's may already be
+  // full from earlier tests in the same process, and would hand the block to the heap).
+  void* again = nullptr;
+  bool cached = false;
+  std::thread taker([&] {
+    recycling::deallocate(made, 300);  // freed here: this thread's cache now has it
+    // (Seen in the cache itself: glibc's own per-thread cache would also hand it back.)
+    const auto& kept = recycling::cache().free[recycling::size_class(300)];
+    cached = !kept.empty() && kept.back() == made;
+    again = recycling::allocate(320);  // the same 320-byte class
+    std::memset(again, 0, 320);
+    recycling::deallocate(again, 320);
+  });
+  taker.join();
+  EXPECT_TRUE(cached);
   EXPECT_EQ(again, made);
-  std::memset(again, 0, 320);
-  recycling::deallocate(again, 320);
 }
 
 TEST(RecyclingAllocator, PathVertexVectorsKeepTheirContentsThroughGrowthAndReuse) {
