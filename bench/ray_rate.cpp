@@ -1,7 +1,7 @@
 // Embree's own incoherent ray rate on a scene: the bound that no integrator of that scene
 // can beat with one closest-hit query per path segment (performance suite, bench/run.sh).
 //
-//   emlt_ray_rate SCENE [--threads N] [--seconds S] [-D name=value ...]
+//   emlt_ray_rate SCENE [--threads N] [--seconds S] [--bvh-only] [-D name=value ...]
 //
 // First records the rays a path tracer would trace: per pixel, the camera ray, then up to
 // three cosine-distributed bounces from the surfaces hit (incoherent across neighbouring
@@ -10,7 +10,10 @@
 // BVH; no hit reconstruction, no shading) and, separately, Scene::occluded (rtcOccluded1
 // and those spheres) on shadow rays from each hit
 // towards a point on the scene's bounding sphere; both on N threads, repeated for about S
-// seconds. Prints one line of key=value pairs for the suite to read.
+// seconds. On a scene of a few dozen triangles, which Scene tests one by one instead of
+// through the BVH (emlt/scene/direct_triangles.h), these are the rates of that test;
+// --bvh-only times Embree's BVH there too. Prints one line of key=value pairs for the
+// suite to read.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -96,7 +99,8 @@ double rate(const std::vector<Ray>& rays, int threads, double seconds, Query que
 
 int usage() {
   std::fprintf(stderr,
-               "usage: emlt_ray_rate SCENE [--threads N] [--seconds S] [-D name=value ...]\n");
+               "usage: emlt_ray_rate SCENE [--threads N] [--seconds S] [--bvh-only] "
+               "[-D name=value ...]\n");
   return 2;
 }
 
@@ -106,6 +110,7 @@ int main(int argc, char** argv) {
   std::string path;
   int threads = 0;
   double seconds = 2.0;
+  bool bvh_only = false;
   SceneDefines defines;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -114,6 +119,8 @@ int main(int argc, char** argv) {
       threads = std::atoi(argv[++i]);
     } else if (arg == "--seconds") {
       seconds = std::atof(argv[++i]);
+    } else if (arg == "--bvh-only") {
+      bvh_only = true;
     } else if (arg == "-D") {
       const std::string define = argv[++i];
       const size_t eq = define.find('=');
@@ -128,7 +135,8 @@ int main(int argc, char** argv) {
   if (path.empty() || threads < 0 || !(seconds > 0.0)) return usage();
   if (threads == 0) threads = tbb::this_task_arena::max_concurrency();
   try {
-    const std::unique_ptr<Scene> scene = Scene::build(load_scene_description(path, defines));
+    const std::unique_ptr<Scene> scene = Scene::build(
+        load_scene_description(path, defines), SceneBuildOptions{.direct_triangles = !bvh_only});
     const RayBuffers rays = record_rays(*scene);
     // Scene's own ray queries, without hit reconstruction or shading: Embree's BVH plus
     // the few analytic spheres that Scene tests outside it.

@@ -22,6 +22,7 @@ struct RenderOptions {
   double checkpoint_interval = 600.0;
   bool quiet = false;
   bool strict = false;  // refuse a scene emlt would approximate or partly ignore
+  bool bvh_only = false;  // no direct triangle tests on small scenes (SceneBuildOptions)
 };
 
 struct InfoOptions {

@@ -18,6 +18,9 @@ int run_info(const InfoOptions& options) {
   fmt::print("triangles    {} ({} degenerate dropped) in {} meshes\n", st.triangles,
              st.dropped_degenerate_triangles, st.meshes);
   fmt::print("spheres      {}\n", st.spheres);
+  fmt::print("rays         {}\n", st.direct_triangles
+                                      ? "every triangle tested directly (a scene this small)"
+                                      : "Embree's BVH");
   fmt::print("area lights  {} emissive triangles\n", st.area_lights);
   fmt::print("environment  {}\n", st.has_environment ? "yes" : "no");
   fmt::print("materials    {}\n", d.materials.size());

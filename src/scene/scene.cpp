@@ -216,7 +216,7 @@ bool Scene::Geometry::lets_through(const Vec3& origin, const Vec3& direction, fl
          alpha_test_threshold(origin, direction, geometry_id, primitive) >= alpha;
 }
 
-std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
+std::unique_ptr<Scene> Scene::build(SceneDescription desc, const SceneBuildOptions& options) {
   std::unique_ptr<Scene> scene(new Scene());
   Scene& s = *scene;
   s.desc_ = std::move(desc);
@@ -528,6 +528,22 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc) {
   // time at 2 threads; measured with perf's per-thread timeline).
   tbb::task_arena build_arena;
   build_arena.execute([&] { rtcCommitScene(s.rtc_scene_); });
+  // A few dozen triangles are tested directly, like the few spheres (direct_triangles.h).
+  // The BVH stays built for the point queries of visit_nearby. Alpha masks need Embree's
+  // filter, and spheres in the BVH need its traversal.
+  bool direct_triangles = options.direct_triangles && DirectTriangles::available() &&
+                          spheres_direct && s.stats_.triangles <= DirectTriangles::kMaxTriangles;
+  for (const Geometry& g : s.geometries_) direct_triangles &= g.opacity == nullptr;
+  s.stats_.direct_triangles = direct_triangles;
+  if (direct_triangles) {
+    for (size_t id = 0; id < s.geometries_.size(); ++id) {
+      const Geometry& g = s.geometries_[id];
+      if (g.kind != Geometry::Kind::Triangles) continue;
+      for (size_t i = 0; i < g.indices.size(); i += 3)
+        s.direct_triangles_.add(uint32_t(id), uint32_t(i / 3), g.positions[g.indices[i]],
+                                g.positions[g.indices[i + 1]], g.positions[g.indices[i + 2]]);
+    }
+  }
   if (!errors.first.empty()) throw file_error(d.source, errors.first);
   return scene;
 }
@@ -547,6 +563,15 @@ uint32_t Scene::nearest_direct_sphere(const Ray& ray, float* tfar) const {
       *tfar = t, sphere = id;
   }
   return sphere;
+}
+
+void Scene::nearest_direct_triangle(const Ray& ray, RTCRayHit& query) const {
+  DirectTriangleHit hit;
+  if (!direct_triangles_.nearest(ray, &query.ray.tfar, &hit)) return;
+  query.hit.geomID = hit.geometry;
+  query.hit.primID = hit.primitive;
+  query.hit.u = hit.u;
+  query.hit.v = hit.v;
 }
 
 bool Scene::direct_sphere_occludes(const Ray& ray) const {
@@ -575,7 +600,10 @@ bool Scene::direct_sphere_occludes(const Ray& ray) const {
   // The spheres outside the BVH first: a hit shortens the segment Embree traverses.
   const uint32_t sphere = direct_spheres_.empty() ? RTC_INVALID_GEOMETRY_ID
                                                   : nearest_direct_sphere(ray, &query.ray.tfar);
-  rtcIntersect1(rtc_scene_, &context, &query);
+  if (!direct_triangles_.empty())
+    nearest_direct_triangle(ray, query);
+  else
+    rtcIntersect1(rtc_scene_, &context, &query);
   if (query.hit.geomID != RTC_INVALID_GEOMETRY_ID) return true;
   if (sphere == RTC_INVALID_GEOMETRY_ID) return false;
   query.hit.geomID = sphere;  // nothing in the BVH is nearer than the sphere
@@ -660,6 +688,7 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
 
 [[gnu::always_inline]] inline bool Scene::find_occluder(const Ray& ray) const {
   if (!direct_spheres_.empty() && direct_sphere_occludes(ray)) return true;
+  if (!direct_triangles_.empty()) return direct_triangles_.any(ray);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay query;

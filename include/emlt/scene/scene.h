@@ -1,6 +1,7 @@
 #pragma once
 // The renderable scene: an Embree BVH over triangles (and over spheres when there are more
-// than a few; fewer are tested directly), materials, the camera and the light set.
+// than a few; fewer are tested directly, and so are the triangles of a scene of a few dozen,
+// emlt/scene/direct_triangles.h), materials, the camera and the light set.
 // Immutable after build(); safe to query from many threads.
 #include <embree3/rtcore.h>
 
@@ -9,6 +10,7 @@
 
 #include "emlt/scene/camera.h"
 #include "emlt/scene/description.h"
+#include "emlt/scene/direct_triangles.h"
 #include "emlt/scene/light_set.h"
 #include "emlt/scene/ray.h"
 
@@ -39,6 +41,15 @@ struct SceneStats {
   size_t triangles = 0, dropped_degenerate_triangles = 0, spheres = 0, meshes = 0;
   size_t area_lights = 0, materials = 0;
   bool has_environment = false;
+  // Whether rays test the triangles directly (DirectTriangles) instead of Embree's BVH.
+  bool direct_triangles = false;
+};
+
+struct SceneBuildOptions {
+  // Test the triangles of a scene of at most DirectTriangles::kMaxTriangles directly, as
+  // the few spheres are, instead of through Embree's BVH. Off: every ray goes through the
+  // BVH (`emlt render --bvh-only`, for comparisons; images differ only by rounding).
+  bool direct_triangles = true;
 };
 
 class Scene {
@@ -46,7 +57,7 @@ class Scene {
   // Validates and builds; throws emlt::Error naming desc.source on unusable input
   // (no emitter, no geometry, zero/absurd resolution...). Degenerate triangles are dropped
   // and counted (a warning is appended to warnings()).
-  static std::unique_ptr<Scene> build(SceneDescription desc);
+  static std::unique_ptr<Scene> build(SceneDescription desc, const SceneBuildOptions& options = {});
   ~Scene();
   Scene(const Scene&) = delete;
   Scene& operator=(const Scene&) = delete;
@@ -101,12 +112,16 @@ class Scene {
   // distance), or RTC_INVALID_GEOMETRY_ID; and whether any blocks the ray's segment.
   [[gnu::noinline]] uint32_t nearest_direct_sphere(const Ray& ray, float* tfar) const;
   [[gnu::noinline]] bool direct_sphere_occludes(const Ray& ray) const;
+  // The nearest of direct_triangles_ within [ray.tmin, query.ray.tfar], written into query
+  // as Embree would (tfar, geomID, primID, u, v); query is left as it was on a miss.
+  [[gnu::noinline]] void nearest_direct_triangle(const Ray& ray, RTCRayHit& query) const;
 
   SceneDescription desc_;
   RTCDevice device_ = nullptr;
   RTCScene rtc_scene_ = nullptr;
   std::vector<Geometry> geometries_;
   std::vector<uint32_t> direct_spheres_;  // geometry ids of the spheres outside the BVH
+  DirectTriangles direct_triangles_;      // every triangle, on a scene small enough; else empty
   std::unique_ptr<Camera> camera_;
   LightSet lights_;
   SceneStats stats_;
