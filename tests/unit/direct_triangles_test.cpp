@@ -145,9 +145,10 @@ TEST(DirectTriangles, AgreeWithEmbreesBvhOnTheCornellBoxes) {
     ASSERT_TRUE(direct->stats().direct_triangles) << name;
     ASSERT_FALSE(bvh->stats().direct_triangles) << name;
     // Rays from random points inside the scene's bounds in uniform directions (a box's
-    // walls, seen from anywhere), and shadow segments between pairs of hits.
+    // walls, seen from anywhere), and shadow segments along each ray to just short of its
+    // hit and just past it.
     Rng rng(11, 0);
-    int hits = 0, ids = 0, occlusions = 0, compared = 0;
+    int hits = 0, same_triangle = 0;
     for (int i = 0; i < 20000; ++i) {
       const Vec3 origin = bvh->bounds_center() + 0.5f * bvh->bounds_radius() *
                                                      square_to_uniform_sphere(rng.uniform2()) *
@@ -161,10 +162,9 @@ TEST(DirectTriangles, AgreeWithEmbreesBvhOnTheCornellBoxes) {
       EXPECT_NEAR(a.t, b.t, 1e-4f * std::max(1.0f, b.t)) << name << " ray " << i;
       // The same surface, except where the ray meets an edge (either triangle is right).
       if (a.geometry_id == b.geometry_id && a.primitive_id == b.primitive_id) {
-        ++ids;
+        ++same_triangle;
         for (int k = 0; k < 3; ++k) EXPECT_NEAR((&a.position.x)[k], (&b.position.x)[k], 1e-3f);
       }
-      ++compared;
       // A segment from the origin to just before the hit is free in both, and one past it
       // is blocked in both.
       const float t = std::min(a.t, b.t);
@@ -174,13 +174,11 @@ TEST(DirectTriangles, AgreeWithEmbreesBvhOnTheCornellBoxes) {
       EXPECT_FALSE(bvh->occluded(before)) << name << " ray " << i;
       EXPECT_TRUE(direct->occluded(past)) << name << " ray " << i;
       EXPECT_TRUE(bvh->occluded(past)) << name << " ray " << i;
-      occlusions += 2;
     }
     // Almost every ray from inside a closed box hits, and all but the edge cases name the
     // same triangle.
     EXPECT_GT(hits, 15000) << name;
-    EXPECT_GT(ids, compared - compared / 100) << name;
-    EXPECT_EQ(occlusions, 2 * hits);
+    EXPECT_GT(same_triangle, hits - hits / 100) << name;
   }
 }
 

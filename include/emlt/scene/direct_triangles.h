@@ -3,7 +3,8 @@
 // triangles per step, in place of Embree's BVH. On such scenes the BVH does not pay: its
 // leaves are large walls whose boxes every ray meets, and rtcIntersect1 spent about 1,000
 // instructions per ray on the 24 triangles of scenes/cornell-glass, several times what
-// testing every triangle costs (docs/performance.md, "Direct triangles").
+// testing every triangle costs (docs/performance.md, *Speed-ups*, "27 Nov:
+// direct triangle tests on small scenes").
 //
 // The test is the watertight one of Woop, Benthin and Wald (JCGT 2013): the ray is sheared
 // onto the z axis once, then each triangle's three edge functions are evaluated in its
