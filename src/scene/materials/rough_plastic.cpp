@@ -41,48 +41,36 @@ class RoughPlastic final : public Bsdf {
 
   Rgb eval(const BsdfContext& ctx, const Vec3& wo, const Vec3& wi) const override {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return Rgb(0.0f);
-    Rgb result = diffuse_value(ctx, wo, wi);
-    if (!smooth_) {
-      // Coating: f = Ks F(wo.h) D(h) G1(wo, h) G1(wi, h) / (4 cos_o cos_i) (Mitsuba's
-      // separable Smith masking-shadowing)
-      const MicrofacetDistribution dist = distribution(ctx);
-      const Vec3 h = reflection_half_vector(wo, wi);
-      const float fresnel = fresnel_dielectric(glm::dot(wo, h), eta_);
-      result += specular_.at(ctx.uv) *
-                (fresnel * dist.D(h) * dist.G(wo, wi, h) / (4.0f * wo.z * wi.z));
-    }
-    return result;
+    return eval_at(parameters(ctx), wo, wi);
   }
 
   // Mixture of the two lobes' densities; for a smooth coating only the diffuse part, since
   // the delta lobe has no density.
   float pdf(const BsdfContext& ctx, const Vec3& wo, const Vec3& wi) const override {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
-    const float p_specular = specular_probability(ctx, wo.z, roughness(ctx));
-    float density = (1.0f - p_specular) * cosine_hemisphere_pdf(wi);
-    if (!smooth_) density += p_specular * distribution(ctx).reflection_pdf(wo, wi);
-    return density;
+    const Parameters p = parameters(ctx);
+    return pdf_at(p, wo, wi, specular_probability(p, wo.z));
   }
 
   std::optional<BsdfSample> sample(const BsdfContext& ctx, const Vec3& wo, float u_lobe,
                                    const Vec2& u) const override {
     if (wo.z <= 0.0f) return std::nullopt;
-    const float p_specular = specular_probability(ctx, wo.z, roughness(ctx));
+    const Parameters p = parameters(ctx);
+    const float p_specular = specular_probability(p, wo.z);
     BsdfSample s;
     if (smooth_ && u_lobe < p_specular) {
       s.wi = Vec3(-wo.x, -wo.y, wo.z);
       const float fresnel = fresnel_dielectric(wo.z, eta_);
-      const Rgb specular = specular_.at(ctx.uv);
       s.pdf = p_specular;
       s.pdf_reverse = p_specular;  // same cosine from wi, same choice
-      s.value = specular * (fresnel / wo.z);
-      s.weight = specular * (fresnel / p_specular);
+      s.value = p.ks * (fresnel / wo.z);
+      s.weight = p.ks * (fresnel / p_specular);
       s.lobe = kLobeSpecular | kLobeReflection;
       if (!is_finite(s.value)) return std::nullopt;
       return s;
     }
     if (u_lobe < p_specular) {
-      const Vec3 m = distribution(ctx).sample_normal(wo, u);
+      const Vec3 m = p.distribution.sample_normal(wo, u);
       if (glm::dot(wo, m) <= 0.0f) return std::nullopt;
       s.wi = reflect_about(wo, m);
       s.lobe = kLobeGlossy | kLobeReflection;
@@ -91,12 +79,12 @@ class RoughPlastic final : public Bsdf {
       s.lobe = kLobeDiffuse | kLobeReflection;
     }
     if (s.wi.z <= 0.0f) return std::nullopt;
-    s.pdf = pdf(ctx, wo, s.wi);
+    s.pdf = pdf_at(p, wo, s.wi, p_specular);
     if (s.pdf <= 0.0f || !std::isfinite(s.pdf)) return std::nullopt;
-    s.value = eval(ctx, wo, s.wi);
+    s.value = eval_at(p, wo, s.wi);
     s.weight = s.value * (s.wi.z / s.pdf);
     if (!is_finite(s.weight)) return std::nullopt;
-    s.pdf_reverse = pdf(ctx, s.wi, wo);
+    s.pdf_reverse = pdf_at(p, s.wi, wo, specular_probability(p, s.wi.z));
     return s;
   }
 
@@ -106,13 +94,42 @@ class RoughPlastic final : public Bsdf {
   std::string name() const override { return smooth_ ? "plastic" : "rough_plastic"; }
 
  private:
-  // The roughness at a point, clamped as the microfacet distribution clamps it (Mitsuba
-  // looks its transmittance up at that value too).
-  float roughness(const BsdfContext& ctx) const {
-    return smooth_ ? 0.0f : glm::max(alpha_.average_at(ctx.uv), MicrofacetDistribution::kMinAlpha);
+  // The textured parameters at one point, read once per call: a sample reads them for its
+  // lobe choice, both densities and the value, and a bitmap lookup is the dearest part.
+  struct Parameters {
+    Rgb kd, ks;
+    // The roughness clamped as the microfacet distribution clamps it (Mitsuba looks its
+    // transmittance up at that value too); 0 for a smooth coating.
+    float alpha;
+    MicrofacetDistribution distribution;
+  };
+
+  Parameters parameters(const BsdfContext& ctx) const {
+    const float alpha = alpha_.average_at(ctx.uv);
+    return Parameters{diffuse_.at(ctx.uv), specular_.at(ctx.uv),
+                      smooth_ ? 0.0f : glm::max(alpha, MicrofacetDistribution::kMinAlpha),
+                      MicrofacetDistribution(type_, alpha)};
   }
-  MicrofacetDistribution distribution(const BsdfContext& ctx) const {
-    return MicrofacetDistribution(type_, alpha_.average_at(ctx.uv));
+
+  Rgb eval_at(const Parameters& p, const Vec3& wo, const Vec3& wi) const {
+    Rgb result = diffuse_value(p, wo, wi);
+    if (!smooth_) {
+      // Coating: f = Ks F(wo.h) D(h) G1(wo, h) G1(wi, h) / (4 cos_o cos_i) (Mitsuba's
+      // separable Smith masking-shadowing)
+      const Vec3 h = reflection_half_vector(wo, wi);
+      const float fresnel = fresnel_dielectric(glm::dot(wo, h), eta_);
+      result += p.ks * (fresnel * p.distribution.D(h) * p.distribution.G(wo, wi, h) /
+                        (4.0f * wo.z * wi.z));
+    }
+    return result;
+  }
+
+  // The density of wi given wo, whose lobe choice is p_specular (specular_probability at
+  // wo.z).
+  float pdf_at(const Parameters& p, const Vec3& wo, const Vec3& wi, float p_specular) const {
+    float density = (1.0f - p_specular) * cosine_hemisphere_pdf(wi);
+    if (!smooth_) density += p_specular * p.distribution.reflection_pdf(wo, wi);
+    return density;
   }
 
   // Fraction of the light from direction cos_theta that the coating lets through.
@@ -126,28 +143,26 @@ class RoughPlastic final : public Bsdf {
   // coating's reflectance averaged over the inside: smooth, 1 minus the cosine-weighted
   // mean of 1 - F; rough, of the rough transmittance (with a textured roughness, at the
   // point's alpha; with a constant one, precomputed).
-  Rgb diffuse_value(const BsdfContext& ctx, const Vec3& wo, const Vec3& wi) const {
-    const Rgb kd = diffuse_.at(ctx.uv);
-    const float alpha = roughness(ctx);
+  Rgb diffuse_value(const Parameters& p, const Vec3& wo, const Vec3& wi) const {
+    const Rgb& kd = p.kd;
     const float fdr = smooth_ || alpha_.is_constant() ? internal_reflectance_
-                                                      : 1.0f - leaving_->diffuse(alpha);
+                                                      : 1.0f - leaving_->diffuse(p.alpha);
     const Rgb base = nonlinear_ ? kd / glm::max(Rgb(1.0f) - kd * fdr, Rgb(1e-6f))
                                 : kd / glm::max(1.0f - fdr, 1e-6f);
-    const float transmit_in = transmittance(wi.z, alpha);
-    const float transmit_out = transmittance(wo.z, alpha);
+    const float transmit_in = transmittance(wi.z, p.alpha);
+    const float transmit_out = transmittance(wo.z, p.alpha);
     return base * (kInvPi * transmit_in * transmit_out / (eta_ * eta_));
   }
 
   // Probability of sampling the coating lobe: its albedo estimate (the light the coating
   // does not let through) against the base's, so that bright coatings at grazing angles
   // get most samples.
-  float specular_probability(const BsdfContext& ctx, float cos_o, float alpha) const {
-    const Rgb ks = specular_.at(ctx.uv), kd = diffuse_.at(ctx.uv);
-    const float specular_albedo = (ks.x + ks.y + ks.z) / 3.0f;
-    const float diffuse_albedo = (kd.x + kd.y + kd.z) / 3.0f;
+  float specular_probability(const Parameters& p, float cos_o) const {
+    const float specular_albedo = (p.ks.x + p.ks.y + p.ks.z) / 3.0f;
+    const float diffuse_albedo = (p.kd.x + p.kd.y + p.kd.z) / 3.0f;
     const float total = specular_albedo + diffuse_albedo;
     const float specular_weight = total > 0.0f ? specular_albedo / total : 0.5f;
-    const float reflected = 1.0f - transmittance(cos_o, alpha);
+    const float reflected = 1.0f - transmittance(cos_o, p.alpha);
     const float specular = reflected * specular_weight;
     const float diffuse = (1.0f - reflected) * (1.0f - specular_weight);
     return specular + diffuse > 0.0f ? specular / (specular + diffuse) : specular_weight;
