@@ -2,6 +2,7 @@
 // transform. Filtering over the pixel footprint (Mitsuba's EWA) is left to the pixel
 // sampler: many point lookups per pixel average the texture over it.
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -24,6 +25,32 @@ struct EightBitTexels {
   std::array<float, 256> levels{};
 };
 
+// A thread's recent lookups, direct-mapped by texture and uv. The queries made at one
+// surface point ask for the same texels again and again: a path tracer's light sample and
+// then its BSDF sample; a bidirectional vertex's walk step and its connections to every
+// vertex of the other subpath (value and both densities each time); the vertices an MLT
+// mutation keeps. A lookup is a pure function of the texture and the uv, so a value found
+// here is bit for bit the value computed again, whatever the thread or the order.
+// Plain data, zero-initialised (an empty entry's texture is null), so that the
+// thread_local needs no guard.
+struct LookupCache {
+  static constexpr unsigned kBits = 6;
+  struct Entry {
+    const void* texture;
+    uint32_t u, v;  // the uv's bits
+    float value[3];
+  };
+  Entry entries[1u << kBits];
+
+  static unsigned slot(const void* texture, uint32_t u, uint32_t v) {
+    const uint32_t h = (u * 0x9E3779B1u) ^ (v * 0x85EBCA77u) ^ uint32_t(uintptr_t(texture) >> 4);
+    return (h ^ (h >> 15)) & ((1u << kBits) - 1u);
+  }
+};
+// initial-exec: emlt's engine is linked into its programs, and the general TLS model
+// would call __tls_get_addr on every lookup.
+[[gnu::tls_model("initial-exec")]] thread_local LookupCache lookup_cache;
+
 class BitmapTexture final : public Texture {
  public:
   BitmapTexture(Image image, const UvTransform& transform, TextureWrap wrap, std::string name)
@@ -44,6 +71,30 @@ class BitmapTexture final : public Texture {
         name_(std::move(name)) {}
 
   Rgb eval(const Vec2& uv) const override {
+    const uint32_t u_bits = std::bit_cast<uint32_t>(uv.x), v_bits = std::bit_cast<uint32_t>(uv.y);
+    LookupCache::Entry& entry = lookup_cache.entries[LookupCache::slot(this, u_bits, v_bits)];
+    if (entry.texture == this && entry.u == u_bits && entry.v == v_bits)
+      return Rgb(entry.value[0], entry.value[1], entry.value[2]);
+    const Rgb value = filtered(uv);
+    entry = LookupCache::Entry{this, u_bits, v_bits, {value.x, value.y, value.z}};
+    return value;
+  }
+
+  std::optional<Rgb> constant() const override {
+    if (width_ == 1 && height_ == 1) return at(0, 0);
+    return std::nullopt;
+  }
+
+  Vec2 gradient_step() const override {
+    return Vec2(1.0f / float(width_), 1.0f / float(height_)) /
+           glm::max(glm::abs(transform_.scale), Vec2(1e-6f));
+  }
+
+  std::string name() const override { return name_; }
+
+ private:
+  // Bilinear filtering of the four texels around uv.
+  Rgb filtered(const Vec2& uv) const {
     const Vec2 p = transform_.apply(uv);
     // Continuous texel coordinates with texel centres at integers.
     const float x = p.x * float(width_) - 0.5f;
@@ -63,19 +114,6 @@ class BitmapTexture final : public Texture {
            fy * ((1.0f - fx) * at(left, bottom) + fx * at(right, bottom));
   }
 
-  std::optional<Rgb> constant() const override {
-    if (width_ == 1 && height_ == 1) return at(0, 0);
-    return std::nullopt;
-  }
-
-  Vec2 gradient_step() const override {
-    return Vec2(1.0f / float(width_), 1.0f / float(height_)) /
-           glm::max(glm::abs(transform_.scale), Vec2(1e-6f));
-  }
-
-  std::string name() const override { return name_; }
-
- private:
   // Indices wrap() gives a texel outside the image under Zero and One.
   static constexpr int kZeroTexel = -1, kOneTexel = -2;
 
