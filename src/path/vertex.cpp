@@ -29,7 +29,7 @@ PathVertex make_camera_vertex(const Scene& scene, const Vec3& lens_point, const 
   v.kind = VertexKind::Camera;
   v.position = lens_point;
   v.normal = scene.camera().forward();
-  v.shading = Frame(v.normal);
+  v.shading = scene.camera().forward_frame();
   v.raster = raster;
   return v;
 }

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <optional>
 #include <fmt/core.h>
 
 #include "emlt/core/cluster.h"
@@ -108,7 +109,8 @@ class BdptSampler {
     const auto& camera = scratch.camera;
     const auto& light = scratch.light;
     Rgb contribution(0.0f);
-    PathVertex lens;  // the lens vertex sampled for t = 1
+    // The lens vertex sampled for t = 1 (empty otherwise: most strategies need none).
+    std::optional<PathVertex> lens;
     std::span<const PathVertex> camera_side(camera);
     if (s == 0) {
       // The camera subpath found an emitter (or the sky) at its last vertex.
@@ -119,12 +121,11 @@ class BdptSampler {
       const PathVertex& y = light[size_t(s - 1)];
       const PathVertex* y_previous = s >= 2 ? &light[size_t(s - 2)] : nullptr;
       if (t == 1) {
-        const auto sampled = sample_camera_vertex(scene_, y, rng.uniform2());
-        if (!sampled) return;
-        lens = *sampled;
-        camera_side = std::span<const PathVertex>(&lens, 1);
-        contribution = y.throughput * connect_vertices(scene_, y_previous, y, lens, nullptr) *
-                       lens.throughput;
+        lens = sample_camera_vertex(scene_, y, rng.uniform2());
+        if (!lens) return;
+        camera_side = std::span<const PathVertex>(&*lens, 1);
+        contribution = y.throughput * connect_vertices(scene_, y_previous, y, *lens, nullptr) *
+                       lens->throughput;
       } else {
         const PathVertex& z = camera[size_t(t - 1)];
         contribution = y.throughput *
@@ -146,7 +147,7 @@ class BdptSampler {
     const int strategy = strategy_images_ ? strategy_image_index(s, t) : -1;
     if (t == 1) {
       // Light tracing: the contribution lands in every pixel whose filter covers it.
-      scene_.camera().filter().splat(lens.raster, [&](uint32_t target, float weight) {
+      scene_.camera().filter().splat(lens->raster, [&](uint32_t target, float weight) {
         out.splats.add(target, value * weight, strategy);
       });
       return;

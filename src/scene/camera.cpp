@@ -19,6 +19,7 @@ Camera::Camera(const CameraDesc& desc)
   up_ = glm::normalize(Vec3(m[1]));
   forward_ = glm::normalize(Vec3(m[2]));
   position_ = Vec3(m[3]);
+  forward_frame_ = Frame(forward_);
 
   const float aspect = float(width_) / float(height_);
   const float tan_half = std::tan(glm::radians(desc.fov_degrees) * 0.5f);
@@ -106,7 +107,10 @@ std::optional<Vec2> Camera::raster_position(const Vec3& p, const Vec3& w) const 
 
 float Camera::importance(const Vec3& p, const Vec3& w) const {
   if (!raster_position(p, w)) return 0.0f;
-  const float cos_theta = glm::dot(w, forward_);
+  return importance_on_film(glm::dot(w, forward_));
+}
+
+float Camera::importance_on_film(float cos_theta) const {
   const float lens_area = is_pinhole() ? 1.0f : kPi * aperture_radius_ * aperture_radius_;
   const float cos2 = cos_theta * cos_theta;
   return 1.0f / (image_plane_area_ * lens_area * cos2 * cos2);
@@ -132,7 +136,8 @@ std::optional<CameraDirectSample> Camera::sample_direct(const Vec3& ref, const V
   const auto raster = raster_position(s.lens_point, -s.wi);
   if (!raster) return std::nullopt;
   s.raster = *raster;
-  s.importance = Rgb(importance(s.lens_point, -s.wi));
+  // raster_position has just found -wi on the film.
+  s.importance = Rgb(importance_on_film(glm::dot(-s.wi, forward_)));
   const float lens_area = is_pinhole() ? 1.0f : kPi * aperture_radius_ * aperture_radius_;
   const float cos_lens = std::abs(glm::dot(forward_, s.wi));
   s.pdf = s.distance * s.distance / (cos_lens * lens_area);

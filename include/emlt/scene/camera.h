@@ -35,6 +35,8 @@ class Camera {
   bool is_pinhole() const { return aperture_radius_ <= 0.0f; }
   const Vec3& position() const { return position_; }
   const Vec3& forward() const { return forward_; }
+  // The frame about the forward axis (a lens vertex's shading frame), built once.
+  const Frame& forward_frame() const { return forward_frame_; }
 
   // Primary ray through raster position `raster` using lens sample `u_lens`.
   Ray generate_ray(const Vec2& raster, const Vec2& u_lens) const;
@@ -62,10 +64,13 @@ class Camera {
 
  private:
   Vec3 film_direction_local(const Vec2& raster) const;  // camera space, z = 1 plane
+  // W_e of a direction at cos_theta to the forward axis that lands on the film.
+  float importance_on_film(float cos_theta) const;
 
   int width_, height_;
   PixelFilter filter_;
   Vec3 position_, forward_, right_, up_;  // world; right_ = image +x
+  Frame forward_frame_;
   float tan_half_x_, tan_half_y_;         // film half extents on the z = 1 plane
   float image_plane_area_;                // at distance 1
   float aperture_radius_, focus_distance_;
