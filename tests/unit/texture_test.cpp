@@ -1,15 +1,17 @@
 // Textures (bitmap filtering, wrapping, uv transform, sRGB/raw decoding, checkerboard,
 // scale) and the surface modifiers they drive in the scene: mask opacity in Embree's
 // filter, bump mapping of the shading normal, and uvs for meshes that have none.
+#include "emlt/scene/texture.h"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <vector>
 
 #include "emlt/core/error.h"
 #include "emlt/render/image.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/scene.h"
-#include "emlt/scene/texture.h"
 #include "support/test_support.h"
 
 using namespace emlt;
@@ -172,6 +174,54 @@ TEST(BitmapTexture, EightBitStorageReadsTheDecodedFloatsExactly) {
       ASSERT_EQ(stored_raw->eval(uv), floats_raw->eval(uv)) << "raw, uv " << uv.x << " " << uv.y;
     }
   }
+}
+
+// Bitmap lookups are remembered per thread (bitmap_texture.cpp: LookupCache). A value must
+// come back only for its own texture and its own uv: two textures asked alternately at the
+// same points, and a texture made where a freed one lay (same size, so the allocator hands
+// out the same address) asked at the freed one's points, each give their own bilinear value.
+TEST(BitmapTexture, RememberedLookupsAnswerOnlyTheirOwnTextureAndPoint) {
+  Image other = quad_image();
+  for (Rgb& texel : other.pixels) texel = Rgb(1.0f) - texel;
+  // Reference values from textures that have never been asked anything.
+  const auto fresh = [](const Image& image, const Vec2& uv) {
+    return make_bitmap_texture(image)->eval(uv);
+  };
+  std::vector<Vec2> points;
+  for (int i = 0; i < 300; ++i) points.emplace_back(float(i % 17) / 7.0f, float(i % 23) / 9.0f);
+
+  const TexturePtr a = make_bitmap_texture(quad_image()), b = make_bitmap_texture(other);
+  for (int round = 0; round < 3; ++round)
+    for (const Vec2& uv : points) {
+      ASSERT_EQ(a->eval(uv), fresh(quad_image(), uv)) << "a at " << uv.x << " " << uv.y;
+      ASSERT_EQ(b->eval(uv), fresh(other, uv)) << "b at " << uv.x << " " << uv.y;
+    }
+
+  int reused = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    TexturePtr first = make_bitmap_texture(quad_image());
+    const void* address = first.get();
+    for (const Vec2& uv : points) (void)first->eval(uv);
+    first.reset();
+    const TexturePtr second = make_bitmap_texture(other);
+    reused += second.get() == address;
+    for (const Vec2& uv : points)
+      ASSERT_EQ(second->eval(uv), fresh(other, uv))
+          << "trial " << trial << " at " << uv.x << " " << uv.y;
+  }
+  // The case that matters, a new texture at a freed one's address, did happen (except
+  // under AddressSanitizer, which keeps freed memory out of reach).
+#if defined(__SANITIZE_ADDRESS__)
+  (void)reused;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+  (void)reused;
+#else
+  EXPECT_GT(reused, 0);
+#endif
+#else
+  EXPECT_GT(reused, 0);
+#endif
 }
 
 TEST(Checkerboard, MitsubaCellLayoutAndUvScale) {

@@ -2,6 +2,7 @@
 // transform. Filtering over the pixel footprint (Mitsuba's EWA) is left to the pixel
 // sampler: many point lookups per pixel average the texture over it.
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cstdint>
 #include <filesystem>
@@ -31,20 +32,26 @@ struct EightBitTexels {
 // vertex of the other subpath (value and both densities each time); the vertices an MLT
 // mutation keeps. A lookup is a pure function of the texture and the uv, so a value found
 // here is bit for bit the value computed again, whatever the thread or the order.
-// Plain data, zero-initialised (an empty entry's texture is null), so that the
-// thread_local needs no guard.
+// Entries are keyed by a serial number that no other texture of the process ever gets,
+// not by address: a texture freed and another made at its address (the next scene loaded
+// in the same process) must not find the first one's values. Plain data, zero-initialised
+// (serial 0 is nobody's), so that the thread_local needs no guard.
 struct LookupCache {
   static constexpr unsigned kBits = 6;
   struct Entry {
-    const void* texture;
+    uint64_t texture;
     uint32_t u, v;  // the uv's bits
     float value[3];
   };
   Entry entries[1u << kBits];
 
-  static unsigned slot(const void* texture, uint32_t u, uint32_t v) {
-    const uint32_t h = (u * 0x9E3779B1u) ^ (v * 0x85EBCA77u) ^ uint32_t(uintptr_t(texture) >> 4);
+  static unsigned slot(uint64_t texture, uint32_t u, uint32_t v) {
+    const uint32_t h = (u * 0x9E3779B1u) ^ (v * 0x85EBCA77u) ^ uint32_t(texture * 0xC2B2AE35u);
     return (h ^ (h >> 15)) & ((1u << kBits) - 1u);
+  }
+  static uint64_t next_serial() {
+    static std::atomic<uint64_t> last{0};
+    return last.fetch_add(1, std::memory_order_relaxed) + 1;
   }
 };
 // initial-exec: emlt's engine is linked into its programs, and the general TLS model
@@ -72,11 +79,11 @@ class BitmapTexture final : public Texture {
 
   Rgb eval(const Vec2& uv) const override {
     const uint32_t u_bits = std::bit_cast<uint32_t>(uv.x), v_bits = std::bit_cast<uint32_t>(uv.y);
-    LookupCache::Entry& entry = lookup_cache.entries[LookupCache::slot(this, u_bits, v_bits)];
-    if (entry.texture == this && entry.u == u_bits && entry.v == v_bits)
+    LookupCache::Entry& entry = lookup_cache.entries[LookupCache::slot(serial_, u_bits, v_bits)];
+    if (entry.texture == serial_ && entry.u == u_bits && entry.v == v_bits)
       return Rgb(entry.value[0], entry.value[1], entry.value[2]);
     const Rgb value = filtered(uv);
-    entry = LookupCache::Entry{this, u_bits, v_bits, {value.x, value.y, value.z}};
+    entry = LookupCache::Entry{serial_, u_bits, v_bits, {value.x, value.y, value.z}};
     return value;
   }
 
@@ -168,6 +175,7 @@ class BitmapTexture final : public Texture {
     }
   }
 
+  const uint64_t serial_ = LookupCache::next_serial();  // this texture's key in lookup_cache
   int width_, height_;
   Image image_;                              // float texels, empty when eight_bit_ holds them
   std::optional<EightBitTexels> eight_bit_;  // texels of an 8-bit file
