@@ -78,7 +78,10 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
       ->check(whole_number(1, 16384, "a whole number of pixels from 1 to 16384"));
   command.add_option("--max-depth", s.max_depth, "Longest path in segments (-1 = unlimited)")
       ->check(whole_number(-1, 100000, "a whole number from 0 to 100000, or -1 for unlimited"));
-  command.add_option("--rr-depth", s.rr_depth, "Segments before Russian roulette starts")
+  command
+      .add_option("--rr-depth", s.rr_depth,
+                  "Segments before Russian roulette starts (bidirectional subpaths: one fewer, as "
+                  "in Mitsuba)")
       ->check(whole_number(1, 100000, "a whole number from 1 to 100000"));
   command.add_option("--mis", o.mis, "MIS heuristic")->check(CLI::IsMember({"balance", "power"}));
   command.add_option("--direct-samples", s.direct_samples,

@@ -38,8 +38,9 @@ Rng generate_subpaths(const Scene& scene, const BootstrapParams& p, uint32_t sam
   const Camera& camera = scene.camera();
   const Vec2 raster(rng.uniform() * float(camera.width()), rng.uniform() * float(camera.height()));
   const Vec2 u_lens = rng.uniform2();
-  generate_camera_subpath(scene, rng, raster, u_lens, {p.max_edges + 1, p.rr_depth}, scratch.camera);
-  generate_light_subpath(scene, rng, {p.max_edges, p.rr_depth}, scratch.light);
+  generate_camera_subpath(scene, rng, raster, u_lens,
+                          {p.max_edges + 1, subpath_rr_depth(p.rr_depth)}, scratch.camera);
+  generate_light_subpath(scene, rng, {p.max_edges, subpath_rr_depth(p.rr_depth)}, scratch.light);
   return rng;
 }
 

@@ -121,8 +121,9 @@ void PrimarySampleTracer::evaluate(PrimarySampleVector& u, Rng& rng, int length,
   }
   // BDPT: every strategy of the two subpaths, as the bdpt integrator forms them.
   generate_camera_subpath(scene_, camera_stream, raster, u_lens,
-                          {max_edges_ + 1, settings_.rr_depth}, scratch.camera);
-  generate_light_subpath(scene_, light_stream, {max_edges_, settings_.rr_depth}, scratch.light);
+                          {max_edges_ + 1, subpath_rr_depth(settings_.rr_depth)}, scratch.camera);
+  generate_light_subpath(scene_, light_stream, {max_edges_, subpath_rr_depth(settings_.rr_depth)},
+                         scratch.light);
   for (int t = 1; t <= int(scratch.camera.size()); ++t)
     for (int s = 0; s <= int(scratch.light.size()); ++s) {
       const int segments = s + t - 1;

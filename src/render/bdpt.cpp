@@ -78,8 +78,8 @@ class BdptSampler {
                                         : std::min(settings.max_depth, kMaxPathVertices - 1);
     // A path of max_depth segments has max_depth + 1 vertices: s = 0 needs them all on the
     // camera side, t = 1 needs max_depth on the light side.
-    camera_limits_ = {max_depth_ + 1, settings.rr_depth};
-    light_limits_ = {max_depth_, settings.rr_depth};
+    camera_limits_ = {max_depth_ + 1, subpath_rr_depth(settings.rr_depth)};
+    light_limits_ = {max_depth_, subpath_rr_depth(settings.rr_depth)};
   }
 
   // One sample at `raster`: camera-side contributions go to `pixel` (and the pixel's

@@ -431,10 +431,12 @@ TEST(DiracConvention, RefractionValuesAreTheSameFromEitherSide) {
   std::printf("[ info     ] %d refractions; worst radiance/importance mismatch %.2e, worst to stored %.2e\n",
               refractions, worst_between_modes, worst_to_stored);
   EXPECT_GT(refractions, 50) << "the glass sphere must be crossed often enough to test";
-  // Measured: 4.1e-3 between modes, 1.2e-2 to stored; with the sqrt(cos) term dropped from
-  // dirac_crossing_factor the modes differ by 3.4 (342 %).
-  EXPECT_LT(worst_between_modes, 1e-2);
-  EXPECT_LT(worst_to_stored, 3e-2);
+  // Measured: 1.6e-2 between modes, 4.4e-2 to stored, both at grazing refractions, where
+  // float cosines lose their relative precision (4.1e-3 and 1.2e-2 on the paths the
+  // bootstrap drew before its subpaths' roulette started a segment earlier); with the
+  // sqrt(cos) term dropped from dirac_crossing_factor the modes differ by 3.4 (342 %).
+  EXPECT_LT(worst_between_modes, 3e-2);
+  EXPECT_LT(worst_to_stored, 8e-2);
 }
 
 }  // namespace

@@ -315,3 +315,46 @@ TEST(Connection, CameraVertexRasterIsWhereThePathLands) {
   }
   EXPECT_GT(lens_vertices, 50);
 }
+
+// Russian roulette in the bidirectional walks starts where Mitsuba's bidirectional
+// integrators start it for the same rrDepth: it may end a subpath's rrDepth-th segment
+// (subpath_rr_depth). Inside a closed sphere little but the roulette ends a walk, so with
+// rrDepth 3 the subpaths have at least 2 segments, and many exactly 2 (the roulette's
+// survival there is the throughput, 0.5 per bounce). Counting from one segment later left
+// every subpath at least 3 segments long.
+TEST(RandomWalk, BidirectionalRouletteStartsAtMitsubasSegment) {
+  const auto dir = test::scratch_dir("walk-roulette");
+  const std::string path = test::write_file(dir, "sphere.json", R"({
+    "camera": {"lookat": {"origin": [0, 0, 0], "target": [0, 0, 1], "up": [0, 1, 0]},
+               "fov": 40, "width": 16, "height": 16},
+    "integrator": {"type": "bdpt", "max_depth": -1, "rr_depth": 3},
+    "materials": {"grey": {"type": "diffuse", "reflectance": [0.5, 0.5, 0.5]}},
+    "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 10, "flip_normals": true,
+                "material": "grey", "emission": [1, 1, 1]}]
+  })");
+  SceneDescription desc = load_scene_description(path, {});
+  const int rr_depth = 3;
+  ASSERT_EQ(desc.defaults.rr_depth, rr_depth);
+  const auto scene = Scene::build(std::move(desc));
+  const WalkLimits limits{64, subpath_rr_depth(rr_depth)};
+  Rng rng(11, 0);
+  PathVertices subpath;
+  std::vector<int> camera_segments(64, 0), light_segments(64, 0);
+  for (int i = 0; i < 4000; ++i) {
+    generate_camera_subpath(*scene, rng, rng.uniform2() * 16.0f, rng.uniform2(), limits, subpath);
+    ASSERT_GE(subpath.size(), 2u);
+    ++camera_segments[subpath.size() - 1];
+    generate_light_subpath(*scene, rng, limits, subpath);
+    ASSERT_GE(subpath.size(), 2u);
+    ++light_segments[subpath.size() - 1];
+  }
+  // Before the roulette only the rare grazing ray that slips off the sphere's tangent
+  // ends a walk (3 light subpaths of 4000 here).
+  for (int k = 0; k < rr_depth - 1; ++k) {
+    EXPECT_LT(camera_segments[size_t(k)], 20) << k << " segments";
+    EXPECT_LT(light_segments[size_t(k)], 20) << k << " segments";
+  }
+  // About half of the subpaths stop at the first roulette (survival 0.5).
+  EXPECT_GT(camera_segments[size_t(rr_depth - 1)], 1000);
+  EXPECT_GT(light_segments[size_t(rr_depth - 1)], 1000);
+}

@@ -5,6 +5,7 @@
 // lens) z1 .... Every new vertex gets its density from its predecessor in the walk's
 // direction, and the predecessor's predecessor gets its density in the other direction
 // (BsdfSample::pdf_reverse), both converted as vertex.h describes.
+#include <algorithm>
 #include <vector>
 
 #include "emlt/core/rng.h"
@@ -18,6 +19,16 @@ struct WalkLimits {
   int max_vertices = 2;  // the subpath's length cap, endpoint included
   int rr_depth = -1;     // Russian roulette once the subpath has this many segments; -1: never
 };
+
+// WalkLimits::rr_depth of a bidirectional estimator (bdpt, PSSMLT's bdpt tracer, the MLT
+// bootstrap) for the scene's rrDepth: roulette may end a subpath from its rr_depth-th
+// segment on, where Mitsuba's bidirectional integrators start it (they count a supernode
+// ahead of each subpath's endpoint, `t >= rrDepth`). Starting one segment later made a
+// bdpt sample trace a fifth more rays than Mitsuba's for the same rrDepth, for less than
+// that in variance (docs/performance.md). The path tracer keeps "after rr_depth segments".
+inline int subpath_rr_depth(int rr_depth) {
+  return rr_depth < 0 ? -1 : std::max(rr_depth - 1, 0);
+}
 
 // Samples a light (by power), an emission ray and then walks in importance mode.
 // Clears `subpath`; returns its vertex count (0 when no light emits).

@@ -28,7 +28,8 @@ struct RenderSettings {
   int threads = 0;  // 0: all hardware threads
   int width = 0, height = 0;  // 0: from the scene
   int max_depth = -1;  // longest path in segments; -1 = unlimited (Russian roulette ends it)
-  int rr_depth = 5;  // Russian roulette starts after this many segments
+  int rr_depth = 5;    // Russian roulette starts after this many segments (a bidirectional
+                       // subpath: at this segment, as Mitsuba's; see subpath_rr_depth)
   // Mitsuba's hideEmitters: light that reaches the camera without scattering (paths of one
   // segment: an emitter or the sky seen directly) is left out, by every integrator.
   bool hide_emitters = false;
