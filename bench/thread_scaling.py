@@ -11,6 +11,8 @@ loading, BVH build and writing the image), and the CPU time over T_1's (above 1:
 spinning or contending). --ceiling also runs n single-thread renders at once and gives T_1
 over the slowest of them: the machine's own ceiling (shared caches, memory bandwidth, turbo),
 which no threading of emlt's can beat; --ceiling-at 4,8,16 measures it at those counts too.
+--mitsuba BINARY renders pt, bdpt and mlt with Mitsuba 0.6 at the same counts and work, so
+that a mature renderer's efficiency on the same machine stands beside emlt's.
 --compute-ceiling does the same for a loop that touches no memory beyond the core's own
 caches (a Python loop): where even that slows down with n copies, the loss is the
 processors' (shared physical cores, clocks), not memory. --variant LABEL=BUILD_DIR runs a
@@ -82,6 +84,22 @@ def table(figures, counts):
             lines.append(f"| {f['scene']} | {method} | {label} ({n} threads) | {main_run['wall_s']:.2f}, "
                          f"{one['wall_s'] / (int(n) * main_run['wall_s']):.2f} | {r['wall_s']:.2f}, "
                          f"{one['wall_s'] / (int(n) * r['wall_s']):.2f} |")
+    mitsuba = [(f, method, runs) for f in figures for method, runs in f["runs"].items()
+               if "mitsuba:1" in runs]
+    if mitsuba:
+        lines += ["", "Mitsuba 0.6 on the same machine, same scene files and work: T1 s, then wall s and "
+                  "efficiency at each count, beside emlt's efficiency.", "",
+                  "| scene | method | Mitsuba T1 s | " +
+                  " | ".join(f"{n} threads: Mitsuba s, efficiency; emlt's" for n in counts[1:]) + " |",
+                  "|" + "---|" * (3 + len(counts) - 1)]
+        for f, method, runs in mitsuba:
+            one, mine = runs["mitsuba:1"], runs["1"]
+            cells = []
+            for n in counts[1:]:
+                r, e = runs.get(f"mitsuba:{n}"), runs.get(str(n))
+                cells.append(f"{r['wall_s']:.2f}, {one['wall_s'] / (n * r['wall_s']):.2f}; "
+                             f"{mine['wall_s'] / (n * e['wall_s']):.2f}" if r and e else "")
+            lines.append(f"| {f['scene']} | {method} | {one['wall_s']:.2f} | " + " | ".join(cells) + " |")
     compute = figures[0].get("compute_ceiling")
     if compute:
         lines += ["", "Compute-only ceiling (n copies of a cache-resident loop, T1 over the slowest): " +
@@ -109,6 +127,8 @@ def main():
     parser.add_argument("--ceiling-at", help="counts at which to measure the ceiling (default: the largest)")
     parser.add_argument("--compute-ceiling", action="store_true",
                         help="also the ceiling of a cache-resident loop at every count")
+    parser.add_argument("--mitsuba", default=os.environ.get("MITSUBA"),
+                        help="Mitsuba 0.6 binary: its pt, bdpt and mlt at the same counts")
     parser.add_argument("--variant", action="append", default=[], metavar="LABEL=BUILD_DIR",
                         help="another build's emlt, run at the largest count beside the main one")
     args = parser.parse_args()
@@ -143,6 +163,11 @@ def main():
         if not label or not build or "@" in label or not os.access(os.path.join(build, "emlt"), os.X_OK):
             sys.exit(f"thread_scaling: --variant {spec}: want LABEL=BUILD_DIR holding an emlt binary")
         variants.append((label, os.path.join(os.path.abspath(build), "emlt")))
+    if args.mitsuba:
+        if not os.access(args.mitsuba, os.X_OK):
+            sys.exit(f"thread_scaling: --mitsuba {args.mitsuba}: not an executable")
+        os.environ["LD_LIBRARY_PATH"] = os.path.dirname(os.path.abspath(args.mitsuba)) + \
+            (":" + os.environ["LD_LIBRARY_PATH"] if os.environ.get("LD_LIBRARY_PATH") else "")
     runner = suite.Suite(args)
     ceiling_counts = thread_counts("--ceiling-at", args.ceiling_at) if args.ceiling_at else counts[-1:]
     compute = compute_ceiling(counts) if args.compute_ceiling else None
@@ -161,6 +186,11 @@ def main():
             for n in counts:
                 runs[str(n)] = runner.emlt_render(scene, method, count, n)
                 print(f"{scene.name} {method} {n} threads: {runs[str(n)]['wall_s']:.2f} s", flush=True)
+                if args.mitsuba and method in ("pt", "bdpt", "mlt"):
+                    # Right after emlt's run at the same count: both see about the same machine.
+                    runs[f"mitsuba:{n}"] = runner.mitsuba(scene, method, count, n)
+                    print(f"{scene.name} {method} {n} threads, Mitsuba: "
+                          f"{runs[f'mitsuba:{n}']['wall_s']:.2f} s", flush=True)
             # Variants alternate with the main build, --pairs times, on a machine whose speed
             # drifts; each keeps its median run, the main build's runs included.
             if variants and method in args.variant_methods.split(","):
