@@ -180,14 +180,24 @@ Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& p) {
     }
   }
   result.samples = uint64_t(std::max(p.samples, 0));
-  double sum = 0.0, sum_squares = 0.0;
+  size_t count = 0;
+  for (const Block& block : results) count += block.candidates.size();
+  // Reserved: grown one candidate at a time, this serial merge of the Cornell box's 880,000
+  // candidates took 0.027-0.030 s on the 2-core machine; reserved, 0.013 s (a 16-thread
+  // bootstrap takes 0.09 s in all).
+  result.candidates.reserve(count);
+  result.cumulative.reserve(count);
+  double sum = 0.0, sum_squares = 0.0, running = 0.0;
   for (Block& block : results) {  // block order: the same pool at any thread count
     sum += block.sum;
     sum_squares += block.sum_squares;
-    for (const auto& c : block.candidates) {
-      result.candidates.push_back(c);
-      result.cumulative.push_back((result.cumulative.empty() ? 0.0 : result.cumulative.back()) + c.weight);
+    result.candidates.insert(result.candidates.end(), block.candidates.begin(),
+                             block.candidates.end());
+    for (const BootstrapCandidate& c : block.candidates) {
+      running += c.weight;
+      result.cumulative.push_back(running);
     }
+    block.candidates = {};
   }
   if (result.samples > 0) {
     const double n = double(result.samples);

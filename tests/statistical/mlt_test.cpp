@@ -488,6 +488,51 @@ TEST(MltBootstrap, RebuiltSeedsAreTheEnumeratedPathsBitForBit) {
   EXPECT_GT(light_tracing, 20);  // the lens-point skipping was exercised
 }
 
+// The pool's bits do not depend on how its sampling is split among threads: candidates in
+// sample order, their running sums, and b summed as 64 blocks of consecutive samples, each
+// block's per-sample totals in sample order (the sampling itself runs as four tasks a block).
+TEST(MltBootstrap, PoolHasTheSameBitsAtAnyThreadCount) {
+  const auto scene = small_scene("cornell-box", 16);
+  BootstrapParams p;
+  p.samples = 6001;  // not a multiple of 64 or 256: uneven blocks and pieces
+  p.max_edges = 8;
+  p.threads = 1;
+  const Bootstrap one = run_bootstrap(*scene, p);
+  ASSERT_GT(one.candidates.size(), size_t(p.samples));
+  // b from the candidates by the definition above.
+  std::vector<double> totals(size_t(p.samples), 0.0);
+  for (const BootstrapCandidate& c : one.candidates) totals[c.sample] += c.weight;
+  double sum = 0.0;
+  for (int block = 0; block < 64; ++block) {
+    double block_sum = 0.0;
+    for (int64_t i = int64_t(p.samples) * block / 64; i < int64_t(p.samples) * (block + 1) / 64;
+         ++i)
+      block_sum += totals[size_t(i)];
+    sum += block_sum;
+  }
+  EXPECT_EQ(one.b, sum / double(p.samples));
+  double running = 0.0;
+  for (size_t i = 0; i < one.candidates.size(); ++i) {
+    if (i > 0) {
+      ASSERT_LE(one.candidates[i - 1].sample, one.candidates[i].sample);
+    }
+    running += one.candidates[i].weight;
+    ASSERT_EQ(one.cumulative[i], running) << i;
+  }
+  for (const int threads : {2, 7}) {
+    p.threads = threads;
+    const Bootstrap many = run_bootstrap(*scene, p);
+    EXPECT_EQ(many.b, one.b) << threads << " threads";
+    EXPECT_EQ(many.standard_error, one.standard_error);
+    ASSERT_EQ(many.candidates.size(), one.candidates.size());
+    for (size_t i = 0; i < one.candidates.size(); ++i) {
+      const BootstrapCandidate &a = many.candidates[i], &c = one.candidates[i];
+      ASSERT_TRUE(a.sample == c.sample && a.s == c.s && a.t == c.t && a.weight == c.weight) << i;
+    }
+    EXPECT_EQ(many.cumulative, one.cumulative);
+  }
+}
+
 TEST(MltBootstrap, EffectiveCandidatesCountEqualWeightsOnceAndHeavyOnesAsFew) {
   Bootstrap pool;
   for (int i = 0; i < 8; ++i) pool.candidates.push_back({uint32_t(i), 1, 2, 0.5f});
