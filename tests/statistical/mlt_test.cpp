@@ -489,12 +489,12 @@ TEST(MltBootstrap, RebuiltSeedsAreTheEnumeratedPathsBitForBit) {
 }
 
 // The pool's bits do not depend on how its sampling is split among threads: candidates in
-// sample order, their running sums, and b summed as 64 blocks of consecutive samples, each
-// block's per-sample totals in sample order (the sampling itself runs as four tasks a block).
+// sample order, their running sums over the whole pool, and b summed as 64 blocks of
+// consecutive samples, each block's per-sample totals in sample order.
 TEST(MltBootstrap, PoolHasTheSameBitsAtAnyThreadCount) {
   const auto scene = small_scene("cornell-box", 16);
   BootstrapParams p;
-  p.samples = 6001;  // not a multiple of 64 or 256: uneven blocks and pieces
+  p.samples = 6001;  // not a multiple of 64: blocks of uneven size
   p.max_edges = 8;
   p.threads = 1;
   const Bootstrap one = run_bootstrap(*scene, p);
