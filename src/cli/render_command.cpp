@@ -98,7 +98,10 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
   command.add_option("--chains", s.chains, "mlt: independent chains (0 = from the budget)")
       ->check(whole_number(0, 1 << 20,
                            "1 to 2^20 (about a million), or 0 to choose from the budget"));
-  command.add_option("--bootstrap", s.bootstrap_samples, "mlt: BDPT samples for b and the seeds")
+  command
+      .add_option("--bootstrap", s.bootstrap_samples,
+                  "mlt family: BDPT samples for b and the chains' seeds (default: 100000, grown "
+                  "while the pool is worth fewer than two candidates a chain)")
       ->check(whole_number(1, kMaxBootstrapSamples,
                            "a whole number from 1 to 2^24 (about 16.8 million)"));
   command.add_option("--bootstrap-seed", s.bootstrap_seed,
@@ -195,7 +198,10 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   if (given("--mpp")) settings.mutations_per_pixel = cli.mutations_per_pixel;
   if (given("--time") && !given("--mpp")) settings.mutations_per_pixel = 0.0;
   if (given("--chains")) settings.chains = cli.chains;
-  if (given("--bootstrap")) settings.bootstrap_samples = cli.bootstrap_samples;
+  if (given("--bootstrap")) {
+    settings.bootstrap_samples = cli.bootstrap_samples;
+    settings.bootstrap_grows = false;
+  }
   if (given("--bootstrap-seed")) settings.bootstrap_seed = cli.bootstrap_seed;
   if (given("--mutations")) settings.mutations = cli.mutations;
   if (given("--direct")) settings.direct_separate = o.direct_mode == "separate";

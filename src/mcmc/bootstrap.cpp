@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <functional>
+#include <stdexcept>
 
 #include "emlt/core/cluster.h"
 #include "emlt/core/state_io.h"
@@ -110,7 +112,12 @@ double Bootstrap::effective_candidates() const {
   return sum_squares > 0.0 ? sum * sum / sum_squares : 0.0;
 }
 
-Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& p) {
+void grow_bootstrap(const Scene& scene, const BootstrapParams& p, uint64_t total, Bootstrap& pool) {
+  if (total <= pool.samples) return;
+  if (total > uint64_t(UINT32_MAX)) throw std::invalid_argument("bootstrap: too many samples");
+  // Samples [start, total) in 64 blocks of consecutive samples, merged in block order after
+  // the pool's own: the candidates then sit in sample order, as one run over [0, total).
+  const uint64_t start = pool.samples, count = total - start;
   const int blocks = 64;
   // A line each: neighbouring blocks run on different threads, and each sample writes its
   // block's sums and the pool's end pointer.
@@ -131,8 +138,8 @@ Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& p) {
     tbb::parallel_for(int(first_block), int(last_block), [&](int block) {
       SampleScratch scratch;
       Block& out = results[size_t(block)];
-      const uint32_t first = uint32_t(int64_t(p.samples) * block / blocks);
-      const uint32_t last = uint32_t(int64_t(p.samples) * (block + 1) / blocks);
+      const uint32_t first = uint32_t(start + count * uint64_t(block) / blocks);
+      const uint32_t last = uint32_t(start + count * uint64_t(block + 1) / blocks);
       for (uint32_t sample = first; sample < last; ++sample) {
         // A stop signal abandons the bootstrap (it is rerun on resume); a checkpoint falling
         // due waits for it, as it takes seconds at most.
@@ -140,27 +147,27 @@ Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& p) {
           interrupted = true;
           break;
         }
-        double total = 0.0;
+        double sample_total = 0.0;
         enumerate_sample(scene, p, sample, scratch,
                          [&](int s, int t, const Rgb& c, auto, auto) {
                            const float weight = luminance(c);
                            if (weight > 0.0f) {
                              out.candidates.push_back({sample, uint8_t(s), uint8_t(t), weight});
-                             total += weight;
+                             sample_total += weight;
                            }
                            return true;
                          });
-        out.sum += total;
-        out.sum_squares += total * total;
+        out.sum += sample_total;
+        out.sum_squares += sample_total * sample_total;
       }
     });
   });
 
-  Bootstrap result;
-  result.interrupted = interrupted.load();
+  Bootstrap& result = pool;
+  bool any_interrupted = interrupted.load();
   if (cluster::size() > 1) {
     StateWriter mine;
-    mine.put<uint8_t>(result.interrupted);
+    mine.put<uint8_t>(any_interrupted);
     for (uint64_t b = first_block; b < last_block; ++b) {
       mine.put<uint64_t>(b);
       mine.put(results[b].sum);
@@ -169,7 +176,7 @@ Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& p) {
     }
     for (const std::string_view part : cluster::gather_everywhere(mine.data())) {
       StateReader in(part);
-      result.interrupted |= in.get<uint8_t>() != 0;
+      any_interrupted |= in.get<uint8_t>() != 0;
       while (in.remaining() > 0) {
         Block& block = results.at(in.get<uint64_t>());
         block.sum = in.get<double>();
@@ -179,15 +186,17 @@ Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& p) {
       }
     }
   }
-  result.samples = uint64_t(std::max(p.samples, 0));
-  size_t count = 0;
-  for (const Block& block : results) count += block.candidates.size();
+  result.interrupted |= any_interrupted;
+  result.samples = total;
+  size_t added = 0;
+  for (const Block& block : results) added += block.candidates.size();
   // Reserved: grown one candidate at a time, this serial merge of the Cornell box's 880,000
   // candidates took 0.027-0.030 s on the 2-core machine; reserved, 0.013-0.014 s in two runs
   // of three (the whole bootstrap took 0.09 s at 16 threads on a lent 16-core machine).
-  result.candidates.reserve(count);
-  result.cumulative.reserve(count);
-  double sum = 0.0, sum_squares = 0.0, running = 0.0;
+  result.candidates.reserve(result.candidates.size() + added);
+  result.cumulative.reserve(result.cumulative.size() + added);
+  double sum = result.sum, sum_squares = result.sum_squares;
+  double running = result.cumulative.empty() ? 0.0 : result.cumulative.back();
   for (Block& block : results) {  // block order: the same pool at any thread count
     sum += block.sum;
     sum_squares += block.sum_squares;
@@ -199,12 +208,29 @@ Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& p) {
     }
     block.candidates = {};
   }
+  result.sum = sum;
+  result.sum_squares = sum_squares;
   if (result.samples > 0) {
     const double n = double(result.samples);
     result.b = sum / n;
     result.standard_error = std::sqrt(std::max(sum_squares / n - result.b * result.b, 0.0) / n);
   }
-  return result;
+}
+
+Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& p) {
+  Bootstrap pool;
+  grow_bootstrap(scene, p, uint64_t(std::max(p.samples, 0)), pool);
+  return pool;
+}
+
+uint64_t grown_bootstrap_samples(uint64_t samples, double effective, uint64_t chains,
+                                 uint64_t cap) {
+  const double wanted_effective = 2.0 * double(chains);
+  if (samples == 0 || !(effective > 0.0) || effective >= wanted_effective || cap <= samples)
+    return samples;
+  // The pool's worth grows in proportion to its samples (they are independent).
+  const double wanted = std::ceil(double(samples) * wanted_effective / effective);
+  return wanted >= double(cap) ? cap : std::max(samples, uint64_t(wanted));
 }
 
 std::optional<Path> rebuild_candidate_by_enumeration(const Scene& scene,

@@ -164,10 +164,13 @@ TEST(EmltUnbiased, AnisotropicAndLinearPresetsConvergeOnTheCornellBox) {
 }
 
 TEST(EmltUnbiased, FullMixAndPresetsConvergeOnTheDoorScene) {
+  // The same tolerance as plain MLT's at this budget (geometry_aware_test.cpp), on the mean
+  // of two seeds of 4,000 mutations per pixel each: a single seed's worst 2 x 2 tile is
+  // heavy-tailed on this scene (emlt-lin, seeds 1-8: 0.035-0.18, seed 6 above 0.15), the
+  // mean of two 0.03-0.095 (8 pairs).
   EmltRun run;
-  run.mpp = 4000;
-  // The same tolerance as plain MLT's at this budget (geometry_aware_test.cpp).
-  expect_mixes_converge("door-ajar", {kEmltMix, "emlt-ani", "emlt-lin"}, run, 0.15, 0.05);
+  run.mpp = 8000;
+  expect_mixes_converge("door-ajar", {kEmltMix, "emlt-ani", "emlt-lin"}, run, 0.15, 0.05, 0.0, 2);
 }
 
 TEST(EmltUnbiased, CausticAndMultiChainConvergeThroughGlass) {

@@ -533,6 +533,85 @@ TEST(MltBootstrap, PoolHasTheSameBitsAtAnyThreadCount) {
   }
 }
 
+// A pool grown in a second round is the one a single run over all its samples draws: the
+// same candidates in the same order, b and the running sums equal but for rounding (they
+// are summed in other groups). With the second round's samples starting again at 0
+// (injected) the candidates differ at once; with its running sums restarted, from the first
+// candidate of the second round.
+TEST(MltBootstrap, GrownPoolIsTheOneRunAtOnce) {
+  const auto scene = small_scene("cornell-box", 16);
+  BootstrapParams p;
+  p.samples = 6001;
+  p.max_edges = 8;
+  p.threads = 1;
+  const Bootstrap whole = run_bootstrap(*scene, p);
+  p.samples = 2500;
+  p.threads = 2;
+  Bootstrap grown = run_bootstrap(*scene, p);
+  const size_t first_round = grown.candidates.size();
+  ASSERT_GT(first_round, size_t(0));
+  grow_bootstrap(*scene, p, 6001, grown);
+  EXPECT_FALSE(grown.interrupted);
+  EXPECT_EQ(grown.samples, uint64_t(6001));
+  ASSERT_EQ(grown.candidates.size(), whole.candidates.size());
+  ASSERT_GT(whole.candidates.size(), first_round);
+  for (size_t i = 0; i < whole.candidates.size(); ++i) {
+    const BootstrapCandidate &a = grown.candidates[i], &c = whole.candidates[i];
+    ASSERT_TRUE(a.sample == c.sample && a.s == c.s && a.t == c.t && a.weight == c.weight) << i;
+    ASSERT_NEAR(grown.cumulative[i], whole.cumulative[i], 1e-12 * whole.cumulative.back()) << i;
+  }
+  EXPECT_NEAR(grown.b, whole.b, 1e-12 * whole.b);
+  EXPECT_NEAR(grown.standard_error, whole.standard_error, 1e-9 * whole.standard_error);
+  // Growing to fewer samples than it has leaves the pool as it is.
+  grow_bootstrap(*scene, p, 3000, grown);
+  EXPECT_EQ(grown.samples, uint64_t(6001));
+  EXPECT_EQ(grown.candidates.size(), whole.candidates.size());
+}
+
+// The rule: grown until worth two candidates a chain, in proportion to its samples, within
+// the cap; never shrunk. Public door figures: 100,000 samples worth 7,950 candidates for
+// 16,384 chains.
+TEST(MltBootstrap, PoolGrowsToTwoCandidatesAChainWithinItsCap) {
+  EXPECT_EQ(grown_bootstrap_samples(100000, 7950.0, 16384, 10000000), uint64_t(412177));
+  EXPECT_EQ(grown_bootstrap_samples(100000, 7950.0, 16384, 393216), uint64_t(393216));
+  EXPECT_EQ(grown_bootstrap_samples(100000, 40000.0, 16384, 10000000), uint64_t(100000));
+  EXPECT_EQ(grown_bootstrap_samples(100000, 32768.0, 16384, 10000000), uint64_t(100000));
+  EXPECT_EQ(grown_bootstrap_samples(100000, 7950.0, 16384, 50000), uint64_t(100000));
+  EXPECT_EQ(grown_bootstrap_samples(100000, 0.0, 16384, 10000000), uint64_t(100000));
+  EXPECT_EQ(grown_bootstrap_samples(0, 0.0, 16384, 10000000), uint64_t(0));
+}
+
+// In a render: many chains on a small first round grow the pool to the cap (a thirty-second
+// of the planned mutations: 2,048 samples here), the same bits at any thread count, and the
+// image still converges to BDPT's. Given --bootstrap (bootstrap_grows off), it stays.
+TEST(MltBootstrap, RenderGrowsASmallPoolAndStillConvergesToBdpt) {
+  const auto scene = small_scene("cornell-box", 16);
+  RenderSettings s = mlt_settings(-1, true);
+  s.mutations = "";
+  s.chains = 8192;
+  s.mutations_per_pixel = 256;  // 65,536 mutations: 8 steps a chain, a cap of 2,048 samples
+  s.bootstrap_samples = 300;
+  s.direct_spp = 256;
+  s.threads = 1;
+  const MltIntegrator mlt;
+  ProgressReporter quiet(false);
+  s.progress = false;
+  const Image one = mlt.render(*scene, s, quiet).image;
+  EXPECT_EQ(mlt.statistics().bootstrap_samples, uint64_t(2048));
+  EXPECT_LT(mlt.statistics().bootstrap_effective_candidates, 2.0 * 8192);
+  s.threads = 2;
+  const Image two = mlt.render(*scene, s, quiet).image;
+  EXPECT_EQ(0, std::memcmp(one.pixels.data(), two.pixels.data(), one.pixels.size() * sizeof(Rgb)));
+  RenderSettings r;
+  r.spp = 512;
+  const Image reference = render(BidirectionalPathTracer(), *scene, r).image;
+  const DVec3 a = mean_of(two), b = mean_of(reference);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c] / b[c], 1.0, 0.05) << "channel " << c;
+  s.bootstrap_grows = false;
+  mlt.render(*scene, s, quiet);
+  EXPECT_EQ(mlt.statistics().bootstrap_samples, uint64_t(300));
+}
+
 TEST(MltBootstrap, EffectiveCandidatesCountEqualWeightsOnceAndHeavyOnesAsFew) {
   Bootstrap pool;
   for (int i = 0; i < 8; ++i) pool.candidates.push_back({uint32_t(i), 1, 2, 0.5f});

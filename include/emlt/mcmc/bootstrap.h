@@ -36,6 +36,7 @@ struct Bootstrap {
   uint64_t samples = 0;
   std::vector<BootstrapCandidate> candidates;
   std::vector<double> cumulative;  // running sum of candidate weights
+  double sum = 0.0, sum_squares = 0.0;  // of the samples' summed weights (b's, for growing)
   bool interrupted = false;        // a stop signal cut it short: not to be used
 
   bool empty() const { return candidates.empty() || !(b > 0.0); }
@@ -46,7 +47,21 @@ struct Bootstrap {
   size_t choose(double u) const;
 };
 
+// Samples [0, params.samples).
 Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& params);
+// Adds samples [pool.samples, total) to a pool drawn with the same params: the same
+// candidates, in the same order, as a run over [0, total) at once (b may differ in its last
+// bits, being summed in other groups). A stop signal marks the pool interrupted.
+void grow_bootstrap(const Scene& scene, const BootstrapParams& params, uint64_t total,
+                    Bootstrap& pool);
+
+// How many samples the pool should have, given what `samples` of them are worth
+// (effective_candidates) and the chains they seed: chains seeded from a pool worth fewer
+// candidates than chains restart from its few bright paths, and short chains keep that noise
+// in the image (on the public door at 128 mutations per pixel, 70 % of the variance;
+// docs/performance.md, "The pool's share, measured"). Grown until it is worth two candidates
+// a chain, never beyond `cap`, never shrunk.
+uint64_t grown_bootstrap_samples(uint64_t samples, double effective, uint64_t chains, uint64_t cap);
 
 // The candidate's path, rebuilt from its sample's stream (densities filled in): its
 // subpaths and its one connection.

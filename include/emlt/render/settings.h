@@ -43,6 +43,9 @@ struct RenderSettings {
   double mutations_per_pixel = 16.0;      // --mpp: total mutations = mpp * width * height
   int chains = 0;                          // 0: chosen from the budget (reported)
   int bootstrap_samples = 100000;          // BDPT samples for b and the chains' seeds
+  // Unless --bootstrap is given, the mlt family's pool then grows while it is worth fewer
+  // than two candidates a chain, within a share of the budget (bootstrap.h).
+  bool bootstrap_grows = true;
   // --bootstrap-seed: the stream of the bootstrap and of the chains' start paths, when it
   // should stay fixed while --seed varies the chains (as Mitsuba's MLT, whose luminance pass
   // and seed paths come from one fixed stream): the variance across --seed is then the
