@@ -43,8 +43,10 @@ CheckpointHeader CheckpointHeader::describe(const SceneDescription& desc,
   add("--direct-samples", number(s.direct_samples));
   add("--direct-sampler", s.direct_point_set == DirectPointSet::Fibonacci ? "fibonacci" : "independent");
   add("--chains", s.chains > 0 ? number(s.chains) : "(from the budget)");
-  add("--bootstrap", s.bootstrap_grows ? number(s.bootstrap_samples) + " (grown as needed)"
-                                       : number(s.bootstrap_samples));
+  // Only the path-space MLT family grows its pool (mlt_integrator.cpp).
+  const bool grows = s.bootstrap_grows &&
+                     (s.integrator == "mlt" || s.integrator == "gamlt" || s.integrator == "emlt");
+  add("--bootstrap", number(s.bootstrap_samples) + (grows ? " (grown as needed)" : ""));
   add("--bootstrap-seed", s.bootstrap_seed ? number(*s.bootstrap_seed) : "(--seed)");
   add("--mutations", s.mutations.empty() ? "(the integrator's own)" : s.mutations);
   add("--direct", s.direct_separate ? "separate" : "mlt");

@@ -100,8 +100,9 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
                            "1 to 2^20 (about a million), or 0 to choose from the budget"));
   command
       .add_option("--bootstrap", s.bootstrap_samples,
-                  "mlt family: BDPT samples for b and the chains' seeds (default: 100000, grown "
-                  "while the pool is worth fewer than two candidates a chain)")
+                  "mlt family: BDPT samples for b and the chains' seeds (default: 100000; for "
+                  "mlt, gamlt and emlt then grown while the pool is worth fewer than two "
+                  "candidates a chain)")
       ->check(whole_number(1, kMaxBootstrapSamples,
                            "a whole number from 1 to 2^24 (about 16.8 million)"));
   command.add_option("--bootstrap-seed", s.bootstrap_seed,
