@@ -233,6 +233,23 @@ uint64_t grown_bootstrap_samples(uint64_t samples, double effective, uint64_t ch
   return wanted >= double(cap) ? cap : std::max(samples, uint64_t(wanted));
 }
 
+uint64_t bootstrap_time_cap(uint64_t samples, double time_limit_s, double first_round_seconds) {
+  if (!(time_limit_s > 0.0)) return UINT64_MAX;
+  const double figure = double(samples) * 0.2 * time_limit_s / std::max(first_round_seconds, 1e-3);
+  return figure >= double(UINT64_MAX) ? UINT64_MAX : uint64_t(figure);
+}
+
+uint64_t bootstrap_growth_cap(uint64_t samples, size_t candidates, uint64_t planned_mutations,
+                              uint64_t time_cap) {
+  uint64_t cap = std::min<uint64_t>(16 * samples, uint64_t(UINT32_MAX));
+  if (planned_mutations != UINT64_MAX) cap = std::min(cap, planned_mutations / 32);
+  cap = std::min(cap, time_cap);
+  constexpr double kMostCandidates = 4e6;
+  if (candidates > 0)
+    cap = std::min(cap, uint64_t(double(samples) * kMostCandidates / double(candidates)));
+  return std::max(cap, samples);
+}
+
 std::optional<Path> rebuild_candidate_by_enumeration(const Scene& scene,
                                                      const BootstrapParams& params,
                                                      const BootstrapCandidate& candidate) {

@@ -263,31 +263,6 @@ void write_move_map(const std::string& path, std::span<const FixedPointFilm> mov
 
 }  // namespace
 
-// The most samples a growing bootstrap pool may reach (grown_bootstrap_samples). A thirty-
-// second of the planned mutations: on the public door at 128 mutations per pixel that is
-// about 390,000 samples, a fifth of the render's time, where 400,000 halved the variance at
-// equal time (docs/performance.md, "The pool's share, measured"). Under a time budget, a
-// fifth of it at the first round's pace; the ranks of an MPI render agree on the larger
-// figure. Never more than 16 times the first round, nor a pool of more than 4 million
-// candidates (80 MB).
-static uint64_t bootstrap_growth_cap(const Bootstrap& first_round, uint64_t planned_mutations,
-                                     double time_limit_s, double first_round_seconds) {
-  const uint64_t samples = first_round.samples;
-  uint64_t cap = std::min<uint64_t>(16 * samples, uint64_t(UINT32_MAX));
-  if (planned_mutations != UINT64_MAX) cap = std::min(cap, planned_mutations / 32);
-  if (time_limit_s > 0.0) {
-    std::vector<uint64_t> by_time{uint64_t(std::min(
-        double(cap), double(samples) * 0.2 * time_limit_s / std::max(first_round_seconds, 1e-3)))};
-    cluster::max_everywhere(by_time);
-    cap = by_time[0];
-  }
-  const size_t candidates = first_round.candidates.size();
-  constexpr double kMostCandidates = 4e6;
-  if (candidates > 0)
-    cap = std::min(cap, uint64_t(double(samples) * kMostCandidates / double(candidates)));
-  return std::max(cap, samples);
-}
-
 // Many short chains: each starts from a bootstrap path resampled in proportion to its
 // contribution, so there is no start-up bias to run off, and more chains cover the image
 // more evenly than a few long ones that linger in bright regions. Measured on the door scene
@@ -410,10 +385,18 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     const double bootstrap_start = elapsed();
     Bootstrap bootstrap = run_bootstrap(scene, bp);
     if (settings.bootstrap_grows && !bootstrap.interrupted && !bootstrap.empty()) {
+      // The ranks of an MPI render agree on the larger time-bound figure (each timed its own
+      // first round), so that every rank grows the same pool.
+      std::vector<uint64_t> by_time{timed ? bootstrap_time_cap(bootstrap.samples,
+                                                               settings.time_limit_s,
+                                                               elapsed() - bootstrap_start)
+                                          : UINT64_MAX};
+      cluster::max_everywhere(by_time);
+      const uint64_t by_time_cap = by_time[0];
       const uint64_t grown = grown_bootstrap_samples(
           bootstrap.samples, bootstrap.effective_candidates(), uint64_t(chain_count),
-          bootstrap_growth_cap(bootstrap, planned, timed ? settings.time_limit_s : 0.0,
-                               elapsed() - bootstrap_start));
+          bootstrap_growth_cap(bootstrap.samples, bootstrap.candidates.size(), planned,
+                               by_time_cap));
       grow_bootstrap(scene, bp, grown, bootstrap);
     }
     // Every rank knows whether any rank's bootstrap was cut short (bootstrap.cpp); the

@@ -581,6 +581,61 @@ TEST(MltBootstrap, PoolGrowsToTwoCandidatesAChainWithinItsCap) {
   EXPECT_EQ(grown_bootstrap_samples(0, 0.0, 16384, 10000000), uint64_t(0));
 }
 
+// The cap's bounds, the smallest wins and the first round is never shrunk: a thirty-second
+// of the planned mutations, 16 times the first round, a pool of 4 million candidates, and a
+// fifth of a time budget at the first round's pace.
+TEST(MltBootstrap, GrowthCapIsTheSmallestOfItsBounds) {
+  constexpr uint64_t kNone = UINT64_MAX;
+  EXPECT_EQ(bootstrap_growth_cap(100000, 100000, kNone, kNone), uint64_t(1600000));
+  EXPECT_EQ(bootstrap_growth_cap(100000, 800000, kNone, kNone), uint64_t(500000));
+  EXPECT_EQ(bootstrap_growth_cap(100000, 100000, 384ull * 256 * 128, kNone), uint64_t(393216));
+  EXPECT_EQ(bootstrap_growth_cap(100000, 100000, kNone, 1125000), uint64_t(1125000));
+  EXPECT_EQ(bootstrap_growth_cap(100000, 100000, kNone, 50000), uint64_t(100000));
+  EXPECT_EQ(bootstrap_growth_cap(100000, 100000, 1000000, kNone), uint64_t(100000));
+  // 45 s at 100,000 samples in 0.8 s: a fifth of the budget is 1,125,000 samples.
+  EXPECT_EQ(bootstrap_time_cap(100000, 45.0, 0.8), uint64_t(1125000));
+  EXPECT_EQ(bootstrap_time_cap(100000, 2.0, 0.8), uint64_t(50000));
+  EXPECT_EQ(bootstrap_time_cap(1000, 1.0, 0.0), uint64_t(200000));  // at least a millisecond
+  EXPECT_EQ(bootstrap_time_cap(1000, 0.0, 0.5), kNone);             // no budget
+}
+
+// Under a time budget the pool grows to what a fifth of the budget draws at the first
+// round's pace, not to the other bounds. The budget is set to 12 times the first round
+// (timed here, as the render draws it): a fifth of it is about 2.4 first rounds, where the
+// chains would want 16 (the cap) without the budget. The bounds are loose: the second
+// render's first round may run at a third or three times the first's pace.
+TEST(MltBootstrap, TimedRenderGrowsItsPoolWithinAFifthOfTheBudget) {
+  const auto scene = small_scene("cornell-box", 16);
+  RenderSettings s = mlt_settings(-1, true);
+  s.mutations = "";
+  s.chains = 32768;
+  s.bootstrap_samples = 2000;
+  s.direct_spp = 1;
+  s.threads = 1;
+  s.progress = false;
+  ProgressReporter quiet(false);
+  const MltIntegrator mlt;
+  s.bootstrap_grows = false;
+  s.mutations_per_pixel = 1.0;
+  s.chains = 16;  // (seeding many chains would count in bootstrap_seconds)
+  mlt.render(*scene, s, quiet);
+  s.chains = 32768;
+  const double first_round = mlt.statistics().bootstrap_seconds;
+  const double worth = mlt.statistics().bootstrap_effective_candidates;
+  ASSERT_GT(first_round, 0.0);
+  // Without a budget the chains would want more than 16 first rounds.
+  ASSERT_GT(grown_bootstrap_samples(2000, worth, 32768, UINT64_MAX), uint64_t(16 * 2000));
+
+  s.bootstrap_grows = true;
+  s.mutations_per_pixel = 0.0;
+  s.time_limit_s = 12.0 * first_round;
+  mlt.render(*scene, s, quiet);
+  const MltStatistics& st = mlt.statistics();
+  EXPECT_GT(st.bootstrap_samples, uint64_t(2000));
+  EXPECT_LE(st.bootstrap_samples, uint64_t(8 * 2000));
+  EXPECT_GT(st.seconds, 0.9 * s.time_limit_s);
+}
+
 // In a render: many chains on a small first round grow the pool to the cap (a thirty-second
 // of the planned mutations: 2,048 samples here), the same bits at any thread count, and the
 // image still converges to BDPT's. Given --bootstrap (bootstrap_grows off), it stays.

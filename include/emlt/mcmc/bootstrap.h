@@ -63,6 +63,18 @@ void grow_bootstrap(const Scene& scene, const BootstrapParams& params, uint64_t 
 // a chain, never beyond `cap`, never shrunk.
 uint64_t grown_bootstrap_samples(uint64_t samples, double effective, uint64_t chains, uint64_t cap);
 
+// The most samples a growing pool may reach (the `cap` above). A thirty-second of the
+// planned mutations (UINT64_MAX: none planned): on the public door at 128 mutations per pixel
+// about 390,000 samples, where 400,000 halved the variance at equal time
+// (docs/performance.md, "The pool's share, measured"); `time_cap` (bootstrap_time_cap);
+// never more than 16 times the first round's `samples`, nor a pool of more than 4 million
+// candidates (80 MB) at the first round's `candidates` per sample; never fewer than `samples`.
+uint64_t bootstrap_growth_cap(uint64_t samples, size_t candidates, uint64_t planned_mutations,
+                              uint64_t time_cap);
+// Under a time budget, the samples a fifth of it draws at the first round's pace (`samples`
+// in `first_round_seconds`, taken as at least a millisecond); UINT64_MAX without a budget.
+uint64_t bootstrap_time_cap(uint64_t samples, double time_limit_s, double first_round_seconds);
+
 // The candidate's path, rebuilt from its sample's stream (densities filled in): its
 // subpaths and its one connection.
 std::optional<Path> rebuild_candidate(const Scene& scene, const BootstrapParams& params,
