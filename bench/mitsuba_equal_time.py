@@ -12,11 +12,15 @@ each image's mean over the reference's (the normalisation's error shows there).
   MITSUBA=.../dist/mitsuba bench/mitsuba_equal_time.py SCENE.xml --reference REF.exr \
       --out DIR [--mpp 384] [--seeds 1 2 3] [--size 384x256] [--variant LABEL="FLAGS" ...]
 
-Mitsuba's MLT draws its luminance pass and seed paths from a fixed stream (its replayable
-sampler's own generator), whatever the sampler's seed: its normalisation error and its chains'
-start paths are one draw shared by every seed, so its seeds' spread understates its error.
-Compare like with like: emlt with `--bootstrap-seed N` in a variant's flags (the same pool for
-every seed), or Mitsuba with --vary-luminance-pass (a new pool each seed, as emlt's default).
+Mitsuba 0.6 as released draws the same random numbers whatever the seed: its independent
+sampler ignores `seed` (the chains' mutations), and its MLT draws the luminance pass and the
+start paths from a generator seeded the same way every run. Its runs' spread then understates
+its error (on the door by about a quarter at 128 mutations per pixel: docs/performance.md,
+"Mitsuba's seeds"). Give
+MITSUBA a build edited by bench/seed_mitsuba.py and pass --vary-luminance-pass: each seed is
+then a new draw of everything, as emlt's are. The script checks that the binary honours the
+sampler's seed (two tiny renders must differ) and says so in its output and results.json.
+Compare like with like otherwise: emlt with `--bootstrap-seed N` in a variant's flags.
 """
 import argparse
 import json
@@ -40,6 +44,26 @@ def compare(reference, image):
     return json.loads(out.splitlines()[0])
 
 
+def mitsuba_honours_seed(mitsuba, scene, out):
+    """Whether two tiny path-traced renders of the scene with different sampler seeds differ
+    (Mitsuba 0.6 as released ignores the seed and gives the same bits)."""
+    variant = os.path.join(out, "mitsuba-seed-check.xml")
+    suite.mitsuba_variant(scene, "pt", 1, 16, 16, variant)
+    tree = ET.parse(variant)
+    for sampler in tree.getroot().iter("sampler"):
+        ET.SubElement(sampler, "integer", name="seed", value="$seed")
+    tree.write(variant)
+    images = []
+    for seed in (1, 2):
+        image = os.path.join(out, f"mitsuba-seed-check-{seed}.exr")
+        subprocess.run([mitsuba, "-q", "-p", "1", "-a", os.path.dirname(os.path.abspath(scene)),
+                        "-D", f"seed={seed}", variant, "-o", image], check=True,
+                       stdout=subprocess.DEVNULL)
+        images.append(image)
+    # The pixels, not the files: Mitsuba's EXR header differs from run to run.
+    return compare(images[0], images[1])["mse"] > 0.0
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("scene")
@@ -50,9 +74,9 @@ def main():
     p.add_argument("--size", default="384x256")
     p.add_argument("--threads", type=int, default=2)
     p.add_argument("--vary-luminance-pass", action="store_true",
-                   help="set MTS_LUMINANCE_SEED to the seed for each Mitsuba run: a Mitsuba whose "
-                        "ReplayableSampler reads it (docs/performance.md gives the 3-line patch) "
-                        "then draws its luminance pass and seed paths anew each seed, so that its "
+                   help="set MTS_LUMINANCE_SEED to the seed for each Mitsuba run: a Mitsuba built by "
+                        "bench/seed_mitsuba.py then draws its luminance pass and start paths anew "
+                        "each seed (and its chains' numbers from the sampler's seed), so that its "
                         "spread across seeds is its whole error, as emlt's is")
     p.add_argument("--variant", action="append", default=[], metavar='LABEL="FLAGS"',
                    help='an emlt configuration to run at Mitsuba\'s time (repeatable); default: '
@@ -69,6 +93,12 @@ def main():
     for sampler in tree.getroot().iter("sampler"):
         ET.SubElement(sampler, "integer", name="seed", value="$seed")
     tree.write(variant)
+
+    seeds_honoured = mitsuba_honours_seed(mitsuba, args.scene, args.out)
+    if not seeds_honoured:
+        print("warning: this Mitsuba ignores the sampler's seed: its runs share their chains' "
+              "random numbers, so its variance across seeds understates its error "
+              "(bench/seed_mitsuba.py makes a build that honours it)", file=sys.stderr)
 
     variants = [v.split("=", 1) if "=" in v else (v, "") for v in args.variant] or [("emlt", "")]
     images = {"mitsuba": []}
@@ -93,7 +123,7 @@ def main():
             t0 = time.time()
             log = subprocess.run(cmd, check=True, capture_output=True, text=True)
             row[label + "_s"] = time.time() - t0
-            row[label + "_stats"] = log.stderr.strip().splitlines()[:2]
+            row[label + "_stats"] = [l for l in log.stderr.splitlines() if l.startswith("mlt:")]
             images[label].append(img)
         rows.append(row)
         print(f"seed {seed}: Mitsuba {wall:.1f} s; " +
@@ -121,6 +151,7 @@ def main():
     with open(os.path.join(args.out, "results.json"), "w") as f:
         json.dump({"scene": args.scene, "mpp": args.mpp, "seeds": args.seeds, "rows": rows,
                    "mitsuba_luminance_pass": "per seed" if args.vary_luminance_pass else "fixed",
+                   "mitsuba_sampler_seed_honoured": seeds_honoured,
                    "summary": summary, "load": os.getloadavg()}, f, indent=1)
 
 
