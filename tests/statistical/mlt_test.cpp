@@ -600,15 +600,15 @@ TEST(MltBootstrap, GrowthCapIsTheSmallestOfItsBounds) {
 }
 
 // Under a time budget the pool grows to what a fifth of the budget draws at the first
-// round's pace, not to the other bounds. The budget is set to 12 times the first round
-// (timed here, as the render draws it): a fifth of it is about 2.4 first rounds, where the
-// chains would want 16 (the cap) without the budget. The bounds are loose: the second
-// render's first round may run at a third or three times the first's pace.
+// round's pace, not to the other bounds. The budget is set to 20 first rounds (timed here,
+// as the render draws them): a fifth of it is about 4 first rounds, where the chains would
+// want 16 (the cap) without the budget. The bounds are loose: the render's own first round
+// may take from a third of to 4 times the time measured here (a loaded machine), and the pool
+// still lands in (1, 12] first rounds; ignoring the budget gives 16.
 TEST(MltBootstrap, TimedRenderGrowsItsPoolWithinAFifthOfTheBudget) {
   const auto scene = small_scene("cornell-box", 16);
   RenderSettings s = mlt_settings(-1, true);
   s.mutations = "";
-  s.chains = 32768;
   s.bootstrap_samples = 2000;
   s.direct_spp = 1;
   s.threads = 1;
@@ -619,20 +619,20 @@ TEST(MltBootstrap, TimedRenderGrowsItsPoolWithinAFifthOfTheBudget) {
   s.mutations_per_pixel = 1.0;
   s.chains = 16;  // (seeding many chains would count in bootstrap_seconds)
   mlt.render(*scene, s, quiet);
-  s.chains = 32768;
   const double first_round = mlt.statistics().bootstrap_seconds;
   const double worth = mlt.statistics().bootstrap_effective_candidates;
   ASSERT_GT(first_round, 0.0);
   // Without a budget the chains would want more than 16 first rounds.
+  s.chains = 32768;
   ASSERT_GT(grown_bootstrap_samples(2000, worth, 32768, UINT64_MAX), uint64_t(16 * 2000));
 
   s.bootstrap_grows = true;
   s.mutations_per_pixel = 0.0;
-  s.time_limit_s = 12.0 * first_round;
+  s.time_limit_s = 20.0 * first_round;
   mlt.render(*scene, s, quiet);
   const MltStatistics& st = mlt.statistics();
   EXPECT_GT(st.bootstrap_samples, uint64_t(2000));
-  EXPECT_LE(st.bootstrap_samples, uint64_t(8 * 2000));
+  EXPECT_LE(st.bootstrap_samples, uint64_t(12 * 2000));
   EXPECT_GT(st.seconds, 0.9 * s.time_limit_s);
 }
 
