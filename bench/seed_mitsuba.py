@@ -43,6 +43,10 @@ def main():
     dest = sys.argv[1]
     sampler = os.path.join(dest, "src", "samplers", "independent.cpp")
     replayable = os.path.join(dest, "src", "libbidir", "rsampler.cpp")
+    for path in (sampler, replayable):
+        if not os.path.isfile(path):
+            sys.exit(f"seed_mitsuba: {path}: not found; DEST must be a Mitsuba 0.6 checkout "
+                     "built by build-mitsuba.sh")
     changed = edit(sampler,
                    'm_sampleCount = props.getSize("sampleCount", 4);\n        m_random = new Random();',
                    'm_sampleCount = props.getSize("sampleCount", 4);\n        m_random = '
@@ -62,8 +66,11 @@ def main():
     if "#include <cstdlib>" not in text:
         with open(replayable, "w") as f:
             f.write("#include <cstdlib>\n" + text)
-    subprocess.run(["scons", "-j", str(os.cpu_count() or 2)], cwd=dest, check=True,
-                   stdout=subprocess.DEVNULL)
+    try:
+        subprocess.run(["scons", "-j", str(os.cpu_count() or 2)], cwd=dest, check=True,
+                       stdout=subprocess.DEVNULL)
+    except (OSError, subprocess.CalledProcessError) as e:
+        sys.exit(f"seed_mitsuba: {dest}: the rebuild failed ({e})")
     print(f"seed_mitsuba: {dest} {'edited and ' if changed else ''}built: the sampler's seed and "
           "MTS_LUMINANCE_SEED are honoured")
 
