@@ -1,9 +1,9 @@
-#!/usr/bin/env python3
-"""emlt against Mitsuba 0.6 in interleaved pairs: the path tracers' side by side when the
-machine's speed drifts.
+#!/usr/bin/python3
+"""emlt against Mitsuba 0.6 in interleaved pairs: side by side when the machine's speed drifts.
 
-  MITSUBA=.../dist/mitsuba bench/mitsuba_pairs.py [--pairs 7] [--integrators pt,bdpt]
+  MITSUBA=.../dist/mitsuba bench/mitsuba_pairs.py [--pairs 7] [--integrators pt,bdpt,mlt]
                                                    [--scenes cornell-box,...] [--door DOOR_XML]
+                                                   [--work-scale 16]
 
 compare_mitsuba.sh runs each renderer's repeats one after the other; on a shared virtual
 machine whose speed moves by 10-20 % from one minute to the next (seen on the 2-core machine
@@ -13,6 +13,12 @@ and, straight after it, one Mitsuba run of the same scene file and work (the sui
 bench/suite.py: SCENES), alternating which goes first; the ratio is taken within each pair,
 and the median and range of the pairs' ratios are printed. Whole-process wall clock, 2
 threads, as in the suite.
+
+`mlt` runs with direct light inside the chains on both sides (emlt's `--direct mlt`, Mitsuba's
+`directSamples` -1). The suite's work is a few seconds per run, where each renderer's fixed
+start (loading, BVH, the MLT bootstrap; Mitsuba's `mlt` spends 2-4 s there) weighs heavily;
+`--work-scale N` multiplies every count by N for renders of 20-60 s, where the chains' own
+speed decides.
 """
 import argparse
 import os
@@ -42,7 +48,14 @@ def main():
     parser.add_argument("--integrators", default="pt,bdpt")
     parser.add_argument("--scenes", default=",".join(s.name for s in suite.SCENES))
     parser.add_argument("--door", help="the public door-mlt.xml, added as veach-door")
+    parser.add_argument("--work-scale", type=int, default=1,
+                        help="multiply the suite's samples or mutations per pixel (long renders)")
     args = parser.parse_args()
+    if args.work_scale < 1:
+        sys.exit("mitsuba_pairs.py: --work-scale must be a whole number of at least 1")
+    unknown = set(args.integrators.split(",")) - {"pt", "bdpt", "mlt"}
+    if unknown:
+        sys.exit(f"mitsuba_pairs.py: --integrators: unknown {','.join(sorted(unknown))} (pt, bdpt, mlt)")
     if not args.mitsuba:
         sys.exit("mitsuba_pairs.py: set MITSUBA=.../dist/mitsuba or pass --mitsuba")
     scenes = [s for s in suite.SCENES if s.name in args.scenes.split(",")]
@@ -61,12 +74,14 @@ def main():
                 subprocess.run([sys.executable, os.path.join(suite.ROOT, "scripts", "make_terrain.py")],
                                cwd=suite.ROOT, check=True, stdout=subprocess.DEVNULL)
             for integrator in args.integrators.split(","):
-                count = scene.pt_spp if integrator == "pt" else scene.bdpt_spp
+                count = args.work_scale * {"pt": scene.pt_spp, "bdpt": scene.bdpt_spp,
+                                           "mlt": scene.mpp}[integrator]
+                work = ["--mpp", str(count), "--direct", "mlt"] if integrator == "mlt" else ["--spp", str(count)]
                 variant = suite.mitsuba_variant(path, integrator, count, scene.width, scene.height,
                                                 os.path.join(tmp, f"{scene.name}-{integrator}.xml"))
                 emlt_cmd = [emlt, "render", path, "--integrator", integrator, "--threads", str(args.threads),
                             "--seed", "1", "--width", str(scene.width), "--height", str(scene.height),
-                            "--spp", str(count), "-o", os.path.join(tmp, "emlt.exr"), "--quiet"]
+                            *work, "-o", os.path.join(tmp, "emlt.exr"), "--quiet"]
                 mitsuba_cmd = [args.mitsuba, "-q", "-p", str(args.threads), "-a", os.path.dirname(path),
                                variant, "-o", os.path.join(tmp, "mitsuba.exr")]
                 ours, theirs, ratios = [], [], []
@@ -80,7 +95,7 @@ def main():
                     ours.append(a)
                     theirs.append(b)
                     ratios.append(b / a)
-                print(f"| {scene.name} | {integrator} | {count} spp | {statistics.median(ours):.2f} | "
+                print(f"| {scene.name} | {integrator} | {count} {'mpp' if integrator == 'mlt' else 'spp'} | {statistics.median(ours):.2f} | "
                       f"{statistics.median(theirs):.2f} | {statistics.median(ratios):.2f}x "
                       f"({min(ratios):.2f}-{max(ratios):.2f}) |", flush=True)
     print(f"load average after: {os.getloadavg()[0]:.2f}; {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
