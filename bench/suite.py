@@ -20,8 +20,8 @@ With --mitsuba it also renders the same scene files with Mitsuba 0.6 (path, bdpt
 directSamples -1, so direct light runs inside the chains as emlt's --direct mlt) and prints
 the ratios; for mlt also the chains' own ratio, Mitsuba's chains timed as its render less the
 same render at 1 mutation per pixel (its start: loading, luminance pass, start paths, which
-is most of its time at the suite's work). Results go to out/bench/ (results.json, table.md); --update-docs copies the table
-into docs/performance.md between its bench markers.
+is most of its time at the suite's work). Results go to out/bench/ (results.json, table.md);
+--update-docs copies the table into docs/performance.md between its bench markers.
 """
 import argparse
 import collections
