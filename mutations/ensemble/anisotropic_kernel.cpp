@@ -9,8 +9,10 @@
 // be the 2x2 outer-product covariance (a scalar square would be isotropic). We use the
 // weighted covariance with reliability weights, sum w (u - mu)(u - mu)^T / (1 - sum w^2),
 // which reduces to the paper's 1/(M-1) normalisation for equal weights; then
-// Sigma = scale * Sigma_fit + floor^2 I. The Gaussian is recentred at x (mean = x), so only
-// Sigma matters, and Sigma depends on x through the weights and the tangent plane.
+// Sigma = scale * Sigma_fit + floor^2 I. Read literally, with normalised weights, the printed
+// Sigma is sum w (u - mu)(u - mu)^T / (M - 1): about 1/M of the weighted covariance, which
+// printed_normalisation gives (then with scale 1). The Gaussian is recentred at x (mean = x), so
+// only Sigma matters, and Sigma depends on x through the weights and the tangent plane.
 //
 // Fallback. If the Kish effective number of guides (sum w)^2 / sum w^2 is below
 // min_effective_guides, or det(Sigma_fit) < min_determinant, the fit is not used. The
@@ -284,7 +286,9 @@ TangentGaussian fit_tangent_gaussian(const Vec3& centre, const Vec3& normal, con
   // Kish's effective number of guides, (sum w)^2 / sum w^2, and the reliability-weight
   // normalisation total - sum w^2 / total (= (M-1)/M of the total for equal weights).
   gaussian.effective_guides = scatter.total * scatter.total / scatter.sum_of_squares;
-  const double normaliser = scatter.total - scatter.sum_of_squares / scatter.total;
+  const double normaliser = params.printed_normalisation
+                                ? double(count - 1) * scatter.total
+                                : scatter.total - scatter.sum_of_squares / scatter.total;
   bool degenerate = weights_vanish || !(gaussian.effective_guides >= params.min_effective_guides) ||
                     !(normaliser > 0.0);
   double ss = 0.0, st = 0.0, tt = 0.0;

@@ -1,5 +1,8 @@
 #include "mutations/ensemble/anisotropic_path.h"
 
+#include <deque>
+#include <optional>
+
 #include "mutations/perturbation_common.h"
 
 namespace emlt {
@@ -15,11 +18,24 @@ Vec3 on_image_plane(const Vec2& raster) {
   return {raster.x, raster.y, 0.0f};
 }
 
+bool printed_covariance(const MutationContext& ctx) {
+  return !ctx.ensemble || ctx.ensemble->params().aniso_printed_covariance;
+}
+
+// The render's --ensemble-aniso-scale where given, else the form's own: 1 for eq. 11 as
+// printed, the strategy's factor for the weighted covariance.
+double covariance_scale(double own, const MutationContext& ctx) {
+  if (ctx.ensemble && ctx.ensemble->params().aniso_covariance_scale > 0.0)
+    return ctx.ensemble->params().aniso_covariance_scale;
+  return printed_covariance(ctx) ? 1.0 : own;
+}
+
 AnisotropicParams world_params(const AnisotropicPathParams& p, const MutationContext& ctx) {
   AnisotropicParams params;
   params.similarity = ensemble::similarity_params(ctx);
   const double radius = double(ctx.scene.bounds_radius());
-  params.covariance_scale = p.covariance_scale;
+  params.covariance_scale = covariance_scale(p.covariance_scale, ctx);
+  params.printed_normalisation = printed_covariance(ctx);
   params.floor_sigma = p.floor_fraction * radius;
   params.fallback_concentration =
       ctx.ensemble && ctx.ensemble->params().plane_fallback ? 0.0 : p.fallback_concentration;
@@ -28,11 +44,12 @@ AnisotropicParams world_params(const AnisotropicPathParams& p, const MutationCon
   return params;
 }
 
-AnisotropicParams image_params(const AnisotropicPathParams& p) {
+AnisotropicParams image_params(const AnisotropicPathParams& p, const MutationContext& ctx) {
   AnisotropicParams params;
   // Guides are weighted by the similarity of their world-space vertex only (context).
   params.weight_by_similarity = false;
-  params.covariance_scale = p.image_covariance_scale;
+  params.covariance_scale = covariance_scale(p.image_covariance_scale, ctx);
+  params.printed_normalisation = printed_covariance(ctx);
   params.floor_sigma = p.image_floor_sigma;
   params.fallback_sigma = p.image_fallback_sigma;
   params.min_effective_guides = p.min_effective_guides;
@@ -50,6 +67,8 @@ struct SimilarityRow {
                                   values.span());
   }
 };
+
+constexpr int kImagePoints = -1;
 
 // The guides' points for a fit, as coordinate arrays (GuideSet::point_x...): their vertex j,
 // read where Υ keeps them, or their image points on the plane z = 0.
@@ -95,6 +114,33 @@ struct GuideData {
   ensemble::GuideSet set() const {
     return {{}, {}, {}, centre, context, points.x, points.y, points.z};
   }
+};
+
+// y's Υ for the reverse fits, and what they read from it: the forward move's own points and
+// similarity rows where y's Υ is x's (always, with the counter's Υ), else y's, built here.
+class ReverseGuides {
+ public:
+  ReverseGuides(const Path& y, const GuideView& forward, const MutationContext& ctx,
+                const ensemble::InjectedBugs& bugs)
+      : view(ensemble::reverse_guides_for(y, forward, ctx, bugs)), same_(view.same_as(forward)) {}
+  // The guides' vertex j (kImagePoints: their image points), `forward`'s where Υ is the same.
+  const GuidePoints& points(const GuidePoints& forward, int j) {
+    if (same_) return forward;
+    return j == kImagePoints ? points_.emplace_back(view) : points_.emplace_back(view, j);
+  }
+  // The similarity row of v (vertex j) to the guides, `forward`'s where Υ is the same.
+  const SimilarityRow& row(const SimilarityRow& forward, const PathVertex& v, int j,
+                           const MutationContext& ctx) {
+    if (same_) return forward;
+    return rows_.emplace_back(v, view, j, ctx);
+  }
+
+  const GuideView view;
+
+ private:
+  bool same_;
+  std::deque<GuidePoints> points_;  // a deque: its elements stay where they are built
+  std::deque<SimilarityRow> rows_;
 };
 
 TangentGaussian fit_at(const PathVertex& v, const GuideData& data,
@@ -231,11 +277,17 @@ std::optional<Proposal> AnisotropicPathPerturbation::toward_camera(
       product(cast_density(b_x, xv[size_t(c)], yv[size_t(b)], bugs_),
               cast_density(a_x, yv[size_t(b)], yv[size_t(a)], bugs_));
   if (refused(forward, bugs_)) return std::nullopt;
-  const SimilarityRow s_yb(yv[size_t(b)], guides, b, ctx), s_ya(yv[size_t(a)], guides, a, ctx);
+  // The reverse fits use y's Υ: the same as x's unless y's image point moved to another.
+  ReverseGuides reverse_guides(y, guides, ctx, bugs_);
+  const GuidePoints& rpoints_b = reverse_guides.points(points_b, b);
+  const GuidePoints& rpoints_a = reverse_guides.points(points_a, a);
+  const SimilarityRow& rs_xc = reverse_guides.row(s_xc, xv[size_t(c)], c, ctx);
+  const SimilarityRow s_yb(yv[size_t(b)], reverse_guides.view, b, ctx),
+      s_ya(yv[size_t(a)], reverse_guides.view, a, ctx);
   const TangentGaussian b_y =
-      reverse_fit(b_x, yv[size_t(b)], GuideData(points_b, s_xc, &s_yb), world, bugs_);
+      reverse_fit(b_x, yv[size_t(b)], GuideData(rpoints_b, rs_xc, &s_yb), world, bugs_);
   const TangentGaussian a_y =
-      reverse_fit(a_x, yv[size_t(a)], GuideData(points_a, s_yb, &s_ya), world, bugs_);
+      reverse_fit(a_x, yv[size_t(a)], GuideData(rpoints_a, s_yb, &s_ya), world, bugs_);
   const ensemble::DensityParts reverse =
       bugs_.drop_reverse_density ? forward
                                  : product(cast_density(b_y, xv[size_t(c)], xv[size_t(b)], bugs_),
@@ -251,7 +303,7 @@ std::optional<Proposal> AnisotropicPathPerturbation::from_camera(const Path& x,
   const Scene& scene = ctx.scene;
   const int k = x.edges(), a = k - 1, b = k - 2, c = k - 3;
   const auto& xv = x.vertices;
-  const AnisotropicParams image = image_params(params_), world = world_params(params_, ctx);
+  const AnisotropicParams image = image_params(params_, ctx), world = world_params(params_, ctx);
 
   // Image point: Gaussian fitted to the guides' image points, weighted by their x_a.
   const GuidePoints image_points(guides);
@@ -286,12 +338,18 @@ std::optional<Proposal> AnisotropicPathPerturbation::from_camera(const Path& x,
       product(ensemble::tangent_gaussian_pdf_parts(image_x, on_image_plane(raster)),
               cast_density(world_x, yv[size_t(a)], yv[size_t(b)], bugs_));
   if (refused(forward, bugs_)) return std::nullopt;
-  const SimilarityRow s_ya(yv[size_t(a)], guides, a, ctx), s_yb(yv[size_t(b)], guides, b, ctx);
-  const TangentGaussian image_y = bugs_.sigma_not_refitted
-                                      ? recentred(image_x, on_image_plane(raster))
-                                      : fit_at_raster(raster, GuideData(image_points, s_ya), image);
+  // The reverse fits use y's Υ (near y's image point).
+  ReverseGuides reverse_guides(y, guides, ctx, bugs_);
+  const GuidePoints& rimage_points = reverse_guides.points(image_points, kImagePoints);
+  const GuidePoints& rworld_points = reverse_guides.points(world_points, b);
+  const SimilarityRow& rs_xc = reverse_guides.row(s_xc, xv[size_t(c)], c, ctx);
+  const SimilarityRow s_ya(yv[size_t(a)], reverse_guides.view, a, ctx),
+      s_yb(yv[size_t(b)], reverse_guides.view, b, ctx);
+  const TangentGaussian image_y =
+      bugs_.sigma_not_refitted ? recentred(image_x, on_image_plane(raster))
+                               : fit_at_raster(raster, GuideData(rimage_points, s_ya), image);
   const TangentGaussian world_y =
-      reverse_fit(world_x, yv[size_t(b)], GuideData(world_points, s_xc, &s_yb), world, bugs_);
+      reverse_fit(world_x, yv[size_t(b)], GuideData(rworld_points, rs_xc, &s_yb), world, bugs_);
   const ensemble::DensityParts reverse =
       bugs_.drop_reverse_density
           ? forward

@@ -32,7 +32,8 @@ namespace emlt {
 
 struct AnisotropicPathParams {
   // World-space kernel at x_b; lengths are fractions of the scene's bounding radius. The
-  // scales multiply the fitted covariances (the paper gives none): 0.05 measured best of
+  // scales multiply the reliability-weighted covariances (--ensemble-aniso-covariance
+  // weighted; eq. 11 as printed, the default, takes no factor): 0.05 measured best of
   // 0.01 / 0.05 / 0.25 / 1 on the Cornell box (MSE of emlt-ani 3.1 / 3.3 / 3.8 / 4.7e-4 at
   // 64 mutations per pixel, 64 x 64; acceptance 0.66 / 0.49 / 0.29 / 0.15).
   double covariance_scale = 0.05;

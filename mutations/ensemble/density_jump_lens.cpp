@@ -15,7 +15,7 @@ constexpr size_t kMaxWeightedGuides = 256;
 
 std::optional<Proposal> DensityJumpLens::propose(const Path& x, Rng& rng,
                                                  const MutationContext& ctx) const {
-  const auto guides = ensemble::guides_for(x, ctx);
+  const auto guides = ensemble::counter_guides_for(x, ctx);
   if (guides.size() < 2) return ensemble::unguided_step(veach_, x, rng, ctx);
   double weights[kMaxWeightedGuides];
   std::span<const double> used;

@@ -27,6 +27,8 @@ std::optional<Path> EnvironmentPerturbation::with_sky_direction(const Path& x,
 std::optional<Proposal> EnvironmentPerturbation::propose(const Path& x, Rng& rng,
                                                          const MutationContext& ctx) const {
   // Only guides lit by the sky take part, weighted by the similarity of their x_1 to ours.
+  // The move keeps every vertex but the sky's (and so the image point): y's Υ is x's, and
+  // the kernels' reverse densities use the same guides and weights.
   const GuideView upsilon = ensemble::guides_for(x, ctx);
   ensemble::GuideBuffer<ensemble::SimilarityProduct> similarities(upsilon.size()),
       weights(upsilon.size());
@@ -54,10 +56,11 @@ std::optional<Proposal> EnvironmentPerturbation::propose(const Path& x, Rng& rng
   } else if (rng.uniform() < 0.5f) {
     const ensemble::GuideChoice choice = ensemble::choose_guide(guide_weights, rng);
     const auto step = ensemble::propose_great_arc(current, guide_sky[choice.index],
-                                                  ensemble::stretch_params(ctx), rng);
+                                                  ensemble::stretch_params(upsilon), rng);
     if (!step.valid) return std::nullopt;
     direction = step.direction;
     log_kernel_ratio = step.log_density_ratio;
+    proposal.alpha = upsilon.alpha();
   } else {
     ensemble::DirectionalParams params;
     params.similarity = ensemble::similarity_params(ctx);

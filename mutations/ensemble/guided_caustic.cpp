@@ -16,13 +16,19 @@ std::optional<Proposal> GuidedCausticPerturbation::propose(const Path& x, Rng& r
   const Vec3 towards_guide =
       direction_between(fixed, ensemble::guide_vertex(guides, choice.index, l + 1));
   const auto step =
-      ensemble::propose_great_arc(current, towards_guide, ensemble::stretch_params(ctx), rng);
+      ensemble::propose_great_arc(current, towards_guide, ensemble::stretch_params(guides), rng);
   if (!step.valid) return std::nullopt;
   auto proposal = veach_.retrace(x, step.direction, ctx);
   if (!proposal) return std::nullopt;
+  const GuideView reverse = ensemble::reverse_guides_for(proposal->path, guides, ctx, bugs_);
   proposal->log_reverse_over_forward +=
-      (bugs_.drop_reverse_density ? 0.0 : step.log_density_ratio) +
-      ensemble::log_selection_ratio(proposal->path, guides, choice, l, l + 1, ctx, bugs_, &rows);
+      (bugs_.drop_reverse_density
+           ? 0.0
+           : step.log_density_ratio +
+                 ensemble::stretch_reverse_correction(step.lambda, guides, reverse, bugs_)) +
+      ensemble::log_selection_ratio(proposal->path, guides, reverse, choice, l, l + 1, ctx, bugs_,
+                                    &rows);
+  proposal->alpha = guides.alpha();
   return proposal;
 }
 

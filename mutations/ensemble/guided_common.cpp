@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <limits>
 #include <optional>
 
 #include "mutations/ensemble/guide_lanes.h"
@@ -13,12 +14,28 @@ GuideView guides_for(const Path& x, const MutationContext& ctx) {
   // x is often cold (a chain takes few steps per swap, one on small images); its vertices
   // are read next.
   for (const PathVertex& v : x.vertices) __builtin_prefetch(&v);
-  return ctx.ensemble->upsilon(x.type, ctx.chain, ctx.step);
+  return ctx.ensemble->upsilon(x, ctx.chain, ctx.step);
 }
 
-GuideView guides_for_next_step(const Path& y, const MutationContext& ctx) {
+GuideView reverse_guides_for(const Path& y, const GuideView& forward, const MutationContext& ctx,
+                             const InjectedBugs& bugs) {
+  if (!ctx.ensemble) return forward;
+  if (bugs.upsilon_from_proposal)
+    return ctx.ensemble->counter_upsilon(y.type, ctx.chain, ctx.step + 1);
+  if (bugs.reverse_upsilon_of_x || ctx.ensemble->params().selection == GuideSelection::Counter)
+    return forward;
+  return ctx.ensemble->upsilon(y, ctx.chain, ctx.step);
+}
+
+GuideView counter_guides_for(const Path& x, const MutationContext& ctx) {
   if (!ctx.ensemble) return {};
-  return ctx.ensemble->upsilon(y.type, ctx.chain, ctx.step + 1);
+  return ctx.ensemble->counter_upsilon(x.type, ctx.chain, ctx.step);
+}
+
+double stretch_reverse_correction(double lambda, const GuideView& forward, const GuideView& reverse,
+                                  const InjectedBugs& bugs) {
+  if (bugs.alpha_not_reversed) return 0.0;
+  return stretch_reverse_correction(lambda, stretch_params(forward), stretch_params(reverse));
 }
 
 std::optional<Proposal> unguided_step(const Mutation& fallback, const Path& x, Rng& rng,
@@ -207,16 +224,21 @@ SimilarGuide choose_similar_guide(const Path& x, const GuideView& guides, int fi
   return chosen;
 }
 
-double log_selection_ratio(const Path& y, const GuideView& guides, const SimilarGuide& chosen,
-                           int first, int last, const MutationContext& ctx,
-                           const InjectedBugs& bugs, const SimilarityRows* rows_x) {
+double log_selection_ratio(const Path& y, const GuideView& guides, const GuideView& reverse,
+                           const SimilarGuide& chosen, int first, int last,
+                           const MutationContext& ctx, const InjectedBugs& bugs,
+                           const SimilarityRows* rows_x) {
   if (bugs.ignore_selection) return 0.0;
-  const GuideView reverse_guides =
-      bugs.upsilon_from_proposal ? guides_for_next_step(y, ctx) : guides;
-  const uint32_t index = chosen.index;
-  if (index >= reverse_guides.size()) return 0.0;
+  const GuideView& reverse_guides = reverse;
+  const bool same = reverse.same_as(guides);
+  // The injected bug of the counter's Υ re-chosen for y keeps the guide's place in the window.
+  const long found = same || bugs.upsilon_from_proposal ? long(chosen.index)
+                                                        : reverse.index_of(guides, chosen.index);
+  if (found < 0 || size_t(found) >= reverse_guides.size())
+    return -std::numeric_limits<double>::infinity();
+  const uint32_t index = uint32_t(found);
   // x's rows hold for y's unmoved vertices only against the same Υ.
-  const SimilarityRows* reuse = bugs.upsilon_from_proposal ? nullptr : rows_x;
+  const SimilarityRows* reuse = same ? rows_x : nullptr;
   const SimilarityParams params = similarity_params(ctx);
   GuideBuffer<double> buffer(reverse_guides.size());
   if (const auto plain = plain_path_similarities(y, reverse_guides, first, last, params,

@@ -20,14 +20,21 @@ struct InjectedBugs {
   bool drop_reverse_density = false;   // the kernel's T(y->x) replaced by T(x->y)
   bool sigma_not_refitted = false;     // reverse anisotropic density with x's Σ, recentred
   bool ignore_selection = false;       // P(n|y) / P(n|x) left out
-  bool upsilon_from_proposal = false;  // P(n|y) evaluated against the Υ of y's next step
+  bool upsilon_from_proposal = false;  // P(n|y) evaluated against the counter's Υ of y's next step
+  bool reverse_upsilon_of_x = false;   // nearby Υ: the reverse move evaluated against x's Υ
+  bool alpha_not_reversed = false;     // the reverse stretch density with x's Υ's α
   bool keep_degenerate_casts = false;  // ray-cast moves nearly parallel to the plane kept
 };
 
 // Υ of x at this step (empty without an ensemble).
 GuideView guides_for(const Path& x, const MutationContext& ctx);
-// Υ as the buggy reverse evaluation would choose it (InjectedBugs::upsilon_from_proposal).
-GuideView guides_for_next_step(const Path& y, const MutationContext& ctx);
+// Υ of the proposal y, against which the reverse move y -> x is evaluated: y's own nearby Υ,
+// or x's (`forward`) when Υ is chosen by the counter; or as an injected bug chooses it.
+GuideView reverse_guides_for(const Path& y, const GuideView& forward, const MutationContext& ctx,
+                             const InjectedBugs& bugs = {});
+// Υ by the counter whatever --ensemble-guides says, for the strategies whose densities need
+// one Υ in both directions (density_jump_lens.h, spread_scaled_perturbation.h).
+GuideView counter_guides_for(const Path& x, const MutationContext& ctx);
 
 // A step of the unguided strategy, marked as a fallback for the statistics (what a guided
 // strategy does when Υ holds fewer than two paths).
@@ -44,12 +51,18 @@ inline SimilarityParams similarity_params(const MutationContext& ctx) {
     params.length_scale = ctx.ensemble->params().similarity_length;
   return params;
 }
-// The stretch move's distribution with this swap's α.
-inline StretchParams stretch_params(const MutationContext& ctx) {
+// The stretch move's distribution for a step guided by `guides` (§3.4's α of that Υ).
+inline StretchParams stretch_params(const GuideView& guides) {
   StretchParams params;
-  if (ctx.ensemble) params.alpha = ctx.ensemble->alpha();
+  params.alpha = guides.alpha();
   return params;
 }
+
+// What the reverse move's stretch density changes when it is drawn with y's Υ's α rather
+// than x's: log g_y(1/λ) - log g_x(1/λ), to add to a kernel's density ratio (which takes
+// both from x's α). 0 when the two agree; -inf when 1/λ is outside y's support.
+double stretch_reverse_correction(double lambda, const GuideView& forward, const GuideView& reverse,
+                                  const InjectedBugs& bugs);
 
 // out[n] = S(a, v^n_i) (eq. 8) for a path's vertex a at index i: points compared as points,
 // a sky vertex (of the path or of a guide) as a direction; out.size() == guides.size().
@@ -105,10 +118,13 @@ SimilarGuide choose_similar_guide(const Path& x, const GuideView& guides, int fi
                                   const MutationContext& ctx, Rng& rng,
                                   SimilarityRows* rows = nullptr);
 
-// log P(n | y) / P(n | x) for a guide `chosen` for x with similarity weights over [first,
-// last]; `rows_x`, when given, x's rows from choose_similar_guide (the same Υ).
-double log_selection_ratio(const Path& y, const GuideView& guides, const SimilarGuide& chosen,
-                           int first, int last, const MutationContext& ctx,
-                           const InjectedBugs& bugs, const SimilarityRows* rows_x = nullptr);
+// log P(n | y) / P(n | x) for a guide `chosen` from x's Υ (`guides`) with similarity weights
+// over [first, last], P(n | y) over y's Υ (`reverse`; -inf when it does not hold the guide);
+// `rows_x`, when given, x's rows from choose_similar_guide (reused only when the two Υ are
+// the same).
+double log_selection_ratio(const Path& y, const GuideView& guides, const GuideView& reverse,
+                           const SimilarGuide& chosen, int first, int last,
+                           const MutationContext& ctx, const InjectedBugs& bugs,
+                           const SimilarityRows* rows_x = nullptr);
 
 }  // namespace emlt::ensemble

@@ -11,13 +11,19 @@ std::optional<Proposal> GuidedLensPerturbation::propose(const Path& x, Rng& rng,
   const ensemble::SimilarGuide choice =
       ensemble::choose_similar_guide(x, guides, first, last, ctx, rng, &rows);
   const auto step = ensemble::propose_linear(x.raster(), guides.rasters()[choice.index],
-                                             ensemble::stretch_params(ctx), rng);
+                                             ensemble::stretch_params(guides), rng);
   if (!step.valid) return std::nullopt;
   auto proposal = veach_.perturb_to(x, step.state, ctx);
   if (!proposal) return std::nullopt;
+  const GuideView reverse = ensemble::reverse_guides_for(proposal->path, guides, ctx, bugs_);
   proposal->log_reverse_over_forward +=
-      (bugs_.drop_reverse_density ? 0.0 : step.log_density_ratio) +
-      ensemble::log_selection_ratio(proposal->path, guides, choice, first, last, ctx, bugs_, &rows);
+      (bugs_.drop_reverse_density
+           ? 0.0
+           : step.log_density_ratio +
+                 ensemble::stretch_reverse_correction(step.lambda, guides, reverse, bugs_)) +
+      ensemble::log_selection_ratio(proposal->path, guides, reverse, choice, first, last, ctx,
+                                    bugs_, &rows);
+  proposal->alpha = guides.alpha();
   return proposal;
 }
 

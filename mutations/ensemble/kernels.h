@@ -62,6 +62,13 @@ struct LinearProposal {
 };
 
 double linear_log_density_ratio(double lambda, const StretchParams& params, int dimension = 2);
+// When the reverse move draws its stretch from another distribution than the forward one
+// (EMLT's nearby Υ: α is that of y's guides, not x's), the ratios above, which take both
+// from `forward`, gain log g_reverse(1/l) - log g_forward(1/l). The same term serves the
+// linear and the great-arc kernels (both invert a stretch l by 1/l). 0 when the two agree;
+// -inf when 1/l is outside the reverse distribution's support.
+double stretch_reverse_correction(double lambda, const StretchParams& forward,
+                                  const StretchParams& reverse);
 LinearProposal propose_linear(const Vec2& current, const Vec2& guide, const StretchParams& params,
                               Rng& rng);
 // Ratio of a move `from -> to` along the line through `guide`, recovering lambda from the
@@ -160,6 +167,9 @@ struct AnisotropicParams {
   double fallback_concentration = 0.0;
   double min_effective_guides = 2.0;  // Kish effective count below this -> fallback
   double min_determinant = 1e-12;     // det of the unfloored covariance below this -> fallback
+  // Sigma as eq. 11 prints it: 1/(M-1) sum w(n) (u - mu)(u - mu)^T with normalised weights
+  // (M guides), instead of the reliability-weighted covariance (see anisotropic_kernel.cpp).
+  bool printed_normalisation = false;
 };
 
 // A plane Gaussian's shape in its (s, t) coordinates, with what sampling and evaluating it use.

@@ -103,6 +103,12 @@ double linear_log_density_ratio(double lambda, const StretchParams& params, int 
   return kNegativeInfinity;
 }
 
+double stretch_reverse_correction(double lambda, const StretchParams& forward,
+                                  const StretchParams& reverse) {
+  if (forward.alpha == reverse.alpha && forward.distribution == reverse.distribution) return 0.0;
+  return stretch_log_pdf(1.0 / lambda, reverse) - stretch_log_pdf(1.0 / lambda, forward);
+}
+
 LinearProposal propose_linear(const Vec2& current, const Vec2& guide, const StretchParams& params,
                               Rng& rng) {
   LinearProposal proposal;

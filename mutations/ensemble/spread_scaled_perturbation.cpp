@@ -14,7 +14,7 @@ SpreadScaledPerturbation::SpreadScaledPerturbation(std::string name,
 
 std::optional<Proposal> SpreadScaledPerturbation::propose(const Path& x, Rng& rng,
                                                           const MutationContext& ctx) const {
-  const auto guides = ensemble::guides_for(x, ctx);
+  const auto guides = ensemble::counter_guides_for(x, ctx);
   if (guides.size() < 2) return ensemble::unguided_step(*inner_, x, rng, ctx);
   const double spread = ensemble::guide_spread(guides.rasters());
   const Camera& camera = ctx.scene.camera();

@@ -50,6 +50,7 @@ CheckpointHeader CheckpointHeader::describe(const SceneDescription& desc,
   add("--bootstrap-seed", s.bootstrap_seed ? number(*s.bootstrap_seed) : "(--seed)");
   add("--mutations", s.mutations.empty() ? "(the integrator's own)" : s.mutations);
   add("--direct", s.direct_separate ? "separate" : "mlt");
+  add("--mlt-splat", s.mlt_expected_values ? "expected" : "state");
   add("--direct-spp", s.direct_spp > 0 ? number(s.direct_spp) : "(from the budget)");
   add("--ensemble-size", number(s.ensemble_size));
   add("--ensemble-neighbours", number(s.ensemble_neighbours));
@@ -57,6 +58,10 @@ CheckpointHeader CheckpointHeader::describe(const SceneDescription& desc,
   add("--ensemble-alpha", number(s.ensemble_alpha));
   add("--ensemble-similarity-length", number(s.ensemble_similarity_length));
   add("--ensemble-aniso-fallback", s.ensemble_plane_fallback ? "plane" : "vmf");
+  add("--ensemble-aniso-scale", number(s.ensemble_aniso_scale));
+  add("--ensemble-aniso-covariance", s.ensemble_aniso_weighted ? "weighted" : "printed");
+  add("--ensemble-guides", s.ensemble_nearby_guides ? "nearby" : "counter");
+  add("--ensemble-alpha-from", s.ensemble_alpha_from_ensemble ? "ensemble" : "guides");
   add("--pss-tracer", s.pss_bdpt ? "bdpt" : "pt");
   add("--large-step", number(s.large_step_probability));
   add("--pss-sigma", number(s.pss_sigma));

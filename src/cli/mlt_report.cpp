@@ -36,6 +36,13 @@ void report_mlt_statistics(const std::string& name, const MltStatistics& st,
                  static_cast<unsigned long long>(st.ensemble_neighbours),
                  static_cast<unsigned long long>(st.ensemble_iterations),
                  static_cast<unsigned long long>(st.swaps), st.tree_seconds, st.mean_alpha);
+  if (st.alpha.total() > 0)
+    std::fprintf(stderr,
+                 "  alpha over %llu guided stretches: min %.3f, quartiles %.3f / %.3f / %.3f, "
+                 "max %.3f\n",
+                 static_cast<unsigned long long>(st.alpha.total()), st.alpha.min,
+                 st.alpha.quantile(0.25), st.alpha.quantile(0.5), st.alpha.quantile(0.75),
+                 st.alpha.max);
   // A render stopped before its chains began has no strategy figures: a table of zeros would
   // read like a measurement.
   const bool chains_ran = st.mutations > 0;
@@ -86,6 +93,12 @@ void report_mlt_statistics(const std::string& name, const MltStatistics& st,
                      {"swaps", st.swaps},
                      {"tree_seconds", st.tree_seconds},
                      {"mean_alpha", st.mean_alpha}};
+  // α's distribution over the guided stretches (quartiles to 1/256).
+  if (st.ensemble_size > 0 && st.alpha.total() > 0)
+    j["ensemble"]["alpha"] = {{"steps", st.alpha.total()},     {"min", st.alpha.min},
+                              {"q1", st.alpha.quantile(0.25)}, {"median", st.alpha.quantile(0.5)},
+                              {"q3", st.alpha.quantile(0.75)}, {"max", st.alpha.max},
+                              {"mean", st.alpha.mean()}};
   const std::string temporary = json_path + ".tmp-" + std::to_string(getpid());
   interruption::register_temporary(temporary);  // a second Ctrl-C removes it
   struct Forget {

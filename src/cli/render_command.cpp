@@ -125,16 +125,44 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
   command.add_option("--ensemble-alpha", s.ensemble_alpha,
                      "emlt: fixed stretch scale alpha of the linear kernels (0 = adaptive, paper 3.4)")
       ->check(real_number(0.0, false, 100.0, "a number from 0 (adaptive) to 100"));
-  command.add_option("--ensemble-similarity-length", s.ensemble_similarity_length,
-                     "emlt: length (scene units) dividing distances in the path similarity "
-                     "(0 = the paper's literal 1)")
-      ->check(real_number(0.0, false, HUGE_VAL,
-                          "a positive length, or 0 for the paper's literal 1"));
+  command
+      .add_option("--ensemble-similarity-length", s.ensemble_similarity_length,
+                  "emlt: length (scene units) dividing distances in the path similarity (1 = "
+                  "the paper's literal form; 0 = the scene's bounding radius / sqrt(3), which "
+                  "is 1 on the paper's Cornell box)")
+      ->check(real_number(0.0, false, HUGE_VAL, "a positive length, or 0 for the scene's own"));
   command.add_option("--ensemble-aniso-fallback", o.aniso_fallback,
                      "emlt: the anisotropic kernel's fallback when a fit is unusable: the paper's "
                      "vMF about the previous vertex's direction, or an isotropic Gaussian on the "
                      "tangent plane")
       ->check(CLI::IsMember({"vmf", "plane"}));
+  command
+      .add_option("--mlt-splat", o.mlt_splat,
+                  "mlt/gamlt/emlt: what a step adds to the image: the proposal and the current "
+                  "path weighted by the acceptance probability (expected), or the state after "
+                  "the step (state)")
+      ->check(CLI::IsMember({"expected", "state"}));
+  command
+      .add_option("--ensemble-aniso-covariance", o.ensemble_aniso_covariance,
+                  "emlt: the anisotropic path perturbation's covariance: the paper's eq. 11 as "
+                  "printed, or the reliability-weighted covariance times 0.05")
+      ->check(CLI::IsMember({"printed", "weighted"}));
+  command
+      .add_option("--ensemble-aniso-scale", s.ensemble_aniso_scale,
+                  "emlt: factor on the anisotropic path perturbation's fitted covariances "
+                  "(0 = the form's own: 1 printed, 0.05 weighted)")
+      ->check(real_number(0.0, false, 100.0, "a number from 0 (the default) to 100"));
+  command
+      .add_option("--ensemble-guides", o.ensemble_guides,
+                  "emlt: how a step's guides are chosen: by a counter over its path type's list "
+                  "(the paper's 3.1.1), or the M paths of the type nearest the current path's "
+                  "image point")
+      ->check(CLI::IsMember({"counter", "nearby"}));
+  command
+      .add_option("--ensemble-alpha-from", o.ensemble_alpha_from,
+                  "emlt: what the adaptive alpha (paper 3.4) is computed from: the image points "
+                  "of the step's guides, or of the whole complementary ensemble")
+      ->check(CLI::IsMember({"guides", "ensemble"}));
   command.add_option("--aniso-map", s.aniso_map_path,
                      "mlt/gamlt/emlt: write the predominant image-plane direction of the proposals "
                      "per pixel to this PNG (red horizontal, green vertical, yellow isotropic)");
@@ -220,6 +248,13 @@ int run_render(const CLI::App& command, RenderOptions& o) {
     settings.ensemble_similarity_length = cli.ensemble_similarity_length;
   if (given("--ensemble-aniso-fallback"))
     settings.ensemble_plane_fallback = o.aniso_fallback == "plane";
+  if (given("--ensemble-aniso-scale")) settings.ensemble_aniso_scale = cli.ensemble_aniso_scale;
+  if (given("--mlt-splat")) settings.mlt_expected_values = o.mlt_splat == "expected";
+  if (given("--ensemble-aniso-covariance"))
+    settings.ensemble_aniso_weighted = o.ensemble_aniso_covariance == "weighted";
+  if (given("--ensemble-guides")) settings.ensemble_nearby_guides = o.ensemble_guides == "nearby";
+  if (given("--ensemble-alpha-from"))
+    settings.ensemble_alpha_from_ensemble = o.ensemble_alpha_from == "ensemble";
   if (given("--bdpt-strategies")) settings.bdpt_strategies_dir = cli.bdpt_strategies_dir;
   settings.mis = o.mis == "balance" ? MisHeuristic::Balance : MisHeuristic::Power;
   settings.direct_point_set =

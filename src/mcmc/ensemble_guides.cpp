@@ -23,6 +23,14 @@ void EnsembleGuides::build(std::span<const Path* const> paths, int width, int he
       types.push_back(p->type);
     }
   index_.build(types);
+  const bool nearby = params_.selection == GuideSelection::Nearby;
+  std::vector<Vec2> raster(paths_.size());
+  if (nearby) {
+    // The type lists in Hilbert order of the paths' image points, before the layout below
+    // copies them in list order.
+    tbb::parallel_for(size_t(0), paths_.size(), [&](size_t i) { raster[i] = paths_[i]->raster(); });
+    index_.order_by_raster(raster, width, height);
+  }
 
   // Lay out the blocks: an Υ of up to M entries starting anywhere in a list of `size`
   // needs min(M, size) - 1 entries repeated past its end.
@@ -48,7 +56,6 @@ void EnsembleGuides::build(std::span<const Path* const> paths, int width, int he
   // by one task: the layout is the same on any thread count. (Built serially, the other
   // threads waited through every swap, and the paper's schedule swaps every few steps per
   // path: 16 threads ran EMLT 10 % slower.)
-  std::vector<Vec2> raster(paths_.size());
   constexpr size_t kChunk = 1024;
   tbb::parallel_for(size_t(0), blocks_.size(), [&](size_t g) {
     Block& block = blocks_[g];
@@ -102,6 +109,17 @@ void EnsembleGuides::build(std::span<const Path* const> paths, int width, int he
   alpha_ = params.adaptive_alpha
                ? ensemble::adaptive_alpha(ensemble::image_coverage(raster, width, height))
                : params.alpha_fixed;
+  // α of every Υ a step can be given: the window of min(M, size) entries starting at each
+  // entry of a type's list (§3.4 applied to Υ's image points).
+  window_alpha_.assign(entries, alpha_);
+  if (params.adaptive_alpha && params.alpha_source == AlphaSource::Upsilon)
+    tbb::parallel_for(size_t(0), blocks_.size(), [&](size_t g) {
+      const Block& block = blocks_[g];
+      const size_t size = index_.group_members(g).size(), count = std::min(m, size);
+      for (size_t s = 0; s < size; ++s)
+        window_alpha_[block.first + s] = ensemble::adaptive_alpha(ensemble::image_coverage(
+            std::span<const Vec2>(rasters_.data() + block.first + s, count), width, height));
+    });
 
   // Sky directions only for the types that have an environment vertex (none in most scenes).
   size_t sky_entries = 0;
@@ -126,8 +144,21 @@ void EnsembleGuides::build(std::span<const Path* const> paths, int width, int he
   }
 }
 
-GuideView EnsembleGuides::upsilon(const PathType& type, uint64_t chain, uint64_t step) const {
-  const PathTypeIndex::Window window = index_.window(type, seed_, chain, step, params_.neighbours);
+GuideView EnsembleGuides::upsilon(const Path& path, uint64_t chain, uint64_t step) const {
+  return params_.selection == GuideSelection::Nearby ? nearby_upsilon(path.type, path.raster())
+                                                     : counter_upsilon(path.type, chain, step);
+}
+
+GuideView EnsembleGuides::counter_upsilon(const PathType& type, uint64_t chain,
+                                          uint64_t step) const {
+  return view(index_.window(type, seed_, chain, step, params_.neighbours));
+}
+
+GuideView EnsembleGuides::nearby_upsilon(const PathType& type, const Vec2& raster) const {
+  return view(index_.nearby_window(type, raster, params_.neighbours));
+}
+
+GuideView EnsembleGuides::view(const PathTypeIndex::Window& window) const {
   GuideView view;
   if (window.count == 0) return view;
   const Block& block = blocks_[window.group];
@@ -141,6 +172,8 @@ GuideView EnsembleGuides::upsilon(const PathType& type, uint64_t chain, uint64_t
   }
   view.same_point_ = same_point_.data() + block.same_point_data;
   view.stride_ = block.stride;
+  view.origin_ = block.first + window.start;
+  view.alpha_ = window_alpha_[block.first + window.start];
   return view;
 }
 

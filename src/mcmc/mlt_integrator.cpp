@@ -4,6 +4,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -61,6 +62,7 @@ struct BlockOutput {
   // Each on its own cache lines: blocks run on different cores.
   struct alignas(64) Counters : StrategyStats {};
   std::vector<Counters> stats;
+  AlphaTally alpha;  // the α of the block's guided linear steps (EMLT)
 };
 
 // Asks for a path's vertices ahead of use: EMLT visits each of its many chains for a single
@@ -161,9 +163,17 @@ struct FilmSlot {
 
 // Takes the chain's remaining steps of the sweep (chain.sweep_left), or returns early, with
 // every step it took complete, when an interruption is requested; returns the steps taken.
-uint64_t run_chain(Chain& chain, uint64_t chain_index, const StrategyMix& mix,
-                   MutationContext ctx, bool ignore_selection, BlockOutput& out,
-                   const FilmSlot& film, int width, int height) {
+// How a step scores: with expected values (the proposal gets a, the current path 1 - a) or,
+// as the chains of the original MLT papers, the state after the step with weight 1.
+struct StepRules {
+  bool ignore_selection = false;
+  bool expected_values = true;
+  bool drop_rejected_steps = false;  // an injected bug (MltOptions)
+};
+
+uint64_t run_chain(Chain& chain, uint64_t chain_index, const StrategyMix& mix, MutationContext ctx,
+                   const StepRules& rules, BlockOutput& out, const FilmSlot& film, int width,
+                   int height) {
   ctx.chain = chain_index;
   // Steps taken with the current applicability, credited to the strategies that did not
   // apply whenever it changes (one loop per accepted move instead of one per step).
@@ -192,6 +202,7 @@ uint64_t run_chain(Chain& chain, uint64_t chain_index, const StrategyMix& mix,
     double acceptance = 0.0;
     auto proposal = mix.strategy(size_t(chosen)).propose(chain.current, chain.rng, ctx);
     if (proposal && proposal->fallback) ++stats.fallbacks;
+    if (proposal && proposal->alpha >= 0.0) out.alpha.add(proposal->alpha);
     if (proposal && film.moves) {
       const Vec2 move = proposal->path.raster() - chain.current.raster();
       film.moves->add(film_index(chain.current, width, height),
@@ -210,8 +221,8 @@ uint64_t run_chain(Chain& chain, uint64_t chain_index, const StrategyMix& mix,
       if (target > 0.0 && std::isfinite(target)) {
         proposal_applicable = mix.applicable(proposal->path, ctx);
         const double p_reverse =
-            ignore_selection ? p_forward
-                             : mix.selection_probability(size_t(chosen), proposal_applicable);
+            rules.ignore_selection ? p_forward
+                                   : mix.selection_probability(size_t(chosen), proposal_applicable);
         const double ratio = target / chain.target * std::exp(proposal->log_reverse_over_forward) *
                              (p_reverse / p_forward);
         acceptance = std::isfinite(ratio) ? std::clamp(ratio, 0.0, 1.0) : (ratio > 0.0 ? 1.0 : 0.0);
@@ -220,10 +231,14 @@ uint64_t run_chain(Chain& chain, uint64_t chain_index, const StrategyMix& mix,
     if (!proposal || !(target > 0.0)) ++stats.failed;
     stats.acceptance_sum += acceptance;
 
-    // Expected values: the proposal's share now, the current path's when it is left.
-    chain.carried += 1.0 - acceptance;
-    if (acceptance > 0.0)
-      film.splat(width, height, proposal->path, contribution, target, acceptance);
+    // Expected values: the proposal's share now, the current path's when it is left. Without
+    // them, the state after the step gets the step's whole weight (carried to the proposal
+    // when it is accepted).
+    if (rules.expected_values) {
+      chain.carried += 1.0 - acceptance;
+      if (acceptance > 0.0)
+        film.splat(width, height, proposal->path, contribution, target, acceptance);
+    }
     if (chain.rng.uniform() < acceptance) {
       film.splat(width, height, chain.current, chain.contribution, chain.target, chain.carried);
       chain.current = std::move(proposal->path);
@@ -232,8 +247,10 @@ uint64_t run_chain(Chain& chain, uint64_t chain_index, const StrategyMix& mix,
       chain.target = target;
       if (proposal_applicable != chain.applicable) count_not_applicable();
       chain.applicable = proposal_applicable;
-      chain.carried = 0.0;
+      chain.carried = rules.expected_values ? 0.0 : 1.0;
       ++stats.accepted;
+    } else if (!rules.expected_values && !rules.drop_rejected_steps) {
+      chain.carried += 1.0;
     }
   }
   count_not_applicable();
@@ -505,6 +522,8 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     half = in.get<uint64_t>();
     timed_rounds = in.get<uint64_t>();
     alpha_sum = in.get<double>();
+    // The merged α tally is kept by the first block.
+    blocks.front().alpha = in.get<AlphaTally>();
     stats_.swaps = in.get<uint64_t>();
     stats_.tree_seconds = in.get<double>();
     in.expect_end();
@@ -607,6 +626,9 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     out.put(half);
     out.put(timed_rounds);
     out.put(alpha_sum);
+    AlphaTally alpha;
+    for (const BlockOutput& block : blocks) alpha.merge(block.alpha);
+    out.put(alpha);
     out.put(stats_.swaps);
     out.put(stats_.tree_seconds);
   };
@@ -708,7 +730,14 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   if (settings.ensemble_neighbours > 0) ensemble_params.neighbours = settings.ensemble_neighbours;
   if (settings.ensemble_similarity_length > 0.0)
     ensemble_params.similarity_length = settings.ensemble_similarity_length;
+  if (!(ensemble_params.similarity_length > 0.0))
+    ensemble_params.similarity_length = double(scene.bounds_radius()) / std::sqrt(3.0);
   ensemble_params.plane_fallback = settings.ensemble_plane_fallback;
+  if (settings.ensemble_aniso_weighted) ensemble_params.aniso_printed_covariance = false;
+  if (settings.ensemble_aniso_scale > 0.0)
+    ensemble_params.aniso_covariance_scale = settings.ensemble_aniso_scale;
+  if (settings.ensemble_nearby_guides) ensemble_params.selection = GuideSelection::Nearby;
+  if (settings.ensemble_alpha_from_ensemble) ensemble_params.alpha_source = AlphaSource::Ensemble;
   if (settings.ensemble_alpha > 0.0) {
     ensemble_params.adaptive_alpha = false;
     ensemble_params.alpha_fixed = settings.ensemble_alpha;
@@ -716,6 +745,8 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   std::vector<const Path*> frozen(ensemble_size);
   bool guides_ready = false;
   if (ensemble) ctx.ensemble = &guides;
+  const StepRules rules{options_.ignore_selection_probability, settings.mlt_expected_values,
+                        options_.drop_rejected_steps};
   tbb::task_arena arena(threads);
   // Y's tree and α from the frozen half (the other one than the sweep's), which nothing
   // changes during the sweep: rebuilding it on resume gives the same guides. Built on the
@@ -894,9 +925,8 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
           if (j + 1 < end) prefetch_path(chains[size_t(first + j + 1)].current);
           if (chain.sweep_left == 0) continue;
           if (interruption::requested()) break;
-          const uint64_t steps = run_chain(chain, first + j, mix, ctx,
-                                           options_.ignore_selection_probability,
-                                           blocks[size_t(block)], film, width, height);
+          const uint64_t steps = run_chain(chain, first + j, mix, ctx, rules, blocks[size_t(block)],
+                                           film, width, height);
           if (guide_copies && chain.moved) pack_moved(first + j, packed[size_t(block)]);
           interruption::poll(steps);
           block_steps += steps;
@@ -964,6 +994,28 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
       write_move_map(settings.aniso_map_path, merged, width, height);
     }
   }
+  {
+    // α's tally over the blocks and ranks: counts and sum add up; the extremes of positive
+    // doubles order as their bit patterns, so a maximum over ranks gives both.
+    AlphaTally alpha;
+    for (const BlockOutput& block : blocks) alpha.merge(block.alpha);
+    if (cluster::size() > 1) {
+      std::vector<uint64_t> counts(alpha.counts.begin(), alpha.counts.end());
+      std::vector<double> sum{alpha.sum};
+      cluster::sum_to_root(counts);
+      cluster::sum_to_root(sum);
+      const auto bits = [](double v) { return std::bit_cast<uint64_t>(std::max(v, 0.0)); };
+      std::vector<uint64_t> extremes{~bits(std::isfinite(alpha.min) ? alpha.min : 1e300),
+                                     bits(std::isfinite(alpha.max) ? alpha.max : 0.0)};
+      cluster::max_everywhere(extremes);
+      std::copy(counts.begin(), counts.end(), alpha.counts.begin());
+      alpha.sum = sum[0];
+      alpha.min = std::bit_cast<double>(~extremes[0]);
+      alpha.max = std::bit_cast<double>(extremes[1]);
+      if (alpha.total() == 0) alpha = AlphaTally{};
+    }
+    stats_.alpha = alpha;
+  }
   const auto merged_blocks = block_stats();
   for (const auto& block : merged_blocks)
     for (size_t i = 0; i < mix.size(); ++i) stats_.strategies[i].merge(block[i]);
@@ -975,6 +1027,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     stats_.ensemble_neighbours = uint64_t(ensemble_params.neighbours);
     stats_.ensemble_iterations = iterations;
     stats_.mean_alpha = stats_.swaps ? alpha_sum / double(stats_.swaps) : 0.0;
+    if (stats_.alpha.total() > 0) stats_.mean_alpha = stats_.alpha.mean();
   }
   result.seconds = stats_.seconds;
   result.samples = done;

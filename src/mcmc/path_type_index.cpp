@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "emlt/core/rng.h"
+#include "emlt/mcmc/raster_order.h"
 
 namespace emlt {
 
@@ -42,6 +43,7 @@ void PathTypeIndex::build(std::span<const PathType> types) {
     cursor[g] = begin;
     begin += sizes[g];
   }
+  keys_.clear();
   members_.resize(types.size());
   for (size_t i = 0; i < types.size(); ++i) members_[cursor[group_of[type_of[i]]]++] = uint32_t(i);
 
@@ -96,6 +98,32 @@ PathTypeIndex::Window PathTypeIndex::window(const PathType& type, uint64_t seed,
   const size_t size = g->end - g->begin;
   const uint64_t start = mix_bits(derive_stream_seed(seed, chain) ^ mix_bits(step)) % size;
   return {size_t(g - groups_.data()), size_t(start), std::min(size, size_t(m))};
+}
+
+void PathTypeIndex::order_by_raster(std::span<const Vec2> rasters, int width, int height) {
+  width_ = width;
+  height_ = height;
+  std::vector<uint64_t> key_of(rasters.size());
+  for (size_t i = 0; i < rasters.size(); ++i)
+    key_of[i] = raster_order_key(rasters[i], width, height);
+  for (const Group& g : groups_) {
+    const auto begin = members_.begin() + g.begin, end = members_.begin() + g.end;
+    std::sort(begin, end, [&](uint32_t a, uint32_t b) {
+      return key_of[a] != key_of[b] ? key_of[a] < key_of[b] : a < b;
+    });
+  }
+  keys_.resize(members_.size());
+  for (size_t k = 0; k < members_.size(); ++k) keys_[k] = key_of[members_[k]];
+}
+
+PathTypeIndex::Window PathTypeIndex::nearby_window(const PathType& type, const Vec2& raster,
+                                                   int m) const {
+  const Group* g = find(type);
+  if (!g || m <= 0 || keys_.empty()) return {};
+  const size_t size = g->end - g->begin, count = std::min(size, size_t(m));
+  const std::span<const uint64_t> keys(keys_.data() + g->begin, size);
+  return {size_t(g - groups_.data()),
+          centred_window_start(keys, raster_order_key(raster, width_, height_), count), count};
 }
 
 std::vector<uint32_t> PathTypeIndex::guides(const PathType& type, uint64_t seed, uint64_t chain,

@@ -8,6 +8,8 @@ namespace emlt {
 
 std::string expand_mix_preset(const std::string& spec) {
   if (spec == "mlt") return kMltMix;
+  if (spec == "mlt-paper") return kMltPaperMix;
+  if (spec == "emlt-added") return kEmltAddedMix;
   if (spec == "gamlt") return kGamltMix;
   if (spec == "emlt") return kEmltMix;
   if (spec == "emlt-ani") return kEmltAniMix;
@@ -25,7 +27,26 @@ StrategyMix StrategyMix::parse(const std::string& given) {
     const auto eq = item.find('=');
     const std::string name = item.substr(0, eq);
     double weight = 1.0;
-    if (eq != std::string::npos) {
+    bool share = false;
+    if (eq != std::string::npos && item.find('/', eq) != std::string::npos) {
+      // A fixed share p/q.
+      const std::string text = item.substr(eq + 1);
+      const auto slash = text.find('/');
+      double p = 0.0, q = 0.0;
+      size_t used_p = 0, used_q = 0;
+      try {
+        p = std::stod(text.substr(0, slash), &used_p);
+        q = std::stod(text.substr(slash + 1), &used_q);
+      } catch (const std::exception&) {
+        used_p = used_q = 0;
+      }
+      weight = p / q;
+      if (used_p != slash || used_q != text.size() - slash - 1 || !(weight > 0.0) ||
+          !(weight < 1.0) || !std::isfinite(weight))
+        throw Error("--mutations " + spec + ": share of '" + name +
+                    "' must be a fraction p/q between 0 and 1");
+      share = true;
+    } else if (eq != std::string::npos) {
       const std::string text = item.substr(eq + 1);
       size_t used = 0;
       try {
@@ -38,8 +59,14 @@ StrategyMix StrategyMix::parse(const std::string& given) {
     }
     for (const auto& existing : mix.names_)
       if (existing == name) throw Error("--mutations " + spec + ": '" + name + "' given twice");
-    mix.add(name, make_mutation(name), weight);
+    if (share)
+      mix.add_share(name, make_mutation(name), weight);
+    else
+      mix.add(name, make_mutation(name), weight);
   }
+  double shares = 0.0;
+  for (const double s : mix.shares_) shares += s;
+  if (shares >= 1.0) throw Error("--mutations " + spec + ": the fixed shares add up to 1 or more");
   if (mix.strategies_.empty()) throw Error("--mutations " + spec + ": no strategy given");
   return mix;
 }
@@ -49,6 +76,7 @@ void StrategyMix::add(std::string name, std::unique_ptr<Mutation> strategy, doub
     throw Error("--mutations: more than " + std::to_string(kMaxStrategies) + " strategies");
   strategies_.push_back(std::move(strategy));
   weights_.push_back(weight);
+  shares_.push_back(0.0);
   names_.push_back(std::move(name));
   totals_.clear();
   if (weights_.size() <= kTabulatedStrategies) {
@@ -60,6 +88,12 @@ void StrategyMix::add(std::string name, std::unique_ptr<Mutation> strategy, doub
       totals_[mask] = total;
     }
   }
+}
+
+void StrategyMix::add_share(std::string name, std::unique_ptr<Mutation> strategy, double share) {
+  add(std::move(name), std::move(strategy), 0.0);
+  shares_.back() = share;
+  has_shares_ = true;
 }
 
 StrategyMask StrategyMix::applicable(const Path& x, const MutationContext& ctx) const {
@@ -83,7 +117,34 @@ double StrategyMix::total_weight(StrategyMask applicable) const {
   return total;
 }
 
+double StrategyMix::shared_probability(size_t i, StrategyMask applicable) const {
+  if (!has(applicable, i)) return 0.0;
+  double shares = 0.0;
+  for (size_t j = 0; j < shares_.size(); ++j)
+    if (has(applicable, j)) shares += shares_[j];
+  const double weights = total_weight(applicable);
+  if (weights > 0.0) return shares_[i] > 0.0 ? shares_[i] : (1.0 - shares) * weights_[i] / weights;
+  return shares > 0.0 ? shares_[i] / shares : 0.0;
+}
+
 int StrategyMix::choose(StrategyMask applicable, float u, double* probability) const {
+  if (has_shares_) {
+    // Walk the applicable strategies' probabilities in index order.
+    double target = double(u);
+    int chosen = -1;
+    double p = 0.0;
+    for (size_t i = 0; i < strategies_.size(); ++i) {
+      if (!has(applicable, i)) continue;
+      const double pi = shared_probability(i, applicable);
+      if (!(pi > 0.0)) continue;
+      chosen = int(i);
+      p = pi;
+      target -= pi;
+      if (target < 0.0) break;
+    }
+    if (probability) *probability = p;
+    return chosen;
+  }
   const double total = total_weight(applicable);
   if (total <= 0.0) return -1;
   double target = double(u) * total;
@@ -100,6 +161,7 @@ int StrategyMix::choose(StrategyMask applicable, float u, double* probability) c
 
 double StrategyMix::selection_probability(size_t i, StrategyMask applicable) const {
   if (!has(applicable, i)) return 0.0;
+  if (has_shares_) return shared_probability(i, applicable);
   return weights_[i] / total_weight(applicable);
 }
 

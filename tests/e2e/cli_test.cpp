@@ -2,6 +2,7 @@
 // one clear line, a non-zero exit and no output file.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -464,15 +465,34 @@ TEST(Cli, EmltWritesEnsembleStatisticsAndTheAnisotropyMap) {
   const std::string lin = "render " + cornell() +
                           " --integrator emlt --mutations emlt-lin --mpp 8 --bootstrap 5000"
                           " --width 16 --height 16 --ensemble-size 32 --quiet -o ";
-  ASSERT_EQ(0, test::run_command(emlt_cmd(lin + (dir / "literal.pfm").string())));
+  ASSERT_EQ(0, test::run_command(emlt_cmd(lin + (dir / "default.pfm").string())));
   ASSERT_EQ(0, test::run_command(emlt_cmd(lin + (dir / "scaled.pfm").string() +
                                           " --ensemble-similarity-length 50")));
   const auto bytes = [](const fs::path& path) {
     std::ifstream file(path, std::ios::binary);
     return std::string(std::istreambuf_iterator<char>(file), {});
   };
-  EXPECT_FALSE(bytes(dir / "literal.pfm").empty());
-  EXPECT_NE(bytes(dir / "literal.pfm"), bytes(dir / "scaled.pfm"));
+  // α's distribution over the linear kernels' stretches: ordered quartiles within the
+  // paper's bounds (α_s = 0.05, α_l = 0.5).
+  ASSERT_EQ(0, test::run_command(emlt_cmd(lin + (dir / "alpha.pfm").string() + " --stats " +
+                                          (dir / "alpha.json").string())));
+  std::ifstream alpha_in(dir / "alpha.json");
+  const auto alpha = nlohmann::json::parse(alpha_in)["ensemble"]["alpha"];
+  ASSERT_TRUE(alpha.is_object());
+  EXPECT_GT(alpha["steps"].get<uint64_t>(), 0u);
+  EXPECT_GE(alpha["min"].get<double>(), 0.05 - 1e-12);
+  EXPECT_LE(alpha["min"].get<double>(), alpha["q1"].get<double>());
+  EXPECT_LE(alpha["q1"].get<double>(), alpha["median"].get<double>());
+  EXPECT_LE(alpha["median"].get<double>(), alpha["q3"].get<double>());
+  EXPECT_LE(alpha["q3"].get<double>(), alpha["max"].get<double>());
+  EXPECT_LE(alpha["max"].get<double>(), 0.5);
+  EXPECT_FALSE(bytes(dir / "default.pfm").empty());
+  EXPECT_NE(bytes(dir / "default.pfm"), bytes(dir / "scaled.pfm"));
+  // The default length is the scene's (its bounding radius over sqrt(3)), not the paper's
+  // literal 1, on this box in millimetres.
+  ASSERT_EQ(0, test::run_command(emlt_cmd(lin + (dir / "length-one.pfm").string() +
+                                          " --ensemble-similarity-length 1")));
+  EXPECT_NE(bytes(dir / "default.pfm"), bytes(dir / "length-one.pfm"));
   expect_clean_failure(lin + (dir / "o.exr").string() + " --ensemble-similarity-length -1",
                        "ensemble-similarity-length", dir / "o.exr");
   // The anisotropic kernel's fallback: the paper's vMF or the plane Gaussian; about a third
@@ -489,6 +509,23 @@ TEST(Cli, EmltWritesEnsembleStatisticsAndTheAnisotropyMap) {
   EXPECT_NE(bytes(dir / "vmf.pfm"), bytes(dir / "plane.pfm"));
   expect_clean_failure(ani + (dir / "o.exr").string() + " --ensemble-aniso-fallback gaussian",
                        "ensemble-aniso-fallback", dir / "o.exr");
+  // How Υ is chosen, what α is computed from, and the anisotropic covariance scale each
+  // change the image; bad values are refused.
+  const std::vector<std::array<std::string, 3>> variants = {
+      {lin, "default.pfm", "--ensemble-guides nearby"},
+      {lin, "default.pfm", "--ensemble-alpha-from ensemble"},
+      {ani, "vmf.pfm", "--ensemble-aniso-scale 0.5"}};
+  for (const auto& [command, reference, flag] : variants) {
+    const fs::path out = dir / "variant.pfm";
+    ASSERT_EQ(0, test::run_command(emlt_cmd(command + out.string() + " " + flag))) << flag;
+    EXPECT_NE(bytes(dir / reference), bytes(out)) << flag;
+  }
+  expect_clean_failure(ani + (dir / "o.exr").string() + " --ensemble-guides nearest",
+                       "ensemble-guides", dir / "o.exr");
+  expect_clean_failure(ani + (dir / "o.exr").string() + " --ensemble-alpha-from y",
+                       "ensemble-alpha-from", dir / "o.exr");
+  expect_clean_failure(ani + (dir / "o.exr").string() + " --ensemble-aniso-scale -1",
+                       "ensemble-aniso-scale", dir / "o.exr");
   // Absurd ensembles are refused before anything is allocated or written.
   expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() +
                            " --integrator emlt --ensemble-size 100000000",

@@ -37,6 +37,7 @@ struct EmltRun {
   double alpha = 0.0;  // > 0: a fixed α for the linear kernels instead of the adaptive one
   int max_depth = 0;   // > 0: instead of base_settings()'s
   int neighbours = 0;  // > 0: M instead of the default
+  bool nearby = false;  // Υ near the path's image point instead of the counter's
 };
 
 Image emlt_image(const Scene& scene, const EmltRun& run, MltStatistics* stats = nullptr) {
@@ -55,6 +56,7 @@ Image emlt_image(const Scene& scene, const EmltRun& run, MltStatistics* stats = 
   options.name = "emlt";
   options.ensemble = true;
   options.mix = run.mix;
+  if (run.nearby) options.ensemble_params.selection = GuideSelection::Nearby;
   if (run.alpha > 0.0) {
     options.ensemble_params.adaptive_alpha = false;
     options.ensemble_params.alpha_fixed = run.alpha;
@@ -154,6 +156,16 @@ void expect_mixes_converge(const char* scene_name, std::initializer_list<const c
   }
 }
 
+// With Υ near the path (--ensemble-guides nearby) every guided strategy evaluates its reverse
+// move against the proposal's own Υ: the full mix and the presets converge all the same.
+TEST(EmltUnbiased, NearbyGuidesConvergeOnTheCornellBox) {
+  EmltRun run;
+  run.mpp = 3000;
+  run.nearby = true;
+  expect_mixes_converge("cornell-box", {kEmltMix, "emlt-ani", "emlt-lin"}, run, 0.06, 0.04, 0.04,
+                        3);
+}
+
 TEST(EmltUnbiased, AnisotropicAndLinearPresetsConvergeOnTheCornellBox) {
   // Three seeds of 1,000 mutations per pixel each: the anisotropic kernel's 4 x 4 tile
   // deviation is heavy-tailed from one seed to the next (0.017-0.056 over 16 single seeds
@@ -203,11 +215,12 @@ TEST(EmltUnbiased, EnvironmentPerturbationConvergesForSkyLitDirectLight) {
 }
 
 TEST(EmltUnbiased, FullMixAndPresetsConvergeOnTheSkyLitScene) {
-  // Every path in the chains (direct light included), lit by the environment map only.
+  // Every path in the chains (direct light included), lit by the environment map only; the
+  // mean of three seeds of 1,000 mutations per pixel each.
   EmltRun run;
   run.direct_separate = false;
-  run.mpp = 1000;
-  expect_mixes_converge("env-sky", {kEmltMix, "emlt-ani", "emlt-lin"}, run, 0.06, 0.04);
+  run.mpp = 3000;
+  expect_mixes_converge("env-sky", {kEmltMix, "emlt-ani", "emlt-lin"}, run, 0.06, 0.04, 0.0, 3);
 }
 
 TEST(EmltInjectedBugs, GuidedLensBugsAreCaught) {
@@ -233,6 +246,28 @@ TEST(EmltInjectedBugs, GuidedLensBugsAreCaught) {
   EXPECT_GT(deviation(selection), 0.055) << "selection probability ignored";
   EXPECT_GT(deviation(upsilon), 0.055) << "Υ chosen for the proposed path";
   EXPECT_GT(deviation(reverse), 0.055) << "reverse density dropped";
+}
+
+// The nearby Υ moves with the path, so the reverse move must be evaluated against the
+// proposal's own Υ (ensemble_guides.h): the guided lens perturbation evaluated against x's Υ
+// instead is biased. The same setting as above, with the adaptive α and M = 8. Measured:
+// correct 0.023, reverse against x's Υ 0.067.
+TEST(EmltInjectedBugs, NearbyGuidesReverseAgainstTheCurrentGuidesIsCaught) {
+  const auto scene = shipped_scene("cornell-box", 16);
+  const Image reference = bdpt_reference(*scene, 4096);
+  const auto deviation = [&](ensemble::InjectedBugs bugs) {
+    EmltRun run;
+    run.mix = with_bidir(std::make_unique<GuidedLensPerturbation>(bugs), 8.0);
+    run.mpp = 10000;
+    run.nearby = true;
+    const double d = tile_deviation(emlt_image(*scene, run), reference, 4);
+    std::printf("[ info     ] nearby guides, lens: tile deviation %.4f\n", d);
+    return d;
+  };
+  ensemble::InjectedBugs forward_guides;
+  forward_guides.reverse_upsilon_of_x = true;
+  EXPECT_LT(deviation({}), 0.04);
+  EXPECT_GT(deviation(forward_guides), 0.055) << "reverse against x's Υ";
 }
 
 // The anisotropic path perturbation alone (with the bidirectional mutation) on the Cornell

@@ -177,12 +177,17 @@ AnisotropicParams anisotropic_test_params() {
   return params;
 }
 
-ChainReport run_anisotropic(const char* label, Injected bug) {
+// printed: eq. 11's covariance as printed (1/(M-1), normalised weights, no further factor).
+ChainReport run_anisotropic(const char* label, Injected bug, bool printed = false) {
   const PlaneTargetIn3d target;
   const PlaneGrid grid;
   AnisotropicTestKernel kernel;
   kernel.guides = frozen_guides<Vec3>(target, 24, 3);
   kernel.params = anisotropic_test_params();
+  if (printed) {
+    kernel.params.printed_normalisation = true;
+    kernel.params.covariance_scale = 1.0;
+  }
   kernel.bug = bug;
   const auto probabilities =
       grid.probabilities([&](double x, double y) { return target.mixture.density(x, y); });
@@ -533,6 +538,11 @@ TEST(EnsembleKernelChains, GreatArcIgnoredSelectionProbabilityIsDetected) {
 
 TEST(EnsembleKernelChains, AnisotropicKeepsTarget) {
   expect_matches_target(run_anisotropic("anisotropic", Injected::None));
+}
+TEST(EnsembleKernelChains, AnisotropicAsPrintedKeepsTarget) {
+  expect_matches_target(run_anisotropic("anisotropic, eq. 11 as printed", Injected::None, true));
+  expect_detected(run_anisotropic("anisotropic, eq. 11 as printed, bug: Sigma not refitted",
+                                  Injected::SigmaNotRefitted, true));
 }
 TEST(EnsembleKernelChains, AnisotropicDroppedReverseDensityIsDetected) {
   expect_detected(run_anisotropic("anisotropic, bug: no ratio", Injected::DroppedReverseDensity));

@@ -6,8 +6,10 @@
 // density, a dropped selection probability or a biased length change shifts the colour.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstring>
 
+#include "emlt/core/error.h"
 #include "emlt/mcmc/bootstrap.h"
 #include "emlt/mcmc/mlt_integrator.h"
 #include "emlt/mcmc/two_tailed_geometric.h"
@@ -181,6 +183,27 @@ TEST_P(MltClosedBox, BidirectionalChainsReproduceTheExactColour) {
 
 INSTANTIATE_TEST_SUITE_P(DirectSeparateOrNot, MltClosedBox, ::testing::Values(false, true));
 
+// The chains of the original MLT papers score the state after each step, not expected
+// values (--mlt-splat state): noisier, the same answer. A rejected step that adds nothing
+// (the current path short of the weight of the steps it stayed) shifts the colour.
+TEST(MltClosedBox, StateSplattingReproducesTheExactColourAndDroppedRejectionsDoNot) {
+  const int max_depth = 5;
+  const auto scene = test::emissive_box(kAlbedo, 1.0f);
+  const Rgb exact = test::emissive_box_radiance(kAlbedo, 1.0f, max_depth);
+  RenderSettings s = mlt_settings(max_depth, false);
+  s.mlt_expected_values = false;
+  const Rgb good = relative_error(render(MltIntegrator(), *scene, s).image, exact);
+  for (int c = 0; c < 3; ++c) EXPECT_LT(std::abs(good[c]), 0.03) << "channel " << c;
+  MltOptions broken;
+  broken.drop_rejected_steps = true;
+  const Rgb bad = relative_error(render(MltIntegrator(broken), *scene, s).image, exact);
+  std::printf(
+      "[ info     ] state splatting: error %.4f %.4f %.4f; rejections dropped %.4f %.4f %.4f\n",
+      good.x, good.y, good.z, bad.x, bad.y, bad.z);
+  EXPECT_GT(std::max(std::abs(bad.x), std::abs(bad.z)), 0.06)
+      << bad.x << " " << bad.y << " " << bad.z;
+}
+
 TEST(MltInjectedBugs, SymmetricProposalAssumptionShiftsTheColour) {
   // Treating the bidirectional mutation as symmetric (no reverse density, no Jacobian)
   // must visibly break the exact answer that the correct chain reproduces.
@@ -205,6 +228,48 @@ TEST(MltSelectionProbability, MixedApplicabilityIsCorrectOnlyWithTheSelectionTer
       render(MltIntegrator(options), *scene, mlt_settings(max_depth, false)).image, exact);
   // The regeneration moves make the chains noisier (blue, carried by one-segment paths,
   // most): measured errors stay within +-4.5 % across seeds, the bug below gives +42 %.
+  for (int c = 0; c < 3; ++c) EXPECT_LT(std::abs(good[c]), 0.06) << "channel " << c;
+  options.ignore_selection_probability = true;
+  const Rgb bad = relative_error(
+      render(MltIntegrator(options), *scene, mlt_settings(max_depth, false)).image, exact);
+  EXPECT_GT(std::abs(bad.z), 0.2) << bad.x << " " << bad.y << " " << bad.z;
+}
+
+// A fixed share (the EMLT paper's "bidirectional mutation at 1/3"): the bidirectional
+// mutation keeps 1/3 of the proposals whatever applies, so the regeneration move takes 2/3
+// of them on even lengths and none on odd ones. The probabilities follow the shares, and the
+// chains reproduce the exact colour only with the selection term.
+TEST(MltSelectionProbability, FixedSharesFollowTheirProbabilitiesAndNeedTheSelectionTerm) {
+  auto shared = std::make_shared<StrategyMix>(StrategyMix::parse("bidir=1/3"));
+  shared->add("even-regeneration", std::make_unique<EvenLengthRegeneration>(), 5.0);
+  EXPECT_NEAR(shared->selection_probability(0, 0b11), 1.0 / 3.0, 1e-15);
+  EXPECT_NEAR(shared->selection_probability(1, 0b11), 2.0 / 3.0, 1e-15);
+  EXPECT_EQ(shared->selection_probability(0, 0b01), 1.0);  // alone, it takes everything
+  EXPECT_EQ(shared->selection_probability(1, 0b01), 0.0);
+  int picked_bidir = 0;
+  for (int k = 0; k < 3000; ++k) {
+    double p = 0.0;
+    const int i = shared->choose(0b11, (float(k) + 0.5f) / 3000.0f, &p);
+    EXPECT_EQ(p, shared->selection_probability(size_t(i), 0b11));
+    picked_bidir += i == 0;
+  }
+  EXPECT_EQ(picked_bidir, 1000);
+  const StrategyMix paper = StrategyMix::parse("emlt");
+  ASSERT_EQ(paper.name(0), "bidir");
+  // Whichever guided strategies apply, the bidirectional mutation keeps 1/3.
+  for (const StrategyMask mask : {0b111111u, 0b010111u, 0b000011u})
+    EXPECT_NEAR(paper.selection_probability(0, mask), 1.0 / 3.0, 1e-15) << mask;
+  EXPECT_THROW(StrategyMix::parse("bidir=2/3,lens=1/2"), emlt::Error);
+  EXPECT_THROW(StrategyMix::parse("bidir=1/0"), emlt::Error);
+  EXPECT_THROW(StrategyMix::parse("bidir=a/3"), emlt::Error);
+
+  const int max_depth = 5;
+  const auto scene = test::emissive_box(kAlbedo, 1.0f);
+  const Rgb exact = test::emissive_box_radiance(kAlbedo, 1.0f, max_depth);
+  MltOptions options;
+  options.mix = shared;
+  const Rgb good = relative_error(
+      render(MltIntegrator(options), *scene, mlt_settings(max_depth, false)).image, exact);
   for (int c = 0; c < 3; ++c) EXPECT_LT(std::abs(good[c]), 0.06) << "channel " << c;
   options.ignore_selection_probability = true;
   const Rgb bad = relative_error(

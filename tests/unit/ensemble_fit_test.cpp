@@ -85,6 +85,16 @@ TEST(EnsembleFit, CovarianceIsTheWeightedCovarianceOfTheProjectedGuides) {
       double sum = 0.0, squares = 0.0;
       for (const double w : weights) sum += w, squares += w * w;
       EXPECT_NEAR(fit.effective_guides, sum * sum / squares, 1e-12 * count) << trial;
+      // Eq. 11 as printed: the same scatter over (M - 1) with normalised weights, that is
+      // the reliability-weighted covariance times (total - squares / total) / ((M - 1) total).
+      AnisotropicParams printed = params;
+      printed.printed_normalisation = true;
+      const TangentGaussian literal = fit_tangent_gaussian(centre, normal, *set, printed);
+      ASSERT_FALSE(literal.fallback);
+      const double factor = (sum - squares / sum) / (double(count - 1) * sum);
+      EXPECT_NEAR(literal.covariance.ss, expected.ss * factor, 1e-9 * scale) << trial;
+      EXPECT_NEAR(literal.covariance.st, expected.st * factor, 1e-9 * scale) << trial;
+      EXPECT_NEAR(literal.covariance.tt, expected.tt * factor, 1e-9 * scale) << trial;
     }
   }
 }

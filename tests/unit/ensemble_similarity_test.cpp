@@ -267,6 +267,7 @@ TEST(EnsembleGuideView, HoldsTheGuidePathsOwnDataForEveryWindow) {
   pointers.push_back(nullptr);  // a chain without a seed
   EnsembleGuides ensemble;
   EnsembleParams params;
+  params.selection = GuideSelection::Counter;  // lists in ensemble order
   params.neighbours = 16;
   ensemble.build(pointers, 64, 64, 3, params);
   EXPECT_EQ(ensemble.size(), paths.size());
@@ -276,16 +277,16 @@ TEST(EnsembleGuideView, HoldsTheGuidePathsOwnDataForEveryWindow) {
     for (const Path& p : paths)
       if (p.type == type_of->type) members.push_back(&p);
     for (uint64_t step = 0; step < 40; ++step) {
-      const GuideView view = ensemble.upsilon(type_of->type, 4, step);
+      const GuideView view = ensemble.counter_upsilon(type_of->type, 4, step);
       expect_window_of_members(view, members, 16);
       EXPECT_EQ(view.has_environment(), type_of == &paths[5]);
       // The same (type, chain, step): the same Υ.
-      EXPECT_EQ(ensemble.upsilon(type_of->type, 4, step)[0], view[0]);
+      EXPECT_EQ(ensemble.counter_upsilon(type_of->type, 4, step)[0], view[0]);
     }
   }
   PathType absent;
   absent.vertices = 9;
-  EXPECT_TRUE(ensemble.upsilon(absent, 0, 0).empty());
+  EXPECT_TRUE(ensemble.counter_upsilon(absent, 0, 0).empty());
 }
 
 // The layout is written in parallel, in chunks of a type's entries: types of thousands of
@@ -300,6 +301,7 @@ TEST(EnsembleGuideView, LargeTypesBuiltInParallelHoldTheGuidePathsOwnData) {
   std::vector<const Path*> pointers;
   for (const Path& p : paths) pointers.push_back(&p);
   EnsembleParams params;
+  params.selection = GuideSelection::Counter;  // lists in ensemble order
   params.neighbours = 16;
   EnsembleGuides parallel, serial;
   tbb::task_arena(4).execute([&] { parallel.build(pointers, 64, 64, 3, params); });
@@ -318,11 +320,11 @@ TEST(EnsembleGuideView, LargeTypesBuiltInParallelHoldTheGuidePathsOwnData) {
       if (p.type == type_of->type) members.push_back(&p);
     for (uint64_t chain = 0; chain < 40; ++chain)
       for (uint64_t step = 0; step < 40; ++step) {
-        const GuideView view = parallel.upsilon(type_of->type, chain, step);
+        const GuideView view = parallel.counter_upsilon(type_of->type, chain, step);
         expect_window_of_members(view, members, 16);
         ASSERT_EQ(view.has_environment(), type_of == &paths[0]);
         // Built on one thread: the same window.
-        const GuideView one = serial.upsilon(type_of->type, chain, step);
+        const GuideView one = serial.counter_upsilon(type_of->type, chain, step);
         ASSERT_EQ(one[0], view[0]);
         ASSERT_EQ(one.has_environment(), view.has_environment());
       }
@@ -346,9 +348,10 @@ TEST(EnsembleGuideView, OneSimilarityWhereEveryGuideIsTheSamePoint) {
   for (const Path& p : paths) pointers.push_back(&p);
   EnsembleGuides ensemble;
   EnsembleParams params;
+  params.selection = GuideSelection::Counter;  // lists in ensemble order
   ensemble.build(pointers, 64, 64, 3, params);
-  const GuideView a = ensemble.upsilon(paths[1].type, 0, 0);
-  const GuideView b = ensemble.upsilon(paths[0].type, 0, 0);
+  const GuideView a = ensemble.counter_upsilon(paths[1].type, 0, 0);
+  const GuideView b = ensemble.counter_upsilon(paths[0].type, 0, 0);
   ASSERT_EQ(a.size(), 8u);
   EXPECT_TRUE(a.same_point(3));
   for (int i = 0; i < 3; ++i) EXPECT_FALSE(a.same_point(i));
@@ -409,6 +412,7 @@ TEST(EnsembleGuideView, GuideCopiesGiveTheSameGuidesAsThePaths) {
     for (const Path& p : from) pointers.push_back(&p);
     EnsembleGuides ensemble;
     EnsembleParams params;
+    params.selection = GuideSelection::Counter;  // lists in ensemble order
     params.neighbours = 8;
     ensemble.build(pointers, 64, 64, 3, params);
     return ensemble;
@@ -418,8 +422,8 @@ TEST(EnsembleGuideView, GuideCopiesGiveTheSameGuidesAsThePaths) {
   EXPECT_EQ(original.alpha(), copied.alpha());
   for (const Path* type_of : {&paths[0], &paths[5]})
     for (uint64_t step = 0; step < 20; ++step) {
-      const GuideView a = original.upsilon(type_of->type, 7, step),
-                      b = copied.upsilon(type_of->type, 7, step);
+      const GuideView a = original.counter_upsilon(type_of->type, 7, step),
+                      b = copied.counter_upsilon(type_of->type, 7, step);
       ASSERT_EQ(a.size(), b.size());
       ASSERT_EQ(a.has_environment(), b.has_environment());
       for (size_t n = 0; n < a.size(); ++n) {

@@ -15,6 +15,7 @@
 // Determinism: chains are grouped in a fixed number of blocks, each with its own film,
 // summed in block order; the schedule is a fixed number of rounds. The same seed and
 // chain count give the same bits at any thread count.
+#include "emlt/mcmc/alpha_tally.h"
 #include "emlt/mcmc/ensemble_guides.h"
 #include "emlt/mcmc/strategy_mix.h"
 #include "emlt/render/integrator.h"
@@ -41,7 +42,10 @@ struct MltStatistics {
   // Ensemble MLT only (ensemble_size 0 otherwise).
   uint64_t ensemble_size = 0, ensemble_neighbours = 0, ensemble_iterations = 0, swaps = 0;
   double tree_seconds = 0.0;  // rebuilding Y's path-type tree and α at the swaps
-  double mean_alpha = 0.0;    // the linear kernels' α, averaged over the swaps
+  // The linear kernels' α: averaged over the guided steps that drew one (over the swaps'
+  // α when none did), and its distribution over those steps.
+  double mean_alpha = 0.0;
+  AlphaTally alpha;
 };
 
 // Diagnostics and tests: a strategy mix built in code (instead of settings.mutations),
@@ -50,6 +54,9 @@ struct MltStatistics {
 struct MltOptions {
   std::shared_ptr<const StrategyMix> mix;
   bool ignore_selection_probability = false;
+  // Test switch: with settings.mlt_expected_values off, a rejected step adds nothing (the
+  // current path loses the weight of the steps it stayed).
+  bool drop_rejected_steps = false;
   // A named variant with its own default mix (used when settings.mutations is empty, i.e.
   // --mutations was not given): `--integrator gamlt` is this integrator named "gamlt" with
   // kGamltMix.

@@ -37,6 +37,9 @@ struct Proposal {
   double log_reverse_over_forward = 0.0;
   // A guided strategy that used its unguided fallback (fewer than two guides), for the stats.
   bool fallback = false;
+  // The stretch scale α a guided linear kernel drew with (EMLT §3.4), for the statistics;
+  // negative when the step drew none.
+  double alpha = -1.0;
 };
 
 class Mutation {

@@ -13,7 +13,7 @@ namespace emlt::checkpoint_file {
 
 // Raised whenever the layout of any integrator's state or of the header changes.
 // 2: PSSMLT's per-length counters. 3: MLT/EMLT's counters in up to 256 blocks (were 64).
-inline constexpr uint32_t kVersion = 3;
+inline constexpr uint32_t kVersion = 4;
 
 struct Contents {
   std::string header;

@@ -68,18 +68,33 @@ struct RenderSettings {
   double large_step_probability = 0.3;   // --large-step
   double pss_sigma = 1.0 / 64.0;         // --pss-sigma: the largest small-step perturbation
 
+  // Path-space MLT (mlt, gamlt, emlt): each step scores the proposal with its acceptance
+  // probability and the current path with the rest (expected values); false: the state
+  // after the step alone, as the original MLT papers' chains (--mlt-splat state).
+  bool mlt_expected_values = true;
+
   // Ensemble MLT (integrator "emlt"; include/emlt/mcmc/ensemble_guides.h).
   int ensemble_size = 0;        // |X| = |Y|; 0: 16384, fewer on images under 32768 pixels
   int ensemble_neighbours = 0;  // M, the guide paths of one step; 0: EnsembleParams' (8)
   int ensemble_iterations = 0;  // steps per path between swaps; 0: floor(W H / (|X| + |Y|))
   double ensemble_alpha = 0.0;  // > 0: fixed α of the linear kernels; 0: adaptive (paper §3.4)
-  // > 0: distances in the similarity (eq. 8) are divided by this length (scene units);
-  // 0: the paper's literal form (length 1).
+  // > 0: distances in the similarity (eq. 8) are divided by this length (scene units; 1 is
+  // the paper's literal form); 0: the scene's bounding radius over sqrt(3) (EnsembleParams).
   double ensemble_similarity_length = 0.0;
   // The anisotropic kernel's fallback when a fit is unusable: false, the paper's vMF about
   // the direction from the previous vertex; true, an isotropic Gaussian on the tangent plane
   // (the alternative the paper names).
   bool ensemble_plane_fallback = false;
+  // How a step's Υ is chosen: false, by the counter (the paper's §3.1.1); true, the M paths
+  // nearest the current path's image point (ensemble_guides.h).
+  bool ensemble_nearby_guides = false;
+  // The adaptive α from all of Y's image points (one α per swap) instead of the step's Υ.
+  bool ensemble_alpha_from_ensemble = false;
+  // > 0: the factor on the anisotropic path perturbation's fitted covariances; 0: its own.
+  double ensemble_aniso_scale = 0.0;
+  // The anisotropic covariance as a reliability-weighted covariance (times 0.05) instead of
+  // eq. 11 as printed.
+  bool ensemble_aniso_weighted = false;
 
   // Receives images at power-of-two samples (mutations) per pixel; not owned. Null: none.
   SnapshotSink* snapshots = nullptr;
