@@ -518,6 +518,10 @@ def parse_args(argv):
                         help="engine runs at a time (default 1; more distorts the time columns)")
     parser.add_argument("--cache", default=None,
                         help="reference cache directory (default: $XDG_CACHE_HOME/emlt/references)")
+    parser.add_argument("--scenes", metavar="DIR", default=None,
+                        help="look up a scene whose path is not in the repository by its folder name under DIR: "
+                             "scenes/X/scene.xml as DIR/X/scene.xml, and scenes/bitterli-X/scene.xml also as "
+                             "DIR/X/scene.xml (e.g. a folder of Bitterli's downloads)")
     parser.add_argument("--no-report", action="store_true", help="run and write results.csv only")
     parser.add_argument("--figures", metavar="PREFIX",
                         help="also copy convergence.png and strip.png to PREFIX-convergence.png and "
@@ -528,8 +532,11 @@ def parse_args(argv):
 def main(argv=None):
     """Entry point: returns the exit status (0 ok, 1 run failure, 2 configuration error)."""
     args = parse_args(argv)
+    if args.scenes is not None and not os.path.isdir(args.scenes):
+        print(f"{PROG}: error: --scenes: no folder {args.scenes}", file=sys.stderr)
+        return 2
     try:
-        config = load_config(args.config)
+        config = load_config(args.config, os.path.abspath(args.scenes) if args.scenes is not None else None)
     except ConfigError as e:
         print(f"{PROG}: error: {e}", file=sys.stderr)
         return 2

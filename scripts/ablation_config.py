@@ -245,15 +245,40 @@ def parse_method(name, spec):
     return Method(name, args, "--" + budget, spec.get("label", ""))
 
 
-def resolve_path(path, config_dir):
-    """A scene path from the config: next to the config file first, then in the repository root."""
+BITTERLI_PREFIX = "bitterli-"  # scenes/bitterli-X/ holds Bitterli's scene X (his download's folder X/)
+
+
+def scenes_dir_candidates(path, scenes_dir):
+    """Where --scenes DIR may hold the scene at path: DIR/FOLDER/FILE for the path's last folder
+    FOLDER and file FILE, then DIR/X/FILE when FOLDER is bitterli-X (Bitterli's own folder name)."""
+    folder = os.path.basename(os.path.dirname(os.path.normpath(path)))
+    names = [folder]
+    if folder.startswith(BITTERLI_PREFIX) and len(folder) > len(BITTERLI_PREFIX):
+        names.append(folder[len(BITTERLI_PREFIX):])
+    return [os.path.normpath(os.path.join(scenes_dir, name, os.path.basename(path))) for name in names]
+
+
+def resolve_path(path, config_dir, scenes_dir=None):
+    """A scene path from the config: next to the config file first, then in the repository root
+    (then the working directory).  With scenes_dir (--scenes DIR), a path found in none of these is
+    looked up by its folder name under DIR (scenes_dir_candidates)."""
     if os.path.isabs(path):
-        return path
-    for base in (config_dir, REPO_ROOT, os.getcwd()):
-        candidate = os.path.normpath(os.path.join(base, path))
-        if os.path.exists(candidate):
+        if scenes_dir is None or os.path.exists(path):
+            return path
+        looked = "not there"
+    else:
+        for base in (config_dir, REPO_ROOT, os.getcwd()):
+            candidate = os.path.normpath(os.path.join(base, path))
+            if os.path.exists(candidate):
+                return candidate
+        looked = f"looked next to the config and in {REPO_ROOT}"
+    if scenes_dir is None:
+        raise ConfigError(f"scene '{path}' not found ({looked})")
+    candidates = scenes_dir_candidates(path, scenes_dir)
+    for candidate in candidates:
+        if os.path.isfile(candidate):
             return candidate
-    raise ConfigError(f"scene '{path}' not found (looked next to the config and in {REPO_ROOT})")
+    raise ConfigError(f"scene '{path}' not found ({looked}, nor at {' or '.join(candidates)} for --scenes)")
 
 
 def _int_or_none(value, what):
@@ -264,7 +289,7 @@ def _int_or_none(value, what):
     return value
 
 
-def parse_scene(entry, defaults, config_dir):
+def parse_scene(entry, defaults, config_dir, scenes_dir=None):
     """A Scene from a config entry (a path string or an object with "path")."""
     if isinstance(entry, str):
         entry = {"path": entry}
@@ -273,8 +298,12 @@ def parse_scene(entry, defaults, config_dir):
     unknown = set(entry) - {"path", "name", "width", "height", "max_depth", "params", "crop", "exposure"}
     if unknown:
         raise ConfigError(f"scene {entry['path']}: unknown keys {sorted(unknown)}")
-    path = resolve_path(entry["path"], config_dir)
-    name = entry.get("name") or os.path.basename(os.path.dirname(path)) or os.path.splitext(os.path.basename(path))[0]
+    path = resolve_path(entry["path"], config_dir, scenes_dir)
+    # A scene found under --scenes keeps the name of the folder the config gives (Bitterli's
+    # veach-ajar/ found for scenes/bitterli-veach-ajar/ is named bitterli-veach-ajar).
+    found_in_scenes_dir = scenes_dir is not None and path in scenes_dir_candidates(entry["path"], scenes_dir)
+    named = entry["path"] if found_in_scenes_dir else path
+    name = entry.get("name") or os.path.basename(os.path.dirname(named)) or os.path.splitext(os.path.basename(path))[0]
     crop = entry.get("crop")
     if crop is not None and (not isinstance(crop, list) or len(crop) != 4 or not all(isinstance(v, int) for v in crop)):
         raise ConfigError(f"scene {name}: \"crop\" must be [x, y, width, height] in pixels")
@@ -361,8 +390,9 @@ def parse_indirect_only(value, methods, reference):
     return value["direct_spp"]
 
 
-def load_config(path):
-    """Read and check an experiment file; returns a Config or raises ConfigError."""
+def load_config(path, scenes_dir=None):
+    """Read and check an experiment file; returns a Config or raises ConfigError.  scenes_dir
+    (--scenes DIR) is where scenes missing from the repository are looked up (resolve_path)."""
     try:
         with open(path) as f:
             raw = json.load(f)
@@ -382,7 +412,7 @@ def load_config(path):
         if key not in raw:
             raise ConfigError(f"{path}: missing \"{key}\"")
     defaults = {k: raw[k] for k in ("width", "height", "max_depth", "exposure") if k in raw}
-    scenes = [parse_scene(s, defaults, config_dir) for s in raw["scenes"]]
+    scenes = [parse_scene(s, defaults, config_dir, scenes_dir) for s in raw["scenes"]]
     if not scenes:
         raise ConfigError(f"{path}: no scenes")
     if len({s.name for s in scenes}) != len(scenes):

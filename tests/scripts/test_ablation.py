@@ -6,13 +6,15 @@
 
 Checks that every output exists, that results.csv and table.md equal `emlt compare --json`
 on the saved images (recomputed here, and the MSE once more with numpy), that a second
-run skips every run, and that an unknown method fails with a one-line error.
+run skips every run, that an unknown method fails with a one-line error, and that --scenes DIR
+finds a scene missing from the repository under DIR.
 """
 import csv
 import json
 import math
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -27,9 +29,9 @@ CONFIG = os.path.join(SCRIPTS, "experiments", "ci-tiny.json")
 EMLT = take_emlt_argument()
 
 
-def run_ablation(config, out, cache):
+def run_ablation(config, out, cache, extra=()):
     """Run scripts/ablation.py; returns the CompletedProcess (text, stdout and stderr captured)."""
-    return subprocess.run([PYTHON, SCRIPT, config, "--out", out, "--emlt", EMLT, "--cache", cache],
+    return subprocess.run([PYTHON, SCRIPT, config, "--out", out, "--emlt", EMLT, "--cache", cache, *extra],
                           capture_output=True, text=True, timeout=300)
 
 
@@ -264,6 +266,82 @@ class IndirectOnlyTest(unittest.TestCase):
         self.assertEqual(result.returncode, 2)
         self.assertIn("indirect_only", result.stderr)
         self.assertNotIn("Traceback", result.stderr)
+
+
+class ScenesDirTest(unittest.TestCase):
+    """--scenes DIR: a scene path missing from the repository is looked up by its folder name under DIR."""
+
+    MISSING = "scenes/emlt-test-not-in-repo/scene.json"  # a folder the repository does not have
+
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory(prefix="emlt-ablation-scenes-")
+        self.addCleanup(self.tmp.cleanup)
+        self.dir = os.path.join(self.tmp.name, "downloads")
+        os.makedirs(self.dir)
+
+    def add_scene(self, folder):
+        """A copy of scenes/cornell-box (scene.json and its meshes) as DIR/folder."""
+        shutil.copytree(os.path.join(ROOT, "scenes", "cornell-box"), os.path.join(self.dir, folder))
+        return os.path.join(self.dir, folder, "scene.json")
+
+    def write_config(self, scenes, **changes):
+        config = {"name": "scenes-dir", "scenes": scenes, "width": 8, "height": 8, "methods": ["pt"],
+                  "seeds": [1], "budgets": {"per_pixel": [2]}, "reference": {"integrator": "pt", "spp": 8},
+                  "threads": 1}
+        config.update(changes)
+        path = os.path.join(self.tmp.name, "config.json")
+        with open(path, "w") as f:
+            json.dump(config, f)
+        return path
+
+    def test_paths_resolve_in_the_repository_first_then_under_dir(self):
+        from ablation_config import ConfigError, load_config
+        self.assertFalse(os.path.exists(os.path.join(ROOT, self.MISSING)))
+        found = self.add_scene("emlt-test-not-in-repo")
+        bitterli = self.add_scene("emlt-test-download")  # Bitterli's download folder X for scenes/bitterli-X
+        with open(self.add_scene("cornell-box"), "w") as f:
+            f.write("not the repository's scene")  # DIR/cornell-box must not shadow the repository's
+        config = self.write_config([self.MISSING, "scenes/bitterli-emlt-test-download/scene.json",
+                                    "scenes/cornell-box/scene.json"])
+        scenes = load_config(config, self.dir).scenes
+        self.assertEqual([(s.name, s.path) for s in scenes],
+                         [("emlt-test-not-in-repo", found), ("bitterli-emlt-test-download", bitterli),
+                          ("cornell-box", os.path.join(ROOT, "scenes", "cornell-box", "scene.json"))])
+        with self.assertRaises(ConfigError) as raised:  # without --scenes, as before
+            load_config(config)
+        self.assertEqual(str(raised.exception),
+                         f"scene '{self.MISSING}' not found (looked next to the config and in {ROOT})")
+        with self.assertRaises(ConfigError) as raised:  # not under DIR either: the file and where it was looked for
+            load_config(self.write_config(["scenes/emlt-test-nowhere/scene.xml"]), self.dir)
+        message = str(raised.exception)
+        self.assertNotIn("\n", message)
+        self.assertIn("scene 'scenes/emlt-test-nowhere/scene.xml' not found", message)
+        self.assertIn(os.path.join(self.dir, "emlt-test-nowhere", "scene.xml"), message)
+
+    def test_runs_a_scene_found_under_dir_and_fails_in_one_line_without(self):
+        if not os.path.exists(EMLT):
+            self.skipTest(f"emlt binary not found at {EMLT} (set EMLT_BINARY)")
+        scene = self.add_scene("emlt-test-not-in-repo")
+        config = self.write_config([self.MISSING])
+        out, cache = os.path.join(self.tmp.name, "out"), os.path.join(self.tmp.name, "cache")
+        missing = run_ablation(config, out, cache)
+        self.assertEqual(missing.returncode, 2, missing.stderr)
+        self.assertEqual([line for line in missing.stderr.splitlines() if line.strip()],
+                         [f"ablation: error: scene '{self.MISSING}' not found "
+                          f"(looked next to the config and in {ROOT})"])
+        result = run_ablation(config, out, cache, ["--scenes", self.dir])
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(os.path.join(out, "results.csv"), newline="") as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual([(r["scene"], r["method"]) for r in rows], [("emlt-test-not-in-repo", "pt")])
+        records = [os.path.join(cache, n) for n in os.listdir(cache) if n.endswith(".json")]
+        self.assertEqual(len(records), 1)
+        with open(records[0]) as f:
+            self.assertEqual(json.load(f)["scene"], scene)  # the reference rendered DIR's copy
+        wrong = run_ablation(config, out, cache, ["--scenes", os.path.join(self.tmp.name, "no-such-dir")])
+        self.assertEqual(wrong.returncode, 2)
+        self.assertIn("--scenes", wrong.stderr)
+        self.assertNotIn("Traceback", wrong.stderr)
 
 
 if __name__ == "__main__":
