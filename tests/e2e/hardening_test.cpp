@@ -226,8 +226,10 @@ TEST(ReadableRanges, EveryNumericFlagStatesItsRangeInWords) {
       {"--max-depth -2", "emlt: error: --max-depth must be a whole number from 0 to 100000, or -1 "
                          "for unlimited (got -2)\n"},
       {"--ensemble-similarity-length inf", "emlt: error: --ensemble-similarity-length must be a "
-                                           "positive length, or 0 for the paper's literal 1 (got "
+                                           "positive length, or 0 for the scene's own (got "
                                            "inf)\n"},
+      {"--ensemble-aniso-scale 1e9", "emlt: error: --ensemble-aniso-scale must be a number from 0 "
+                                     "(the default) to 100 (got 1e9)\n"},
   };
   const std::regex long_number("[0-9]{7,}");
   for (const auto& [flags, expected] : cases) {
