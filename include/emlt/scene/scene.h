@@ -6,11 +6,13 @@
 #include <embree3/rtcore.h>
 
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "emlt/scene/camera.h"
 #include "emlt/scene/description.h"
 #include "emlt/scene/direct_triangles.h"
+#include "emlt/scene/surface_bvh.h"
 #include "emlt/scene/light_set.h"
 #include "emlt/scene/ray.h"
 
@@ -90,6 +92,10 @@ class Scene {
     virtual float sphere(const Vec3& center, float sphere_radius, float radius) = 0;
   };
   void visit_nearby(const Vec3& p, float radius, NearbyVisitor& visitor) const;
+  // Every triangle (ids as visit_nearby's) and sphere in a hierarchy of our own, for
+  // searches that are neither rays nor balls (surface_bvh.h). Built on the first call, by
+  // whichever thread makes it, and kept: only the integrators that search it pay for it.
+  const SurfaceBvh& surface_bvh() const;
 
   const Camera& camera() const { return *camera_; }
   const LightSet& lights() const { return lights_; }
@@ -127,6 +133,8 @@ class Scene {
   SceneStats stats_;
   Vec3 bounds_center_{0.0f};
   float bounds_radius_ = 1.0f;
+  mutable std::once_flag surface_bvh_built_;
+  mutable SurfaceBvh surface_bvh_;
 };
 
 }  // namespace emlt
