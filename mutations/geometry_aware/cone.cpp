@@ -86,11 +86,19 @@ struct ConeSearch {
   const Vec3* ends = nullptr;
   float ignore_eps = 0.0f;
   double tan_alpha = 0.0, sin_alpha = 0.0, cos_alpha = 1.0, guard = 0.0, length = 0.0;
+  // The box of the cone over the span, relative to the apex: the cone is the hull of the
+  // apex and its disc at s_hi (centre s_hi u, radius ρ = s_hi tan α), whose extent along
+  // axis i is ρ √(1 − u_i²). Widened by the guard.
+  DVec3 box_lower{0.0}, box_upper{0.0};
 
   void lower(double t) {
     tan_alpha = t;
     cos_alpha = 1.0 / std::sqrt(1.0 + t * t);
     sin_alpha = t * cos_alpha;
+    const DVec3 centre = axis.s_hi * axis.u;
+    const DVec3 reach = axis.s_hi * t * glm::sqrt(glm::max(DVec3(0.0), DVec3(1.0) - axis.u * axis.u));
+    box_lower = glm::min(DVec3(0.0), centre - reach) - guard;
+    box_upper = glm::max(DVec3(0.0), centre + reach) + guard;
   }
 
   // How far a box is outside the current cone within the span (≤ 0: it may hold a point
@@ -101,9 +109,14 @@ struct ConeSearch {
   // when that is at most r. The guard and the relative slack keep float rounding of the
   // boxes on the safe side.
   double outside(const SurfaceBvh::Node& node) const {
-    const DVec3 lower(node.lower), upper(node.upper);
-    const DVec3 c = 0.5 * (lower + upper) - apex;
-    const double r = 0.5 * glm::length(upper - lower) * (1.0 + 1e-6) + guard;
+    const DVec3 lower = DVec3(node.lower) - apex, upper = DVec3(node.upper) - apex;
+    // Disjoint from the cone's box (cheap, and tight where the sphere is loose: a wall's
+    // node beside a segment that runs along it).
+    if (glm::any(glm::greaterThan(lower, box_upper)) || glm::any(glm::lessThan(upper, box_lower)))
+      return std::numeric_limits<double>::infinity();
+    return sphere_outside(0.5 * (lower + upper), 0.5 * glm::length(upper - lower) * (1.0 + 1e-6) + guard);
+  }
+  double sphere_outside(const DVec3& c, double r) const {
     const double s = glm::dot(c, axis.u);
     if (s + r < axis.s_lo || s - r > axis.s_hi) return std::numeric_limits<double>::infinity();
     const double d = glm::length(c - s * axis.u);
@@ -115,6 +128,10 @@ struct ConeSearch {
     // Cheap rejections, cheapest first. Wholly before or beyond the span:
     const double s0 = glm::dot(q0, axis.u), s1 = glm::dot(q1, axis.u), s2 = glm::dot(q2, axis.u);
     if (std::max({s0, s1, s2}) < axis.s_lo || std::min({s0, s1, s2}) > axis.s_hi) return;
+    // Disjoint from the cone's box:
+    if (glm::any(glm::greaterThan(glm::min(q0, glm::min(q1, q2)), box_upper)) ||
+        glm::any(glm::lessThan(glm::max(q0, glm::max(q1, q2)), box_lower)))
+      return;
     DVec3 nd = glm::cross(q1 - q0, q2 - q0);
     const double n_length = glm::length(nd);
     if (!(n_length > 0.0)) return;
@@ -134,6 +151,13 @@ struct ConeSearch {
     // s reach at most s (n̂·u + tan α √(1 − (n̂·u)²)) along n̂. A side wall that the whole
     // segment runs along is rejected here instead of by the clipping below.
     if (axis.s_hi * (nu + tan_alpha * std::sqrt(std::max(0.0, 1.0 - nu * nu))) < plane_distance) return;
+    // The triangle's bounding sphere (about its centroid) outside the cone: most triangles
+    // that come this far lie beside the cone near an endpoint, and the exact angle below
+    // costs several times this test.
+    const DVec3 centroid = (q0 + q1 + q2) / 3.0;
+    const double r = std::sqrt(std::max({glm::dot(q0 - centroid, q0 - centroid), glm::dot(q1 - centroid, q1 - centroid),
+                                         glm::dot(q2 - centroid, q2 - centroid)})) * (1.0 + 1e-6) + guard;
+    if (sphere_outside(centroid, r) > 0.0) return;
     const double t = triangle_min_tan(q0, q1, q2, axis);
     if (t < tan_alpha) lower(t);
   }

@@ -79,8 +79,7 @@ class Scene {
   bool occluded(const Ray& ray) const;
   // Mutual visibility of two surface points (each offset along its normal).
   bool visible(const Vec3& a, const Vec3& na, const Vec3& b, const Vec3& nb) const;
-  // The surfaces near p, for queries that need the geometry itself (the geometry-aware
-  // cone, mutations/geometry_aware/cone.h). The visitor sees every triangle whose bounds
+  // The surfaces near p, for queries that need the geometry itself. The visitor sees every triangle whose bounds
   // meet the ball B(p, radius) and every sphere (Embree 3's point queries skip spheres);
   // each call returns the radius to go on with (at most the one passed), so that the ball
   // can shrink as the visitor learns: a triangle meeting the final ball is always visited.
