@@ -227,8 +227,8 @@ double estimate_cone_half_angle(const Scene& scene, const PathVertex& apex, cons
       if (search.tan_alpha < pending.tan_alpha && search.outside(node) > 0.0) continue;
       if (node.count > 0) {
         for (uint32_t i = node.first; i < node.first + node.count; ++i) {
-          const Vec3* corner = bvh.corners(i);
-          search.triangle(corner[0], corner[1], corner[2]);
+          const SurfaceBvh::Corners corner = bvh.corners(i);
+          search.triangle(corner.a, corner.b, corner.c);
         }
         if (!(search.tan_alpha > tan_alpha_min)) return alpha_min;
         continue;

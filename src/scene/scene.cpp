@@ -756,9 +756,7 @@ const SurfaceBvh& Scene::surface_bvh() const {
         surface_bvh_.add_sphere(g.center, g.radius);
         continue;
       }
-      for (size_t i = 0; i < g.indices.size(); i += 3)
-        surface_bvh_.add_triangle((uint64_t(id) << 32) | uint64_t(i / 3), g.positions[g.indices[i]],
-                                  g.positions[g.indices[i + 1]], g.positions[g.indices[i + 2]]);
+      surface_bvh_.add_mesh(uint32_t(id), g.positions, g.indices);
     }
     surface_bvh_.build();
   });

@@ -2,69 +2,79 @@
 
 #include <algorithm>
 #include <limits>
-#include <numeric>
 
 namespace emlt {
 
-void SurfaceBvh::add_triangle(uint64_t id, const Vec3& a, const Vec3& b, const Vec3& c) {
-  corners_.insert(corners_.end(), {a, b, c});
-  ids_.push_back(id);
+void SurfaceBvh::add_mesh(uint32_t id, const std::vector<Vec3>& positions, const std::vector<uint32_t>& indices) {
+  if (meshes_.size() <= id) meshes_.resize(size_t(id) + 1);
+  meshes_[id] = {positions.data(), indices.data()};
+  for (uint32_t i = 0; 3 * size_t(i) < indices.size(); ++i) triangles_.push_back({id, i});
 }
 
 void SurfaceBvh::build() {
-  const size_t n = ids_.size();
+  const size_t n = triangles_.size();
   nodes_.clear();
   if (n == 0) return;
+  // Indexed by the triangles' current positions in triangles_, which the build permutes
+  // along with them.
   std::vector<Vec3> centroids(n);
-  for (size_t i = 0; i < n; ++i) centroids[i] = (corners_[3 * i] + corners_[3 * i + 1] + corners_[3 * i + 2]) / 3.0f;
-  std::vector<uint32_t> order(n);
-  std::iota(order.begin(), order.end(), 0u);
-  nodes_.reserve(2 * (n / kLeafSize + 1));
-  build_node(0, uint32_t(n), order, centroids);
-  // The triangles in leaf order, so that a leaf reads one contiguous block.
-  std::vector<Vec3> corners(corners_.size());
-  std::vector<uint64_t> ids(n);
   for (size_t i = 0; i < n; ++i) {
-    std::copy_n(&corners_[3 * size_t(order[i])], 3, &corners[3 * i]);
-    ids[i] = ids_[order[i]];
+    const Corners c = corners(uint32_t(i));
+    centroids[i] = (c.a + c.b + c.c) / 3.0f;
   }
-  corners_ = std::move(corners);
-  ids_ = std::move(ids);
+  // A binary tree over n leaves-worth of triangles has under 2n nodes: reserved once, so
+  // that the tree is never copied while it grows (the untouched rest costs address space,
+  // not memory).
+  nodes_.reserve(2 * n);
+  build_node(0, uint32_t(n), centroids);
 }
 
-uint32_t SurfaceBvh::build_node(uint32_t begin, uint32_t end, std::vector<uint32_t>& order,
-                                const std::vector<Vec3>& centroids) {
+uint32_t SurfaceBvh::build_node(uint32_t begin, uint32_t end, std::vector<Vec3>& centroids) {
   const uint32_t index = uint32_t(nodes_.size());
   nodes_.emplace_back();
   Vec3 centre_lower(std::numeric_limits<float>::infinity()), centre_upper(-std::numeric_limits<float>::infinity());
   for (uint32_t i = begin; i < end; ++i) {
-    centre_lower = glm::min(centre_lower, centroids[order[i]]);
-    centre_upper = glm::max(centre_upper, centroids[order[i]]);
+    centre_lower = glm::min(centre_lower, centroids[i]);
+    centre_upper = glm::max(centre_upper, centroids[i]);
   }
   const Vec3 extent = centre_upper - centre_lower;
   const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
   if (end - begin <= kLeafSize || !(extent[axis] > 0.0f)) {
     Vec3 lower(std::numeric_limits<float>::infinity()), upper(-std::numeric_limits<float>::infinity());
     for (uint32_t i = begin; i < end; ++i) {
-      const Vec3* c = &corners_[3 * size_t(order[i])];
-      for (int k = 0; k < 3; ++k) lower = glm::min(lower, c[k]), upper = glm::max(upper, c[k]);
+      const Corners c = corners(i);
+      lower = glm::min(lower, glm::min(c.a, glm::min(c.b, c.c)));
+      upper = glm::max(upper, glm::max(c.a, glm::max(c.b, c.c)));
     }
     nodes_[index] = {lower, begin, upper, end - begin};
     return index;
   }
   // The middle of the centroids' extent (a linear partition, cheaper than a median search),
-  // or the median where that leaves one side empty or nearly so.
+  // or the median where that leaves one side empty or nearly so. Triangles and centroids
+  // move together.
+  const auto swap = [&](uint32_t i, uint32_t j) {
+    std::swap(triangles_[i], triangles_[j]);
+    std::swap(centroids[i], centroids[j]);
+  };
   const float cut = 0.5f * (centre_lower[axis] + centre_upper[axis]);
-  uint32_t middle = uint32_t(
-      std::partition(order.begin() + begin, order.begin() + end, [&](uint32_t t) { return centroids[t][axis] < cut; }) -
-      order.begin());
+  uint32_t middle = begin;
+  for (uint32_t i = begin; i < end; ++i)
+    if (centroids[i][axis] < cut) swap(i, middle++);
   if (middle - begin < (end - begin) / 8 || end - middle < (end - begin) / 8) {
+    // Sort a permutation and apply it: nth_element cannot move two arrays at once.
     middle = begin + (end - begin) / 2;
-    std::nth_element(order.begin() + begin, order.begin() + middle, order.begin() + end,
+    std::vector<uint32_t> order(end - begin);
+    for (uint32_t i = 0; i < end - begin; ++i) order[i] = begin + i;
+    std::nth_element(order.begin(), order.begin() + (middle - begin), order.end(),
                      [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+    std::vector<TriangleRef> triangles(end - begin);
+    std::vector<Vec3> moved(end - begin);
+    for (uint32_t i = 0; i < end - begin; ++i) triangles[i] = triangles_[order[i]], moved[i] = centroids[order[i]];
+    std::copy(triangles.begin(), triangles.end(), triangles_.begin() + begin);
+    std::copy(moved.begin(), moved.end(), centroids.begin() + begin);
   }
-  build_node(begin, middle, order, centroids);
-  const uint32_t second = build_node(middle, end, order, centroids);
+  build_node(begin, middle, centroids);
+  const uint32_t second = build_node(middle, end, centroids);
   // The node's box from its children's, each built already.
   const Node &left = nodes_[index + 1], &right = nodes_[second];
   nodes_[index] = {glm::min(left.lower, right.lower), second, glm::max(left.upper, right.upper), 0};
