@@ -50,8 +50,9 @@ uint32_t SurfaceBvh::build_node(uint32_t begin, uint32_t end, std::vector<Vec3>&
     return index;
   }
   // The middle of the centroids' extent (a linear partition, cheaper than a median search),
-  // or the median where that leaves one side empty or nearly so. Triangles and centroids
-  // move together.
+  // or the median where that leaves one side empty or nearly so (also when the middle
+  // rounds onto the lowest centroid, which would leave the lower side empty). Triangles and
+  // centroids move together.
   const auto swap = [&](uint32_t i, uint32_t j) {
     std::swap(triangles_[i], triangles_[j]);
     std::swap(centroids[i], centroids[j]);
@@ -60,7 +61,7 @@ uint32_t SurfaceBvh::build_node(uint32_t begin, uint32_t end, std::vector<Vec3>&
   uint32_t middle = begin;
   for (uint32_t i = begin; i < end; ++i)
     if (centroids[i][axis] < cut) swap(i, middle++);
-  if (middle - begin < (end - begin) / 8 || end - middle < (end - begin) / 8) {
+  if (middle == begin || middle == end || middle - begin < (end - begin) / 8 || end - middle < (end - begin) / 8) {
     // Sort a permutation and apply it: nth_element cannot move two arrays at once.
     middle = begin + (end - begin) / 2;
     std::vector<uint32_t> order(end - begin);
