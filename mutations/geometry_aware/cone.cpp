@@ -79,50 +79,62 @@ double triangle_min_tan(const DVec3& q0, const DVec3& q1, const DVec3& q2, const
   return best;
 }
 
-// The point-query visitor for one slab [s0, s1]: lowers tan α to each surface's smallest
-// angle and keeps the ball just large enough to hold the slab's part of the cone.
-struct ConeVisitor final : Scene::NearbyVisitor {
+// The search's state: the current tan α, lowered by each surface found to be nearer the axis.
+struct ConeSearch {
   DVec3 apex;
   Axis axis;
   const Vec3* ends = nullptr;
   float ignore_eps = 0.0f;
-  double tan_alpha = 0.0, sin_alpha = 0.0, half = 0.0, s1 = 0.0, guard = 0.0, length = 0.0;
+  double tan_alpha = 0.0, sin_alpha = 0.0, cos_alpha = 1.0, guard = 0.0, length = 0.0;
+  // The box of the cone over the span, relative to the apex: the cone is the hull of the
+  // apex and its disc at s_hi (centre s_hi u, radius ρ = s_hi tan α), whose extent along
+  // axis i is ρ √(1 − u_i²). Widened by the guard.
+  DVec3 box_lower{0.0}, box_upper{0.0};
 
-  // The triangles seen so far. An estimate meets a few dozen at most, so a short list
-  // scanned linearly beats a hash set (whose clearing alone cost more). When it is full a
-  // triangle is simply evaluated again (the same constraint).
-  std::array<uint64_t, 48> seen;
-  size_t seen_count = 0;
-
-  bool first_visit(uint64_t id) {
-    for (size_t i = 0; i < seen_count; ++i)
-      if (seen[i] == id) return false;
-    if (seen_count < seen.size()) seen[seen_count++] = id;
-    return true;
-  }
-
-  // (std::hypot's overflow care is not needed for scene-sized lengths, and it was a
-  // measurable share of a cone estimate.)
-  float need() const {
-    const double r = s1 * tan_alpha;
-    return float(std::sqrt(half * half + r * r) + guard);
-  }
   void lower(double t) {
     tan_alpha = t;
-    sin_alpha = t / std::sqrt(1.0 + t * t);
+    cos_alpha = 1.0 / std::sqrt(1.0 + t * t);
+    sin_alpha = t * cos_alpha;
+    const DVec3 centre = axis.s_hi * axis.u;
+    const DVec3 reach = axis.s_hi * t * glm::sqrt(glm::max(DVec3(0.0), DVec3(1.0) - axis.u * axis.u));
+    box_lower = glm::min(DVec3(0.0), centre - reach) - guard;
+    box_upper = glm::max(DVec3(0.0), centre + reach) + guard;
   }
 
-  float triangle(uint64_t id, const Vec3& a, const Vec3& b, const Vec3& c, float radius) override {
-    // Each triangle's constraint is applied once per estimate: the slabs' balls overlap
-    // the same large triangles (walls, floors) again and again.
-    if (!first_visit(id)) return radius;
+  // How far a box is outside the current cone within the span (≤ 0: it may hold a point
+  // of the cone there; +∞ when it lies wholly before or beyond the span), by its bounding
+  // sphere (centre c relative to the apex, radius r): with s = c·u and d = |c − s u|, c's
+  // distance to the cone is d cos α − s sin α when the nearest point is on the cone's
+  // surface, |c| (not less) when it is the apex, and ≤ 0 inside; the sphere meets the cone
+  // when that is at most r. The guard and the relative slack keep float rounding of the
+  // boxes on the safe side.
+  double outside(const SurfaceBvh::Node& node) const {
+    const DVec3 lower = DVec3(node.lower) - apex, upper = DVec3(node.upper) - apex;
+    // Disjoint from the cone's box (cheap, and tight where the sphere is loose: a wall's
+    // node beside a segment that runs along it).
+    if (glm::any(glm::greaterThan(lower, box_upper)) || glm::any(glm::lessThan(upper, box_lower)))
+      return std::numeric_limits<double>::infinity();
+    return sphere_outside(0.5 * (lower + upper), 0.5 * glm::length(upper - lower) * (1.0 + 1e-6) + guard);
+  }
+  double sphere_outside(const DVec3& c, double r) const {
+    const double s = glm::dot(c, axis.u);
+    if (s + r < axis.s_lo || s - r > axis.s_hi) return std::numeric_limits<double>::infinity();
+    const double d = glm::length(c - s * axis.u);
+    return d * cos_alpha - s * sin_alpha - r;
+  }
+
+  void triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
     const DVec3 q0 = DVec3(a) - apex, q1 = DVec3(b) - apex, q2 = DVec3(c) - apex;
     // Cheap rejections, cheapest first. Wholly before or beyond the span:
-    const double s0 = glm::dot(q0, axis.u), s1_ = glm::dot(q1, axis.u), s2 = glm::dot(q2, axis.u);
-    if (std::max({s0, s1_, s2}) < axis.s_lo || std::min({s0, s1_, s2}) > axis.s_hi) return radius;
+    const double s0 = glm::dot(q0, axis.u), s1 = glm::dot(q1, axis.u), s2 = glm::dot(q2, axis.u);
+    if (std::max({s0, s1, s2}) < axis.s_lo || std::min({s0, s1, s2}) > axis.s_hi) return;
+    // Disjoint from the cone's box:
+    if (glm::any(glm::greaterThan(glm::min(q0, glm::min(q1, q2)), box_upper)) ||
+        glm::any(glm::lessThan(glm::max(q0, glm::max(q1, q2)), box_lower)))
+      return;
     DVec3 nd = glm::cross(q1 - q0, q2 - q0);
     const double n_length = glm::length(nd);
-    if (!(n_length > 0.0)) return radius;
+    if (!(n_length > 0.0)) return;
     nd /= n_length;
     // n̂ oriented away from the apex: the plane is n̂·q = d, d ≥ 0 the apex's distance.
     double plane_distance = glm::dot(nd, q0);
@@ -130,38 +142,40 @@ struct ConeVisitor final : Scene::NearbyVisitor {
     const double nu = glm::dot(nd, axis.u);
     // An endpoint's own surface: the triangle's plane holds it (the far end, at L u, lies
     // L n̂·u − d from the plane).
-    if (plane_distance < ignore_eps || std::abs(length * nu - plane_distance) < ignore_eps) return radius;
+    if (plane_distance < ignore_eps || std::abs(length * nu - plane_distance) < ignore_eps) return;
     // The whole plane outside the cone: the plane's points are seen in directions w with
     // n̂·w > 0; if n̂·u ≤ 0 the smallest angle from u among them is the angle to the plane
     // n̂·w = 0, asin(−n̂·u). The plane is out of reach when that is at least α: −n̂·u ≥ sin α.
-    if (-nu >= sin_alpha) return radius;
+    if (-nu >= sin_alpha) return;
     // The plane beyond the cone's reach over the span: the cone's points at axial distance
     // s reach at most s (n̂·u + tan α √(1 − (n̂·u)²)) along n̂. A side wall that the whole
-    // segment runs along is rejected here instead of by the clipping below (measured on
-    // the door scene: a quarter of the exact evaluations, none of which lowered α).
-    if (axis.s_hi * (nu + tan_alpha * std::sqrt(std::max(0.0, 1.0 - nu * nu))) < plane_distance) return radius;
+    // segment runs along is rejected here instead of by the clipping below.
+    if (axis.s_hi * (nu + tan_alpha * std::sqrt(std::max(0.0, 1.0 - nu * nu))) < plane_distance) return;
+    // The triangle's bounding sphere (about its centroid) outside the cone: most triangles
+    // that come this far lie beside the cone near an endpoint, and the exact angle below
+    // costs several times this test.
+    const DVec3 centroid = (q0 + q1 + q2) / 3.0;
+    const double r = std::sqrt(std::max({glm::dot(q0 - centroid, q0 - centroid), glm::dot(q1 - centroid, q1 - centroid),
+                                         glm::dot(q2 - centroid, q2 - centroid)})) * (1.0 + 1e-6) + guard;
+    if (sphere_outside(centroid, r) > 0.0) return;
     const double t = triangle_min_tan(q0, q1, q2, axis);
-    if (!(t < tan_alpha)) return radius;
-    lower(t);
-    return std::min(radius, need());
+    if (t < tan_alpha) lower(t);
   }
 
-  float sphere(const Vec3& center, float sphere_radius, float radius) override {
+  void sphere(const Vec3& center, float sphere_radius) {
     for (int i = 0; i < 2; ++i)
-      if (std::abs(glm::length(ends[i] - center) - sphere_radius) < ignore_eps) return radius;
+      if (std::abs(glm::length(ends[i] - center) - sphere_radius) < ignore_eps) return;
     const DVec3 q = DVec3(center) - apex;
     const double rho = double(sphere_radius), s = glm::dot(q, axis.u), distance = glm::length(q);
-    if (s - rho > axis.s_hi || s + rho < 0.0) return radius;  // wholly outside the span
+    if (s - rho > axis.s_hi || s + rho < 0.0) return;  // wholly outside the span
     // The whole sphere's smallest angle (a lower bound on its part in the span's).
     double t = 0.0;
     if (distance > rho) {
       const double theta = std::atan2(glm::length(q - s * axis.u), s) - std::asin(rho / distance);
-      if (theta >= 0.5 * M_PI) return radius;
+      if (theta >= 0.5 * M_PI) return;
       t = theta > 0.0 ? std::tan(theta) : 0.0;
     }
-    if (!(t < tan_alpha)) return radius;
-    lower(t);
-    return std::min(radius, need());
+    if (t < tan_alpha) lower(t);
   }
 };
 
@@ -178,29 +192,57 @@ double estimate_cone_half_angle(const Scene& scene, const PathVertex& apex, cons
   const float scale = std::max({1.0f, std::abs(apex.position.x), std::abs(apex.position.y), std::abs(apex.position.z),
                                 std::abs(other.position.x), std::abs(other.position.y), std::abs(other.position.z)});
   const Vec3 ends[2] = {apex.position, other.position};
-  ConeVisitor visitor;
-  visitor.apex = a;
-  visitor.axis = {(b - a) / length, 1e-9 * length, length * (1.0 - kConeEndMargin)};
-  visitor.ends = ends;
-  visitor.ignore_eps = 2e-4f * scale;
-  // Float rounding of the query ball (its centre and radius are floats).
-  visitor.guard = 1e-6 * double(scale);
+  ConeSearch search;
+  search.apex = a;
+  search.axis = {(b - a) / length, 1e-9 * length, length * (1.0 - kConeEndMargin)};
+  search.ends = ends;
+  search.ignore_eps = 2e-4f * scale;
+  // Float rounding of the boxes, relative to the apex.
+  search.guard = 1e-6 * double(scale);
   // Below π/2 (a half-space) so that tan α stays finite.
-  visitor.lower(std::tan(std::min(alpha_max, 0.5 * M_PI - 1e-6)));
-  visitor.length = length;
+  search.lower(std::tan(std::min(alpha_max, 0.5 * M_PI - 1e-6)));
+  search.length = length;
   const double tan_alpha_min = std::tan(alpha_min);
-  const double span = visitor.axis.s_hi;
-  // Far slabs first: the cone is widest there, so the surfaces that limit it are usually
-  // met first and the nearer slabs' balls start small (measured: 15 % fewer triangle visits
-  // on the door scene than near-first; the result does not depend on the order).
-  for (int i = kConeSlabs - 1; i >= 0; --i) {
-    const double s0 = span * i / kConeSlabs, s1 = span * (i + 1) / kConeSlabs;
-    visitor.half = 0.5 * (s1 - s0);
-    visitor.s1 = s1;
-    scene.visit_nearby(Vec3(a + (s0 + visitor.half) * visitor.axis.u), visitor.need(), visitor);
-    if (!(visitor.tan_alpha > tan_alpha_min)) return alpha_min;
+  const SurfaceBvh& bvh = scene.surface_bvh();
+  for (const SurfaceBvh::Sphere& sphere : bvh.spheres()) search.sphere(sphere.center, sphere.radius);
+  if (!(search.tan_alpha > tan_alpha_min)) return alpha_min;
+  const auto& nodes = bvh.nodes();
+  if (!nodes.empty() && search.outside(nodes[0]) <= 0.0) {
+    // Depth first, each child tested when its parent is opened and the deeper one inside
+    // the cone taken first: the limiting surface tends to be found early, and the cone
+    // narrows before most nodes are reached. A node is tested again when it is taken only
+    // if α shrank after it was pushed. The order does not change the result (the smallest
+    // angle over every surface in the final cone). The depth is at most log(n/4)/log(8/7)
+    // (surface_bvh.cpp's split keeps an eighth on each side), under 160 for any n < 2^32.
+    struct Pending {
+      uint32_t node;
+      double tan_alpha;  // α's tan when the node was found to meet the cone
+    };
+    Pending stack[256];
+    int top = 0;
+    stack[top++] = {0, search.tan_alpha};
+    while (top > 0) {
+      const Pending pending = stack[--top];
+      const SurfaceBvh::Node& node = nodes[pending.node];
+      if (search.tan_alpha < pending.tan_alpha && search.outside(node) > 0.0) continue;
+      if (node.count > 0) {
+        for (uint32_t i = node.first; i < node.first + node.count; ++i) {
+          const SurfaceBvh::Corners corner = bvh.corners(i);
+          search.triangle(corner.a, corner.b, corner.c);
+        }
+        if (!(search.tan_alpha > tan_alpha_min)) return alpha_min;
+        continue;
+      }
+      const uint32_t first = pending.node + 1, second = node.first;
+      const double first_outside = search.outside(nodes[first]), second_outside = search.outside(nodes[second]);
+      const bool first_deeper = first_outside <= second_outside;
+      if (first_deeper ? second_outside <= 0.0 : first_outside <= 0.0)
+        stack[top++] = {first_deeper ? second : first, search.tan_alpha};
+      if (first_deeper ? first_outside <= 0.0 : second_outside <= 0.0)
+        stack[top++] = {first_deeper ? first : second, search.tan_alpha};
+    }
   }
-  return std::clamp(std::atan(visitor.tan_alpha), alpha_min, alpha_max);
+  return std::clamp(std::atan(search.tan_alpha), alpha_min, alpha_max);
 }
 
 namespace {

@@ -748,4 +748,19 @@ void Scene::visit_nearby(const Vec3& p, float radius, NearbyVisitor& visitor) co
     if (g.kind == Geometry::Kind::Sphere) query.radius = std::min(query.radius, visitor.sphere(g.center, g.radius, query.radius));
 }
 
+const SurfaceBvh& Scene::surface_bvh() const {
+  std::call_once(surface_bvh_built_, [this] {
+    for (size_t id = 0; id < geometries_.size(); ++id) {
+      const Geometry& g = geometries_[id];
+      if (g.kind == Geometry::Kind::Sphere) {
+        surface_bvh_.add_sphere(g.center, g.radius);
+        continue;
+      }
+      surface_bvh_.add_mesh(uint32_t(id), g.positions, g.indices);
+    }
+    surface_bvh_.build();
+  });
+  return surface_bvh_;
+}
+
 }  // namespace emlt

@@ -6,11 +6,13 @@
 #include <embree3/rtcore.h>
 
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "emlt/scene/camera.h"
 #include "emlt/scene/description.h"
 #include "emlt/scene/direct_triangles.h"
+#include "emlt/scene/surface_bvh.h"
 #include "emlt/scene/light_set.h"
 #include "emlt/scene/ray.h"
 
@@ -77,8 +79,7 @@ class Scene {
   bool occluded(const Ray& ray) const;
   // Mutual visibility of two surface points (each offset along its normal).
   bool visible(const Vec3& a, const Vec3& na, const Vec3& b, const Vec3& nb) const;
-  // The surfaces near p, for queries that need the geometry itself (the geometry-aware
-  // cone, mutations/geometry_aware/cone.h). The visitor sees every triangle whose bounds
+  // The surfaces near p, for queries that need the geometry itself. The visitor sees every triangle whose bounds
   // meet the ball B(p, radius) and every sphere (Embree 3's point queries skip spheres);
   // each call returns the radius to go on with (at most the one passed), so that the ball
   // can shrink as the visitor learns: a triangle meeting the final ball is always visited.
@@ -90,6 +91,10 @@ class Scene {
     virtual float sphere(const Vec3& center, float sphere_radius, float radius) = 0;
   };
   void visit_nearby(const Vec3& p, float radius, NearbyVisitor& visitor) const;
+  // Every triangle (ids as visit_nearby's) and sphere in a hierarchy of our own, for
+  // searches that are neither rays nor balls (surface_bvh.h). Built on the first call, by
+  // whichever thread makes it, and kept: only the integrators that search it pay for it.
+  const SurfaceBvh& surface_bvh() const;
 
   const Camera& camera() const { return *camera_; }
   const LightSet& lights() const { return lights_; }
@@ -127,6 +132,8 @@ class Scene {
   SceneStats stats_;
   Vec3 bounds_center_{0.0f};
   float bounds_radius_ = 1.0f;
+  mutable std::once_flag surface_bvh_built_;
+  mutable SurfaceBvh surface_bvh_;
 };
 
 }  // namespace emlt
