@@ -1,5 +1,10 @@
 #include "mutations/ensemble/guided_multichain.h"
 
+#include <array>
+#include <span>
+
+#include "emlt/path/path_density.h"
+
 namespace emlt {
 
 std::optional<Proposal> GuidedMultiChainPerturbation::propose(const Path& x, Rng& rng,
@@ -13,13 +18,15 @@ std::optional<Proposal> GuidedMultiChainPerturbation::propose(const Path& x, Rng
   const ensemble::SimilarGuide choice =
       ensemble::choose_similar_guide(x, guides, first, last, ctx, rng, &rows);
   const ensemble::StretchParams stretch = ensemble::stretch_params(guides);
-  std::vector<double> lambdas;  // every stretch drawn, for the reverse α's correction
+  // Every stretch drawn (one per vertex at most), for the reverse α's correction.
+  std::array<double, kMaxPathVertices> lambdas;
+  size_t stretches = 0;
 
   const auto image_step =
       ensemble::propose_linear(x.raster(), guides.rasters()[choice.index], stretch, rng);
   if (!image_step.valid) return std::nullopt;
   double log_kernel_ratio = image_step.log_density_ratio;
-  lambdas.push_back(image_step.lambda);
+  lambdas[stretches++] = image_step.lambda;
   std::vector<Vec3> directions;
   const auto& xv = x.vertices;
   for (int i = x.edges() - 1; i >= l + 2; --i) {
@@ -31,13 +38,13 @@ std::optional<Proposal> GuidedMultiChainPerturbation::propose(const Path& x, Rng
     const auto step = ensemble::propose_great_arc(current, guide_direction, stretch, rng);
     if (!step.valid) return std::nullopt;
     directions.push_back(step.direction);
-    lambdas.push_back(step.lambda);
+    lambdas[stretches++] = step.lambda;
     log_kernel_ratio += step.log_density_ratio;
   }
   auto proposal = veach_.retrace(x, image_step.state, directions, ctx);
   if (!proposal) return std::nullopt;
   const GuideView reverse = ensemble::reverse_guides_for(proposal->path, guides, ctx, bugs_);
-  for (const double lambda : lambdas)
+  for (const double lambda : std::span<const double>(lambdas.data(), stretches))
     log_kernel_ratio += ensemble::stretch_reverse_correction(lambda, guides, reverse, bugs_);
   proposal->log_reverse_over_forward +=
       (bugs_.drop_reverse_density ? 0.0 : log_kernel_ratio) +
