@@ -110,15 +110,18 @@ void EnsembleGuides::build(std::span<const Path* const> paths, int width, int he
                ? ensemble::adaptive_alpha(ensemble::image_coverage(raster, width, height))
                : params.alpha_fixed;
   // α of every Υ a step can be given: the window of min(M, size) entries starting at each
-  // entry of a type's list (§3.4 applied to Υ's image points).
+  // entry of a type's list (§3.4 applied to Υ's image points). In parallel over chunks of
+  // each type's entries, as the layout: the paper's schedule swaps every few steps per path.
   window_alpha_.assign(entries, alpha_);
   if (params.adaptive_alpha && params.alpha_source == AlphaSource::Upsilon)
     tbb::parallel_for(size_t(0), blocks_.size(), [&](size_t g) {
       const Block& block = blocks_[g];
       const size_t size = index_.group_members(g).size(), count = std::min(m, size);
-      for (size_t s = 0; s < size; ++s)
-        window_alpha_[block.first + s] = ensemble::adaptive_alpha(ensemble::image_coverage(
-            std::span<const Vec2>(rasters_.data() + block.first + s, count), width, height));
+      tbb::parallel_for(size_t(0), (size + kChunk - 1) / kChunk, [&](size_t chunk) {
+        for (size_t s = chunk * kChunk; s < std::min(size, (chunk + 1) * kChunk); ++s)
+          window_alpha_[block.first + s] = ensemble::adaptive_alpha(ensemble::image_coverage(
+              std::span<const Vec2>(rasters_.data() + block.first + s, count), width, height));
+      });
     });
 
   // Sky directions only for the types that have an environment vertex (none in most scenes).

@@ -92,13 +92,13 @@ class GuideView {
   bool same_point(int i) const { return same_point_ && same_point_[i]; }
   // The linear kernels' α for a step guided by this Υ (§3.4).
   double alpha() const { return alpha_; }
-  // Guide n of another view of the same swap's Υ (the reverse move's), as an index of this
-  // view; -1 when this view does not hold it (then the reverse move cannot choose it).
   // Whether both views are the same window of the same swap's Υ.
   bool same_as(const GuideView& other) const {
     return origin_ == other.origin_ && size() == other.size() &&
            paths_.data() == other.paths_.data();
   }
+  // Guide n of another view of the same swap's Υ (the reverse move's), as an index of this
+  // view; -1 when this view does not hold it (then the reverse move cannot choose it).
   long index_of(const GuideView& other, size_t n) const {
     const long i = long(other.origin_ + n) - long(origin_);
     return i >= 0 && size_t(i) < size() ? i : -1;
