@@ -78,15 +78,24 @@ void StrategyMix::add(std::string name, std::unique_ptr<Mutation> strategy, doub
   weights_.push_back(weight);
   shares_.push_back(0.0);
   names_.push_back(std::move(name));
+  tabulate();
+}
+
+void StrategyMix::tabulate() {
   totals_.clear();
-  if (weights_.size() <= kTabulatedStrategies) {
-    totals_.resize(size_t(1) << weights_.size());
-    for (StrategyMask mask = 0; mask < totals_.size(); ++mask) {
-      double total = 0.0;
-      for (size_t i = 0; i < weights_.size(); ++i)
-        if ((mask >> i) & 1u) total += weights_[i];
-      totals_[mask] = total;
-    }
+  share_totals_.clear();
+  if (weights_.size() > kTabulatedStrategies) return;
+  totals_.resize(size_t(1) << weights_.size());
+  share_totals_.resize(totals_.size());
+  for (StrategyMask mask = 0; mask < totals_.size(); ++mask) {
+    double total = 0.0, shares = 0.0;
+    for (size_t i = 0; i < weights_.size(); ++i)
+      if ((mask >> i) & 1u) {
+        total += weights_[i];
+        shares += shares_[i];
+      }
+    totals_[mask] = total;
+    share_totals_[mask] = shares;
   }
 }
 
@@ -94,6 +103,7 @@ void StrategyMix::add_share(std::string name, std::unique_ptr<Mutation> strategy
   add(std::move(name), std::move(strategy), 0.0);
   shares_.back() = share;
   has_shares_ = true;
+  tabulate();
 }
 
 StrategyMask StrategyMix::applicable(const Path& x, const MutationContext& ctx) const {
@@ -120,8 +130,12 @@ double StrategyMix::total_weight(StrategyMask applicable) const {
 double StrategyMix::shared_probability(size_t i, StrategyMask applicable) const {
   if (!has(applicable, i)) return 0.0;
   double shares = 0.0;
-  for (size_t j = 0; j < shares_.size(); ++j)
-    if (has(applicable, j)) shares += shares_[j];
+  if (!share_totals_.empty()) {
+    shares = share_totals_[applicable];
+  } else {
+    for (size_t j = 0; j < shares_.size(); ++j)
+      if (has(applicable, j)) shares += shares_[j];
+  }
   const double weights = total_weight(applicable);
   if (weights > 0.0) return shares_[i] > 0.0 ? shares_[i] : (1.0 - shares) * weights_[i] / weights;
   return shares > 0.0 ? shares_[i] / shares : 0.0;

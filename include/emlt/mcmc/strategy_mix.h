@@ -111,6 +111,8 @@ class StrategyMix {
   // enough for a table (summed in index order, as the loop it replaces).
   static constexpr size_t kTabulatedStrategies = 10;
   std::vector<double> totals_;
+  std::vector<double> share_totals_;  // likewise, of the applicable strategies' fixed shares
+  void tabulate();
   double total_weight(StrategyMask applicable) const;
   // P(i | applicable) when the mix has shares.
   double shared_probability(size_t i, StrategyMask applicable) const;
