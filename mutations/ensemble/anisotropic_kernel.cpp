@@ -308,6 +308,7 @@ TangentGaussian fit_tangent_gaussian(const Vec3& centre, const Vec3& normal, con
   gaussian.covariance =
       make_covariance(scale * ss + floor_variance, scale * st, scale * tt + floor_variance);
   gaussian.fallback = false;
+  gaussian.smallest_scale = params.smallest_scale;
   return gaussian;
 }
 
@@ -315,7 +316,12 @@ Vec3 sample_tangent_gaussian(const TangentGaussian& gaussian, Rng& rng) {
   // Box-Muller: two independent standard normals, then the Cholesky factor.
   const double radius = std::sqrt(-2.0 * std::log(1.0 - rng.uniform_double()));
   const double angle = kTwoPiDouble * rng.uniform_double();
-  const double n1 = radius * std::cos(angle), n2 = radius * std::sin(angle);
+  double n1 = radius * std::cos(angle), n2 = radius * std::sin(angle);
+  if (gaussian.scale_mixture()) {
+    const double scale = std::exp(rng.uniform_double() * std::log(gaussian.smallest_scale));
+    n1 *= scale;
+    n2 *= scale;
+  }
   const double s = gaussian.covariance.chol_ss * n1;
   const double t = gaussian.covariance.chol_ts * n1 + gaussian.covariance.chol_tt * n2;
   return Vec3(gaussian.centre + s * gaussian.axis_s + t * gaussian.axis_t);
@@ -328,7 +334,18 @@ DensityParts tangent_gaussian_pdf_parts(const TangentGaussian& gaussian,
   // Mahalanobis distance via the Cholesky factor: solve L y = (s, t), then |y|^2.
   const double y1 = s / gaussian.covariance.chol_ss;
   const double y2 = (t - gaussian.covariance.chol_ts * y1) / gaussian.covariance.chol_tt;
-  return {gaussian.covariance.normaliser, -0.5 * (y1 * y1 + y2 * y2)};
+  const double m2 = y1 * y1 + y2 * y2;  // squared Mahalanobis distance
+  if (!gaussian.scale_mixture()) return {gaussian.covariance.normaliser, -0.5 * m2};
+  // The scale mixture: with a = smallest_scale and log s uniform on [log a, 0],
+  //   integral over s of N(d | 0, s^2 Sigma) ds / (s ln(1/a))
+  //     = (exp(-m2 / 2) - exp(-m2 / (2 a^2))) / (2 pi sqrt(det Sigma) ln(1/a) m2)
+  // (substitute u = 1 / s^2). As factor * exp(-m2 / 2), the factor's bracket through expm1
+  // keeps the limit (1 / a^2 - 1) / (2 ln(1/a)) at m2 = 0.
+  const double a2 = gaussian.smallest_scale * gaussian.smallest_scale;
+  const double log_inverse = -std::log(gaussian.smallest_scale);
+  const double spread = 0.5 * (1.0 / a2 - 1.0);
+  const double bracket = m2 > 0.0 ? -std::expm1(-m2 * spread) / m2 : spread;
+  return {gaussian.covariance.normaliser * bracket / log_inverse, -0.5 * m2};
 }
 
 double tangent_gaussian_log_pdf(const TangentGaussian& gaussian, const Vec3& point_on_plane) {

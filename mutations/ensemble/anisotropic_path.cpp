@@ -41,6 +41,7 @@ AnisotropicParams world_params(const AnisotropicPathParams& p, const MutationCon
       ctx.ensemble && ctx.ensemble->params().plane_fallback ? 0.0 : p.fallback_concentration;
   params.fallback_sigma = p.fallback_fraction * radius;
   params.min_effective_guides = p.min_effective_guides;
+  if (ctx.ensemble) params.smallest_scale = ctx.ensemble->params().aniso_smallest_scale;
   return params;
 }
 
@@ -53,6 +54,7 @@ AnisotropicParams image_params(const AnisotropicPathParams& p, const MutationCon
   params.floor_sigma = p.image_floor_sigma;
   params.fallback_sigma = p.image_fallback_sigma;
   params.min_effective_guides = p.min_effective_guides;
+  if (ctx.ensemble) params.smallest_scale = ctx.ensemble->params().aniso_smallest_scale;
   return params;
 }
 

@@ -170,6 +170,9 @@ struct AnisotropicParams {
   // Sigma as eq. 11 prints it: 1/(M-1) sum w(n) (u - mu)(u - mu)^T with normalised weights
   // (M guides), instead of the reliability-weighted covariance (see anisotropic_kernel.cpp).
   bool printed_normalisation = false;
+  // < 1: the fitted Gaussian's scale mixture over s in [smallest_scale, 1], s log-uniform
+  // (TangentGaussian::smallest_scale); 1: the Gaussian alone, as the paper has it.
+  double smallest_scale = 1.0;
 };
 
 // A plane Gaussian's shape in its (s, t) coordinates, with what sampling and evaluating it use.
@@ -186,6 +189,12 @@ struct TangentGaussian {
   double effective_guides = 0.0;
   bool fallback = true;
   double fallback_concentration = 0.0;  // copied from the parameters when falling back
+  // < 1: a step is s z with z ~ N(0, Sigma) and log s uniform on [log smallest_scale, 0]: the
+  // Gaussian's shape at every scale from smallest_scale to 1, as Veach's lens perturbation
+  // spreads its radii over two decades. The density has a closed form
+  // (tangent_gaussian_pdf_parts). Fallback kernels stay single Gaussians.
+  double smallest_scale = 1.0;
+  bool scale_mixture() const { return smallest_scale < 1.0; }
   // The ray-cast form samples and evaluates a vMF about origin -> centre instead.
   bool directional_fallback() const { return fallback && fallback_concentration > 0.0; }
 };

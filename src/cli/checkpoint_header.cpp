@@ -59,6 +59,7 @@ CheckpointHeader CheckpointHeader::describe(const SceneDescription& desc,
   add("--ensemble-similarity-length", number(s.ensemble_similarity_length));
   add("--ensemble-aniso-fallback", s.ensemble_plane_fallback ? "plane" : "vmf");
   add("--ensemble-aniso-scale", number(s.ensemble_aniso_scale));
+  add("--ensemble-aniso-multiscale", number(s.ensemble_aniso_smallest_scale));
   add("--ensemble-aniso-covariance", s.ensemble_aniso_weighted ? "weighted" : "printed");
   add("--ensemble-guides", s.ensemble_nearby_guides ? "nearby" : "counter");
   add("--ensemble-alpha-from", s.ensemble_alpha_from_ensemble ? "ensemble" : "guides");

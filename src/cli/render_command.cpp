@@ -153,6 +153,12 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
                   "(0 = the form's own: 1 printed, 0.05 weighted)")
       ->check(real_number(0.0, false, 100.0, "a number from 0 (the default) to 100"));
   command
+      .add_option("--ensemble-aniso-multiscale", s.ensemble_aniso_smallest_scale,
+                  "emlt: the anisotropic path perturbation's Gaussians as scale mixtures over "
+                  "[S, 1] of their fitted covariance's size, log-uniform (1 = the paper's single "
+                  "Gaussian)")
+      ->check(real_number(1e-4, false, 1.0, "a number from 0.0001 to 1"));
+  command
       .add_option("--ensemble-guides", o.ensemble_guides,
                   "emlt: how a step's guides are chosen: by a counter over its path type's list "
                   "(the paper's 3.1.1), or the M paths of the type nearest the current path's "
@@ -249,6 +255,8 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   if (given("--ensemble-aniso-fallback"))
     settings.ensemble_plane_fallback = o.aniso_fallback == "plane";
   if (given("--ensemble-aniso-scale")) settings.ensemble_aniso_scale = cli.ensemble_aniso_scale;
+  if (given("--ensemble-aniso-multiscale"))
+    settings.ensemble_aniso_smallest_scale = cli.ensemble_aniso_smallest_scale;
   if (given("--mlt-splat")) settings.mlt_expected_values = o.mlt_splat == "expected";
   if (given("--ensemble-aniso-covariance"))
     settings.ensemble_aniso_weighted = o.ensemble_aniso_covariance == "weighted";

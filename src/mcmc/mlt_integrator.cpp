@@ -736,6 +736,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   if (settings.ensemble_aniso_weighted) ensemble_params.aniso_printed_covariance = false;
   if (settings.ensemble_aniso_scale > 0.0)
     ensemble_params.aniso_covariance_scale = settings.ensemble_aniso_scale;
+  ensemble_params.aniso_smallest_scale = settings.ensemble_aniso_smallest_scale;
   if (settings.ensemble_nearby_guides) ensemble_params.selection = GuideSelection::Nearby;
   if (settings.ensemble_alpha_from_ensemble) ensemble_params.alpha_source = AlphaSource::Ensemble;
   if (settings.ensemble_alpha > 0.0) {

@@ -514,7 +514,8 @@ TEST(Cli, EmltWritesEnsembleStatisticsAndTheAnisotropyMap) {
   const std::vector<std::array<std::string, 3>> variants = {
       {lin, "default.pfm", "--ensemble-guides nearby"},
       {lin, "default.pfm", "--ensemble-alpha-from ensemble"},
-      {ani, "vmf.pfm", "--ensemble-aniso-scale 0.5"}};
+      {ani, "vmf.pfm", "--ensemble-aniso-scale 0.5"},
+      {ani, "vmf.pfm", "--ensemble-aniso-multiscale 0.01"}};
   for (const auto& [command, reference, flag] : variants) {
     const fs::path out = dir / "variant.pfm";
     ASSERT_EQ(0, test::run_command(emlt_cmd(command + out.string() + " " + flag))) << flag;
@@ -526,6 +527,8 @@ TEST(Cli, EmltWritesEnsembleStatisticsAndTheAnisotropyMap) {
                        "ensemble-alpha-from", dir / "o.exr");
   expect_clean_failure(ani + (dir / "o.exr").string() + " --ensemble-aniso-scale -1",
                        "ensemble-aniso-scale", dir / "o.exr");
+  expect_clean_failure(ani + (dir / "o.exr").string() + " --ensemble-aniso-multiscale 0",
+                       "ensemble-aniso-multiscale", dir / "o.exr");
   // Absurd ensembles are refused before anything is allocated or written.
   expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() +
                            " --integrator emlt --ensemble-size 100000000",

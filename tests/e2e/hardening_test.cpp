@@ -230,6 +230,8 @@ TEST(ReadableRanges, EveryNumericFlagStatesItsRangeInWords) {
                                            "inf)\n"},
       {"--ensemble-aniso-scale 1e9", "emlt: error: --ensemble-aniso-scale must be a number from 0 "
                                      "(the default) to 100 (got 1e9)\n"},
+      {"--ensemble-aniso-multiscale 2", "emlt: error: --ensemble-aniso-multiscale must be a number "
+                                        "from 0.0001 to 1 (got 2)\n"},
   };
   const std::regex long_number("[0-9]{7,}");
   for (const auto& [flags, expected] : cases) {

@@ -38,6 +38,7 @@ struct EmltRun {
   int max_depth = 0;   // > 0: instead of base_settings()'s
   int neighbours = 0;  // > 0: M instead of the default
   bool nearby = false;  // Υ near the path's image point instead of the counter's
+  double aniso_smallest_scale = 1.0;  // < 1: the anisotropic kernels' scale mixture
 };
 
 Image emlt_image(const Scene& scene, const EmltRun& run, MltStatistics* stats = nullptr) {
@@ -57,6 +58,7 @@ Image emlt_image(const Scene& scene, const EmltRun& run, MltStatistics* stats = 
   options.ensemble = true;
   options.mix = run.mix;
   if (run.nearby) options.ensemble_params.selection = GuideSelection::Nearby;
+  options.ensemble_params.aniso_smallest_scale = run.aniso_smallest_scale;
   if (run.alpha > 0.0) {
     options.ensemble_params.adaptive_alpha = false;
     options.ensemble_params.alpha_fixed = run.alpha;
@@ -164,6 +166,15 @@ TEST(EmltUnbiased, NearbyGuidesConvergeOnTheCornellBox) {
   run.nearby = true;
   expect_mixes_converge("cornell-box", {kEmltMix, "emlt-ani", "emlt-lin"}, run, 0.06, 0.04, 0.04,
                         3);
+}
+
+// The anisotropic kernels as scale mixtures (--ensemble-aniso-multiscale): image and world
+// Gaussians sampled and evaluated as mixtures, alone and in the full mix.
+TEST(EmltUnbiased, AnisotropicScaleMixtureConvergesOnTheCornellBox) {
+  EmltRun run;
+  run.mpp = 3000;
+  run.aniso_smallest_scale = 0.01;
+  expect_mixes_converge("cornell-box", {"emlt-ani", kEmltMix}, run, 0.06, 0.04, 0.04, 3);
 }
 
 TEST(EmltUnbiased, AnisotropicAndLinearPresetsConvergeOnTheCornellBox) {

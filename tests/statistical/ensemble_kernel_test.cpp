@@ -40,6 +40,7 @@ enum class Injected {
   IgnoredSelection,       // P(n|y)/P(n|x) left out
   SigmaNotRefitted,       // anisotropic: reverse density under the forward Sigma(x)
   FallbackNotRedecided,   // anisotropic: reverse copies the forward fallback decision
+  MixtureAsGaussian,      // anisotropic scale mixture: densities of the single Gaussian
 };
 
 // ---------------------------------------------------------------------------------------
@@ -157,6 +158,11 @@ struct AnisotropicTestKernel {
       stale.centre = glm::dvec3(y);
       log_reverse = tangent_gaussian_log_pdf(stale, x);
     }
+    if (bug == Injected::MixtureAsGaussian) {  // sampled from the mixture, evaluated without
+      TangentGaussian at_x = forward, at_y = fit_tangent_gaussian(y, kPlaneNormal, set, params);
+      at_x.smallest_scale = at_y.smallest_scale = 1.0;
+      return {y, tangent_gaussian_log_pdf(at_y, x) - tangent_gaussian_log_pdf(at_x, y), true};
+    }
     if (bug == Injected::FallbackNotRedecided) {
       AnisotropicParams forced = params;  // force the forward branch at y
       forced.min_effective_guides = forward.fallback ? 1e300 : 0.0;
@@ -178,7 +184,9 @@ AnisotropicParams anisotropic_test_params() {
 }
 
 // printed: eq. 11's covariance as printed (1/(M-1), normalised weights, no further factor).
-ChainReport run_anisotropic(const char* label, Injected bug, bool printed = false) {
+// smallest_scale < 1: the kernel's scale mixture (--ensemble-aniso-multiscale).
+ChainReport run_anisotropic(const char* label, Injected bug, bool printed = false,
+                            double smallest_scale = 1.0) {
   const PlaneTargetIn3d target;
   const PlaneGrid grid;
   AnisotropicTestKernel kernel;
@@ -188,6 +196,7 @@ ChainReport run_anisotropic(const char* label, Injected bug, bool printed = fals
     kernel.params.printed_normalisation = true;
     kernel.params.covariance_scale = 1.0;
   }
+  kernel.params.smallest_scale = smallest_scale;
   kernel.bug = bug;
   const auto probabilities =
       grid.probabilities([&](double x, double y) { return target.mixture.density(x, y); });
@@ -474,6 +483,50 @@ TEST(EnsembleKernels, RayCastVonMisesFisherFallbackMatchesLandingHistogram) {
   EXPECT_FALSE(fit_tangent_gaussian(Vec3(0.0f), kPlaneNormal, {}, params).directional_fallback());
 }
 
+// The scale mixture (--ensemble-aniso-multiscale): samples s z, z ~ N(0, Sigma), log s
+// uniform on [log a, 0], land as the closed-form density says, and not as the single
+// Gaussian's (the density a kernel that forgot the mixture would evaluate).
+TEST(EnsembleKernels, ScaleMixtureSamplerMatchesItsDensity) {
+  const std::vector<Vec3> guides{{0.6f, 0.1f, 0.0f},   {-0.5f, -0.2f, 0.1f}, {0.3f, 0.3f, -0.1f},
+                                 {-0.2f, -0.1f, 0.0f}, {0.9f, 0.4f, 0.0f},   {-0.8f, -0.3f, 0.0f}};
+  AnisotropicParams params;
+  params.floor_sigma = 0.05;
+  params.smallest_scale = 0.2;
+  const TangentGaussian mixture =
+      fit_tangent_gaussian(Vec3(0.0f), kPlaneNormal, {guides, {}}, params);
+  ASSERT_FALSE(mixture.fallback);
+  ASSERT_TRUE(mixture.scale_mixture());
+  TangentGaussian single = mixture;
+  single.smallest_scale = 1.0;
+  const PlaneGrid grid{1.5, 24};
+  auto density_of = [&](const TangentGaussian& kernel) {
+    return [&kernel](double x, double y) {
+      return std::exp(tangent_gaussian_log_pdf(kernel, Vec3(float(x), float(y), 0.0f)));
+    };
+  };
+  std::vector<double> observed(grid.cell_count(), 0.0);
+  Rng rng(kSeed, 13);
+  const int draws = 200000;
+  for (int i = 0; i < draws; ++i) {
+    const Vec3 z = sample_tangent_gaussian(mixture, rng);
+    observed[grid.cell_of(z.x, z.y)] += 1.0;
+  }
+  std::vector<double> expected = grid.probabilities(density_of(mixture)),
+                      as_single = grid.probabilities(density_of(single));
+  for (double& e : expected) e *= draws;
+  for (double& e : as_single) e *= draws;
+  const double p = test::chi_square_test(observed, expected, 1e-3 * draws).p_value;
+  const double p_single = test::chi_square_test(observed, as_single, 1e-3 * draws).p_value;
+  std::printf("[scale mixture, a = 0.2] p = %.3g; against the single Gaussian p = %.3g\n", p,
+              p_single);
+  EXPECT_GT(p, 1e-3);
+  EXPECT_LT(p_single, 1e-6);
+  // The density's limit at the centre is finite and above the single Gaussian's peak.
+  const double at_centre = std::exp(tangent_gaussian_log_pdf(mixture, Vec3(0.0f)));
+  EXPECT_TRUE(std::isfinite(at_centre));
+  EXPECT_GT(at_centre, std::exp(tangent_gaussian_log_pdf(single, Vec3(0.0f))));
+}
+
 // A cast from an origin on (or within rounding of) the Gaussian's plane runs along the plane:
 // the plane point is then no function of the hit, and the density must be zero rather than
 // a number made of rounding errors; a slightly raised origin gives an ordinary density.
@@ -543,6 +596,12 @@ TEST(EnsembleKernelChains, AnisotropicAsPrintedKeepsTarget) {
   expect_matches_target(run_anisotropic("anisotropic, eq. 11 as printed", Injected::None, true));
   expect_detected(run_anisotropic("anisotropic, eq. 11 as printed, bug: Sigma not refitted",
                                   Injected::SigmaNotRefitted, true));
+}
+TEST(EnsembleKernelChains, AnisotropicScaleMixtureKeepsTarget) {
+  expect_matches_target(
+      run_anisotropic("anisotropic, scale mixture from 0.05", Injected::None, true, 0.05));
+  expect_detected(run_anisotropic("anisotropic, scale mixture, bug: single Gaussian's densities",
+                                  Injected::MixtureAsGaussian, true, 0.05));
 }
 TEST(EnsembleKernelChains, AnisotropicDroppedReverseDensityIsDetected) {
   expect_detected(run_anisotropic("anisotropic, bug: no ratio", Injected::DroppedReverseDensity));

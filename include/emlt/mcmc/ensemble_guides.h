@@ -46,6 +46,12 @@ struct EnsembleParams {
   bool aniso_printed_covariance = true;
   // > 0: the factor on those covariances instead of the form's own (1 printed, 0.05 weighted).
   double aniso_covariance_scale = 0.0;
+  // < 1: the anisotropic path perturbation's plane Gaussians (image and world) become scale
+  // mixtures over [aniso_smallest_scale, 1], log-uniform (kernels.h, TangentGaussian), so the
+  // fitted shape is tried at small scales too; 1: the paper's single Gaussian. Not in the
+  // paper: with Υ drawn by the counter the fitted Σ spans a good part of the scene, and a chain
+  // on a narrow peak of f rejects every such step (see docs/emlt-fidelity.md).
+  double aniso_smallest_scale = 1.0;
   AlphaSource alpha_source = AlphaSource::Upsilon;
   // The anisotropic path perturbation falls back to an isotropic Gaussian on the tangent
   // plane instead of its vMF (RenderSettings::ensemble_plane_fallback).

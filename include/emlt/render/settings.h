@@ -92,6 +92,9 @@ struct RenderSettings {
   bool ensemble_alpha_from_ensemble = false;
   // > 0: the factor on the anisotropic path perturbation's fitted covariances; 0: its own.
   double ensemble_aniso_scale = 0.0;
+  // < 1: the anisotropic kernels as scale mixtures of their fitted Gaussian, scales from this
+  // to 1 (EnsembleParams::aniso_smallest_scale); 1: the paper's single Gaussian.
+  double ensemble_aniso_smallest_scale = 1.0;
   // The anisotropic covariance as a reliability-weighted covariance (times 0.05) instead of
   // eq. 11 as printed.
   bool ensemble_aniso_weighted = false;
