@@ -34,12 +34,14 @@ INTEGRATORS = {
     "pt": (["--integrator", "pt"], ("path", {})),
     "bdpt": (["--integrator", "bdpt"], ("bdpt", {})),
     "mlt": (["--integrator", "mlt", "--direct", "mlt"], ("mlt", {"directSamples": "-1"})),
+    # Ours alone (Mitsuba has no geometry-aware MLT): the cone's cost against mlt's.
+    "gamlt": (["--integrator", "gamlt", "--direct", "mlt"], None),
     "pssmlt-pt": (["--integrator", "pssmlt", "--pss-tracer", "pt", "--direct", "mlt"],
                   ("pssmlt", {"directSamples": "-1", "bidirectional": "false"})),
     "pssmlt-bdpt": (["--integrator", "pssmlt", "--pss-tracer", "bdpt", "--direct", "mlt"],
                     ("pssmlt", {"directSamples": "-1", "bidirectional": "true"})),
 }
-MCMC = ("mlt", "pssmlt-pt", "pssmlt-bdpt")
+MCMC = ("mlt", "gamlt", "pssmlt-pt", "pssmlt-bdpt")
 
 
 def callgrind_total(cmd, scratch, env=None):
@@ -116,7 +118,7 @@ def main():
             work = (high - low) * width * height
             ours = (totals[1] - totals[0]) / work
             theirs = None
-            if args.mitsuba and not args.emlt_only:
+            if args.mitsuba and not args.emlt_only and INTEGRATORS[integrator][1]:
                 mt = []
                 for level in (low, high):
                     xml = mitsuba_file(path, integrator, level, width, height, args.bootstrap,

@@ -15,11 +15,12 @@
 // α misses T∩span iff α ≤ θ_T, the smallest angle from the axis over T clipped to the
 // span (computed exactly: 0 if the axis meets T in the span, else the minimum over the
 // clipped polygon's edges, each a closed form; cone.cpp). So α* = min over surfaces of θ_T.
-// (2) Finding the surfaces that matter: one depth-first walk of the scene's own BVH
-// (Scene::surface_bvh), a node opened when its bounding sphere meets the current cone
-// within the span (the exact sphere-to-cone distance; the node's box must also meet the
-// cone's box) and its children taken deeper-inside first; each triangle reached lowers α to
-// θ_T if smaller, which shrinks the cone for the rest of the walk. A surface that meets the
+// (2) Finding the surfaces that matter: one depth-first walk of the scene's own four-wide
+// BVH (Scene::surface_bvh), a node's four children tested at once in float SIMD lanes with a
+// margin that covers the rounding (a child is opened when its box meets the cone's box and
+// does not lie beyond the cone's tangent plane that faces it, and its sphere meets the span)
+// and taken deepest inside first; each triangle reached lowers α to θ_T if smaller, which
+// shrinks the cone for the rest of the walk. A surface that meets the
 // final cone lies in nodes that meet it, was reached, and so has θ_T ≥ α: the result is α*
 // (clamped to [alpha_min, alpha_max]), independent of the order of the walk, hence
 // deterministic. Spheres use their whole-sphere angle (a lower bound), skipped when wholly

@@ -63,6 +63,7 @@ class GaLensPerturbation final : public Mutation {
  public:
   explicit GaLensPerturbation(GeometryAwareParams params = {}) : params_(params) {}
   std::string_view name() const override { return "ga-lens"; }
+  void prepare(const Scene& scene) const override { scene.surface_bvh(); }
   bool applies_to(const Path& x, const MutationContext& ctx) const override { return base_.applies_to(x, ctx); }
   std::optional<Proposal> propose(const Path& x, Rng& rng, const MutationContext& ctx) const override;
   std::optional<Proposal> perturb_to(const Path& x, const Vec2& raster, const MutationContext& ctx) const;
@@ -78,6 +79,7 @@ class GaCausticPerturbation final : public Mutation {
  public:
   explicit GaCausticPerturbation(GeometryAwareParams params = {}) : params_(params) {}
   std::string_view name() const override { return "ga-caustic"; }
+  void prepare(const Scene& scene) const override { scene.surface_bvh(); }
   bool applies_to(const Path& x, const MutationContext& ctx) const override { return base_.applies_to(x, ctx); }
   std::optional<Proposal> propose(const Path& x, Rng& rng, const MutationContext& ctx) const override;
   std::optional<Proposal> perturb_to(const Path& x, const Vec3& direction, const MutationContext& ctx) const;
@@ -96,6 +98,7 @@ class GaMultiChainPerturbation final : public Mutation {
   GaMultiChainPerturbation(GeometryAwareParams params, double theta_min, double theta_max)
       : params_(params), base_(theta_min, theta_max) {}
   std::string_view name() const override { return "ga-multichain"; }
+  void prepare(const Scene& scene) const override { scene.surface_bvh(); }
   bool applies_to(const Path& x, const MutationContext& ctx) const override { return base_.applies_to(x, ctx); }
   std::optional<Proposal> propose(const Path& x, Rng& rng, const MutationContext& ctx) const override;
   std::optional<Proposal> perturb_to(const Path& x, const Vec2& raster, const std::vector<Vec3>& directions,

@@ -304,6 +304,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
                    : std::make_shared<const StrategyMix>(StrategyMix::parse(
                          settings.mutations.empty() ? options_.default_mix : settings.mutations));
   const StrategyMix& mix = *mix_holder;
+  for (size_t i = 0; i < mix.size(); ++i) mix.strategy(i).prepare(scene);
   stats_ = MltStatistics{};
   for (size_t i = 0; i < mix.size(); ++i) stats_.strategy_names.push_back(mix.name(i));
   stats_.strategies.assign(mix.size(), StrategyStats{});

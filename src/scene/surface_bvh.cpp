@@ -25,13 +25,68 @@ void SurfaceBvh::build() {
   // A binary tree over n leaves-worth of triangles has under 2n nodes: reserved once, so
   // that the tree is never copied while it grows (the untouched rest costs address space,
   // not memory).
-  nodes_.reserve(2 * n);
-  build_node(0, uint32_t(n), centroids);
+  std::vector<BinaryNode> binary;
+  binary.reserve(2 * n);
+  build_binary(0, uint32_t(n), centroids, binary);
+  lower_ = binary[0].lower, upper_ = binary[0].upper;
+  // A four-wide tree has at most as many nodes as the binary one has inner nodes.
+  nodes_.reserve(binary.size() / 2 + 1);
+  collapse(0, binary);
+  nodes_.shrink_to_fit();
 }
 
-uint32_t SurfaceBvh::build_node(uint32_t begin, uint32_t end, std::vector<Vec3>& centroids) {
+uint32_t SurfaceBvh::collapse(uint32_t binary_index, const std::vector<BinaryNode>& binary) {
+  // The children: the binary node's two (or the node itself, a leaf at the root), then the
+  // inner child with the largest box (half its area: the chance a search meets it) replaced
+  // by its two while there is room.
+  uint32_t children[kWidth] = {binary_index};
+  int count = 1;
+  if (binary[binary_index].count == 0)
+    children[0] = binary_index + 1, children[1] = binary[binary_index].first, count = 2;
+  while (count < kWidth) {
+    int widest = -1;
+    float widest_area = -1.0f;
+    for (int i = 0; i < count; ++i) {
+      const BinaryNode& child = binary[children[i]];
+      if (child.count > 0) continue;
+      const Vec3 e = child.upper - child.lower;
+      const float area = e.x * e.y + e.y * e.z + e.z * e.x;
+      if (area > widest_area) widest = i, widest_area = area;
+    }
+    if (widest < 0) break;
+    const uint32_t opened = children[widest];
+    children[widest] = opened + 1;
+    children[count++] = binary[opened].first;
+  }
   const uint32_t index = uint32_t(nodes_.size());
   nodes_.emplace_back();
+  for (int i = 0; i < kWidth; ++i) {
+    Node& node = nodes_[index];  // (again after each child: the vector may have grown)
+    if (i >= count) {
+      for (int axis = 0; axis < 3; ++axis) {
+        node.lower[axis][i] = std::numeric_limits<float>::infinity();
+        node.upper[axis][i] = -std::numeric_limits<float>::infinity();
+      }
+      node.index[i] = 0, node.count[i] = 0;
+      continue;
+    }
+    const BinaryNode& child = binary[children[i]];
+    for (int axis = 0; axis < 3; ++axis)
+      node.lower[axis][i] = child.lower[axis], node.upper[axis][i] = child.upper[axis];
+    node.count[i] = child.count;
+    node.index[i] = child.count > 0 ? child.first : 0;
+    if (child.count == 0) {
+      const uint32_t inner = collapse(children[i], binary);
+      nodes_[index].index[i] = inner;
+    }
+  }
+  return index;
+}
+
+uint32_t SurfaceBvh::build_binary(uint32_t begin, uint32_t end, std::vector<Vec3>& centroids,
+                                  std::vector<BinaryNode>& binary) {
+  const uint32_t index = uint32_t(binary.size());
+  binary.emplace_back();
   Vec3 centre_lower(std::numeric_limits<float>::infinity()), centre_upper(-std::numeric_limits<float>::infinity());
   for (uint32_t i = begin; i < end; ++i) {
     centre_lower = glm::min(centre_lower, centroids[i]);
@@ -46,7 +101,7 @@ uint32_t SurfaceBvh::build_node(uint32_t begin, uint32_t end, std::vector<Vec3>&
       lower = glm::min(lower, glm::min(c.a, glm::min(c.b, c.c)));
       upper = glm::max(upper, glm::max(c.a, glm::max(c.b, c.c)));
     }
-    nodes_[index] = {lower, begin, upper, end - begin};
+    binary[index] = {lower, begin, upper, end - begin};
     return index;
   }
   // The middle of the centroids' extent (a linear partition, cheaper than a median search),
@@ -74,11 +129,11 @@ uint32_t SurfaceBvh::build_node(uint32_t begin, uint32_t end, std::vector<Vec3>&
     std::copy(triangles.begin(), triangles.end(), triangles_.begin() + begin);
     std::copy(moved.begin(), moved.end(), centroids.begin() + begin);
   }
-  build_node(begin, middle, centroids);
-  const uint32_t second = build_node(middle, end, centroids);
+  build_binary(begin, middle, centroids, binary);
+  const uint32_t second = build_binary(middle, end, centroids, binary);
   // The node's box from its children's, each built already.
-  const Node &left = nodes_[index + 1], &right = nodes_[second];
-  nodes_[index] = {glm::min(left.lower, right.lower), second, glm::max(left.upper, right.upper), 0};
+  const BinaryNode &left = binary[index + 1], &right = binary[second];
+  binary[index] = {glm::min(left.lower, right.lower), second, glm::max(left.upper, right.upper), 0};
   return index;
 }
 

@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <set>
+#include <tuple>
+#include <vector>
 
 #include "emlt/core/rng.h"
 
@@ -17,29 +19,53 @@ void expect_well_formed(const SurfaceBvh& bvh, size_t triangles) {
   const auto& nodes = bvh.nodes();
   ASSERT_FALSE(nodes.empty());
   std::set<uint64_t> seen;
-  const auto inside = [](const Vec3& p, const SurfaceBvh::Node& n) {
-    return glm::all(glm::greaterThanEqual(p, n.lower)) && glm::all(glm::lessThanEqual(p, n.upper));
+  // Lane i of node `n` holds p.
+  const auto inside = [](const Vec3& p, const SurfaceBvh::Node& n, int i) {
+    for (int axis = 0; axis < 3; ++axis)
+      if (!(p[axis] >= n.lower[axis][i] && p[axis] <= n.upper[axis][i])) return false;
+    return true;
   };
-  // (node, the boxes of its ancestors are checked through the recursion)
-  std::vector<std::pair<uint32_t, uint32_t>> stack{{0u, 0u}};
+  const auto inside_box = [](const Vec3& p, const Vec3& lower, const Vec3& upper) {
+    return glm::all(glm::greaterThanEqual(p, lower)) && glm::all(glm::lessThanEqual(p, upper));
+  };
+  // (node, the box of the lane that leads to it: the boxes of its ancestors are checked
+  // through the recursion)
+  std::vector<std::tuple<uint32_t, Vec3, Vec3>> stack{{0u, bvh.lower(), bvh.upper()}};
+  size_t visited = 0;
   while (!stack.empty()) {
-    const auto [index, parent] = stack.back();
+    const auto [index, lower, upper] = stack.back();
     stack.pop_back();
+    ASSERT_LT(index, nodes.size());
+    ++visited;
     const SurfaceBvh::Node& node = nodes[index];
-    const SurfaceBvh::Node& up = nodes[parent];
-    EXPECT_TRUE(inside(node.lower, up) && inside(node.upper, up));
-    if (node.count > 0) {
-      for (uint32_t i = node.first; i < node.first + node.count; ++i) {
-        const SurfaceBvh::Corners c = bvh.corners(i);
-        EXPECT_TRUE(inside(c.a, node) && inside(c.b, node) && inside(c.c, node));
-        EXPECT_TRUE(seen.insert(bvh.id(i)).second);
+    int used = 0;
+    for (int i = 0; i < SurfaceBvh::kWidth; ++i) {
+      if (!node.used(i)) {
+        EXPECT_EQ(node.count[i], 0u);
+        continue;
       }
-      continue;
+      ++used;
+      const Vec3 child_lower(node.lower[0][i], node.lower[1][i], node.lower[2][i]);
+      const Vec3 child_upper(node.upper[0][i], node.upper[1][i], node.upper[2][i]);
+      EXPECT_TRUE(inside_box(child_lower, lower, upper) && inside_box(child_upper, lower, upper));
+      if (node.count[i] > 0) {
+        for (uint32_t t = node.index[i]; t < node.index[i] + node.count[i]; ++t) {
+          const SurfaceBvh::Corners c = bvh.corners(t);
+          EXPECT_TRUE(inside(c.a, node, i) && inside(c.b, node, i) && inside(c.c, node, i));
+          EXPECT_TRUE(seen.insert(bvh.id(t)).second);
+        }
+        continue;
+      }
+      stack.push_back({node.index[i], child_lower, child_upper});
     }
-    ASSERT_LT(node.first, nodes.size());
-    stack.push_back({index + 1, index});
-    stack.push_back({node.first, index});
+    EXPECT_GT(used, 0);
+    // Every node stands for an inner node of the binary tree, so has two lanes or more; only
+    // a root over a single leaf has one.
+    if (index != 0) {
+      EXPECT_GE(used, 2);
+    }
   }
+  EXPECT_EQ(visited, nodes.size());
   EXPECT_EQ(seen.size(), triangles);
 }
 

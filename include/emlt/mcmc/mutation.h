@@ -52,6 +52,9 @@ class Mutation {
   // A proposal, or nothing when sampling failed (treated as a rejection).
   virtual std::optional<Proposal> propose(const Path& x, Rng& rng,
                                           const MutationContext& ctx) const = 0;
+  // Builds what the strategy searches in the scene besides its rays (once per scene, kept
+  // by the scene), before the chains start, so that no chain's step pays for it.
+  virtual void prepare(const Scene& /*scene*/) const {}
 };
 
 }  // namespace emlt
