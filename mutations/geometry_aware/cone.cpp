@@ -148,10 +148,11 @@ struct ConeSearch {
     tan_alpha = t;
     cos_alpha = 1.0 / std::sqrt(1.0 + t * t);
     sin_alpha = t * cos_alpha;
-    const DVec3 centre = axis.s_hi * axis.u;
-    const DVec3 reach = axis.s_hi * t * glm::sqrt(glm::max(DVec3(0.0), DVec3(1.0) - axis.u * axis.u));
-    box_lower = glm::min(DVec3(0.0), centre - reach) - guard;
-    box_upper = glm::max(DVec3(0.0), centre + reach) + guard;
+    // The hull of the discs at s_lo and s_hi (s_lo near 0 for the whole segment: the apex).
+    const DVec3 across = t * glm::sqrt(glm::max(DVec3(0.0), DVec3(1.0) - axis.u * axis.u));
+    const DVec3 near_centre = axis.s_lo * axis.u, far_centre = axis.s_hi * axis.u;
+    box_lower = glm::min(near_centre - axis.s_lo * across, far_centre - axis.s_hi * across) - guard;
+    box_upper = glm::max(near_centre + axis.s_lo * across, far_centre + axis.s_hi * across) + guard;
     cos_f = float(cos_alpha), sin_f = float(sin_alpha);
     for (int i = 0; i < 3; ++i) {
       box_lower_f[i] = float_below(apex[i] + box_lower[i]);
@@ -261,7 +262,7 @@ struct ConeSearch {
       if (std::abs(glm::length(ends[i] - center) - sphere_radius) < ignore_eps) return;
     const DVec3 q = DVec3(center) - apex;
     const double rho = double(sphere_radius), s = glm::dot(q, axis.u), distance = glm::length(q);
-    if (s - rho > axis.s_hi || s + rho < 0.0) return;  // wholly outside the span
+    if (s - rho > axis.s_hi || s + rho < axis.s_lo) return;  // wholly outside the span
     // The whole sphere's smallest angle (a lower bound on its part in the span's).
     double t = 0.0;
     if (distance > rho) {
@@ -273,14 +274,12 @@ struct ConeSearch {
   }
 };
 
-}  // namespace
-
-double estimate_cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other,
-                                double alpha_min, double alpha_max) {
-  if (apex.is_environment() || other.is_environment()) return alpha_max;
+// The walk over the axial span [s_lo, s_hi] of the segment apex -> other (length L > 0),
+// from tan α = tan_start down: the smallest tan over the surfaces in that part of the cone,
+// or at most tan_min once it is reached (the caller's floor).
+double walk_span(const Scene& scene, const PathVertex& apex, const PathVertex& other, double length,
+                 double s_lo, double s_hi, double tan_start, double tan_min) {
   const DVec3 a(apex.position), b(other.position);
-  const double length = glm::length(b - a);
-  if (!(length > 0.0)) return alpha_min;
   // Surfaces within this distance of an endpoint are the endpoint's own (ray-hit positions
   // carry float error of about 1e-7 |p|; spawn offsets are 1e-4 |p|).
   const float scale = std::max({1.0f, std::abs(apex.position.x), std::abs(apex.position.y), std::abs(apex.position.z),
@@ -288,7 +287,7 @@ double estimate_cone_half_angle(const Scene& scene, const PathVertex& apex, cons
   const Vec3 ends[2] = {apex.position, other.position};
   ConeSearch search;
   search.apex = a;
-  search.axis = {(b - a) / length, 1e-9 * length, length * (1.0 - kConeEndMargin)};
+  search.axis = {(b - a) / length, s_lo, s_hi};
   search.ends = ends;
   search.ignore_eps = 2e-4f * scale;
   // Float rounding of the boxes, relative to the apex.
@@ -297,15 +296,13 @@ double estimate_cone_half_angle(const Scene& scene, const PathVertex& apex, cons
     search.apex_f[i] = apex.position[i], search.u_f[i] = float(search.axis.u[i]);
   search.s_lo_f = float_below(search.axis.s_lo), search.s_hi_f = float_above(search.axis.s_hi);
   search.guard_f = float(search.guard);
-  // Below π/2 (a half-space) so that tan α stays finite.
-  search.lower(std::tan(std::min(alpha_max, 0.5 * M_PI - 1e-6)));
+  search.lower(tan_start);
   search.length = length;
-  const double tan_alpha_min = std::tan(alpha_min);
   const SurfaceBvh& bvh = scene.surface_bvh();
   for (const SurfaceBvh::Sphere& sphere : bvh.spheres()) search.sphere(sphere.center, sphere.radius);
-  if (!(search.tan_alpha > tan_alpha_min)) return alpha_min;
+  if (!(search.tan_alpha > tan_min)) return search.tan_alpha;
   const auto& nodes = bvh.nodes();
-  if (nodes.empty()) return std::clamp(std::atan(search.tan_alpha), alpha_min, alpha_max);
+  if (nodes.empty()) return search.tan_alpha;
   // Depth first, the children that meet the cone taken deepest inside first (by angle, see
   // meets): the limiting surface tends to be found early, and the cone narrows before most
   // nodes are reached. A child waiting on the stack is tested again by its sphere when it is
@@ -348,15 +345,95 @@ double estimate_cone_half_angle(const Scene& scene, const PathVertex& apex, cons
       const SurfaceBvh::Corners corner = bvh.corners(i);
       search.triangle(corner.a, corner.b, corner.c);
     }
-    if (!(search.tan_alpha > tan_alpha_min)) return alpha_min;
+    if (!(search.tan_alpha > tan_min)) return search.tan_alpha;
   }
-  return std::clamp(std::atan(search.tan_alpha), alpha_min, alpha_max);
+  return search.tan_alpha;
+}
+
+// tan α_max, below π/2 (a half-space) so that it stays finite.
+double tan_of_limit(double alpha_max) {
+  return std::tan(std::min(alpha_max, 0.5 * M_PI - 1e-6));
+}
+
+// The cheap bound's march over [s_a, s_b] (cone.h): lowers *tan_alpha until the clearance
+// balls of the samples cover the cone's discs; false once it is at or below tan_min.
+bool march_field(const ClearanceField& field, const DVec3& a, const DVec3& u, double s_a,
+                 double s_b, double slack, double tan_min, double* tan_alpha) {
+  double t = *tan_alpha;
+  int lowerings = 0, samples = 0;
+  for (double s = s_a;; ++samples) {
+    // A segment that runs through a narrow gap would take tiny steps: the floor instead.
+    if (samples == kFieldMaxSamples) {
+      *tan_alpha = tan_min;
+      return false;
+    }
+    const double c = field.lower_bound(a + s * u) - slack;
+    // The ball of radius c − |σ − s| about the axis point at σ ≥ s holds the cone's disc
+    // of radius σ t while σ ≤ (c + s) / (1 + t).
+    double step = (c - s * t) / (1.0 + t);
+    const double least = kFieldLeastStep * c;
+    if (step < least) {
+      // The α at which this sample covers `least`; after too many lowerings, the floor.
+      t = (c - least) / (s + least);
+      if (!(t > tan_min) || ++lowerings > kFieldMaxLowerings) {
+        *tan_alpha = std::min(t, tan_min);
+        return false;
+      }
+      step = least;
+    }
+    if (s + step >= s_b) break;
+    s += step;
+  }
+  *tan_alpha = t;
+  return true;
+}
+
+}  // namespace
+
+double estimate_cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other,
+                                double alpha_min, double alpha_max) {
+  if (apex.is_environment() || other.is_environment()) return alpha_max;
+  const double length = glm::length(DVec3(other.position) - DVec3(apex.position));
+  if (!(length > 0.0)) return alpha_min;
+  const double tan_alpha_min = std::tan(alpha_min);
+  const double t =
+      walk_span(scene, apex, other, length, 1e-9 * length, length * (1.0 - kConeEndMargin),
+                tan_of_limit(alpha_max), tan_alpha_min);
+  if (!(t > tan_alpha_min)) return alpha_min;
+  return std::clamp(std::atan(t), alpha_min, alpha_max);
+}
+
+double field_cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other,
+                             double alpha_min, double alpha_max) {
+  if (apex.is_environment() || other.is_environment()) return alpha_max;
+  const DVec3 a(apex.position), b(other.position);
+  const double length = glm::length(b - a);
+  if (!(length > 0.0)) return alpha_min;
+  const double tan_alpha_min = std::tan(alpha_min);
+  const double s_lo = 1e-9 * length, s_hi = length * (1.0 - kConeEndMargin);
+  const double s_a = kFieldEndFraction * length, s_b = s_hi - kFieldEndFraction * length;
+  double t = tan_of_limit(alpha_max);
+  if (s_b > s_a) {
+    // Double rounding of the sample points and of the bound itself, far below a cell.
+    const double scale = std::max({1.0, glm::length(a), glm::length(b)});
+    if (!march_field(scene.clearance_field(), a, (b - a) / length, s_a, s_b, 1e-9 * scale,
+                     tan_alpha_min, &t))
+      return alpha_min;
+    // The ends, where the endpoints' own surfaces come within a cell of the axis, exactly.
+    t = walk_span(scene, apex, other, length, s_lo, s_a, t, tan_alpha_min);
+    if (t > tan_alpha_min) t = walk_span(scene, apex, other, length, s_b, s_hi, t, tan_alpha_min);
+  } else {
+    t = walk_span(scene, apex, other, length, s_lo, s_hi, t, tan_alpha_min);
+  }
+  if (!(t > tan_alpha_min)) return alpha_min;
+  return std::clamp(std::atan(t), alpha_min, alpha_max);
 }
 
 namespace {
 
 struct CacheEntry {
   const Scene* scene = nullptr;
+  ConeMethod method = ConeMethod::Exact;
   Vec3 apex{0.0f}, other{0.0f};
   double alpha_min = 0.0, alpha_max = 0.0, alpha = 0.0;
 };
@@ -395,16 +472,18 @@ bool same(const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z
 
 }  // namespace
 
-double cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other, double alpha_min,
-                       double alpha_max) {
+double cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other,
+                       double alpha_min, double alpha_max, ConeMethod method) {
   if (apex.is_environment() || other.is_environment()) return alpha_max;
   thread_local ConeCache cache;
   CacheEntry& e = cache.entries[slot_of(apex.position, other.position, alpha_min, alpha_max)];
-  if (e.scene == &scene && e.alpha_min == alpha_min && e.alpha_max == alpha_max &&
-      same(e.apex, apex.position) && same(e.other, other.position))
+  if (e.scene == &scene && e.method == method && e.alpha_min == alpha_min &&
+      e.alpha_max == alpha_max && same(e.apex, apex.position) && same(e.other, other.position))
     return e.alpha;
-  const double alpha = estimate_cone_half_angle(scene, apex, other, alpha_min, alpha_max);
-  e = {&scene, apex.position, other.position, alpha_min, alpha_max, alpha};
+  const double alpha = method == ConeMethod::Field
+                           ? field_cone_half_angle(scene, apex, other, alpha_min, alpha_max)
+                           : estimate_cone_half_angle(scene, apex, other, alpha_min, alpha_max);
+  e = {&scene, method, apex.position, other.position, alpha_min, alpha_max, alpha};
   return alpha;
 }
 

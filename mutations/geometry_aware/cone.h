@@ -42,6 +42,33 @@
 // and the limits, so a small per-thread cache of recent results (exact key match) returns
 // bit-identical values: a path's cones are computed once when it is proposed and found
 // again while it is the chain's current state.
+//
+// The cheap bound (ConeMethod::Field, `--gamlt-cone field`; the exact walk is the default).
+// The exact walk costs about 6,000 instructions per mutation on the Cornell box, more than a
+// whole MLT mutation, and 18,000 on the public door (docs/performance.md). The field bound
+// trades width for time: field_cone_half_angle is never wider than the exact cone (same
+// span, same own-surface rule at the ends). Over the middle of the segment, s ∈ [s_a, s_b]
+// with s_a = f L and s_b = S − f L (f = kFieldEndFraction), it reads lower bounds c(s) on the
+// distance from the axis point at s to any surface (Scene::clearance_field, a coarse voxel
+// distance transform). The cone's disc at σ (radius σ tan α) lies in the ball of radius
+// c(σ) about its centre when c(σ) ≥ σ tan α, and the distance is 1-Lipschitz, so one sample
+// at s covers every σ ∈ [s, (c(s) + s)/(1 + tan α)]. The march starts at s_a with tan α =
+// tan alpha_max and steps by what each sample covers; where a sample covers less than a
+// quarter of its clearance (kFieldLeastStep) it lowers tan α until that is covered:
+// (c − m)/(s + m) for the step m = c/4 (about 3/4 of c/s). Lowering α never uncovers what
+// earlier samples covered, so the whole middle is free at the final α; after
+// kFieldMaxLowerings lowerings or kFieldMaxSamples samples it gives the floor. The two ends,
+// [0, s_a] and [s_b, S], go to the exact walk over just those spans, starting from the
+// field's α, since the field cannot tell the endpoints' own surfaces from the rest. The
+// result is the smallest of the three, each conservative; it is a deterministic function of
+// the endpoints, which is all the perturbations' correctness needs.
+//
+// Measured (docs/performance.md, "A cheap conservative cone"): far narrower than the exact
+// cone (the Cornell box's cones at the floor 7 % → 53 %, Veach Ajar's 19 % → 95 %), because
+// even in the middle the field sees the endpoints' own walls (a cone wider than the grazing
+// angle is never certified) and its error, up to 1.7 cells, is of the order of the thin
+// cones' radii; faster than the exact walk on the large scenes only because of those floors,
+// slower on the small ones. Hence a flag, not the default.
 #include "emlt/path/path.h"
 
 namespace emlt::geometry_aware {
@@ -49,12 +76,26 @@ namespace emlt::geometry_aware {
 // The end margin, as a fraction of L.
 inline constexpr double kConeEndMargin = 1e-3;
 
-// The estimate itself (no cache). An environment vertex at either end gives alpha_max.
+// The cheap bound's ends left to the exact walk, each as a fraction of L; the least step of
+// its march as a fraction of the sample's clearance; its limits before the floor.
+inline constexpr double kFieldEndFraction = 0.125;
+inline constexpr double kFieldLeastStep = 0.25;
+inline constexpr int kFieldMaxLowerings = 16;
+inline constexpr int kFieldMaxSamples = 64;
+
+enum class ConeMethod { Exact, Field };
+
+// The exact estimate itself (no cache). An environment vertex at either end gives alpha_max.
 double estimate_cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other,
                                 double alpha_min, double alpha_max);
 
-// The same through the per-thread cache.
+// The cheap conservative bound (no cache): at most estimate_cone_half_angle's value (up to
+// its rounding), alpha_max for an environment vertex.
+double field_cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other,
+                             double alpha_min, double alpha_max);
+
+// Either, through the per-thread cache.
 double cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other,
-                       double alpha_min, double alpha_max);
+                       double alpha_min, double alpha_max, ConeMethod method = ConeMethod::Exact);
 
 }  // namespace emlt::geometry_aware

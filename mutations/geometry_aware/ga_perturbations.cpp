@@ -21,10 +21,13 @@ constexpr double kAlphaMin = 1e-6, kAlphaMax = 0.5 * M_PI;
 // (and returns alpha_min whenever the cone is narrower), so passing these gives the same
 // ranges while the estimate stops early at the floor and keeps its point queries' balls
 // small (cone.h: their size grows with tan α).
-double cone(const Scene& scene, const PathVertex& apex, const PathVertex& other, double floor, double saturation) {
+double cone(const MutationContext& ctx, const PathVertex& apex, const PathVertex& other,
+            double floor, double saturation) {
   const double alpha_max = std::clamp(saturation * (1.0 + 1e-9), kAlphaMin, kAlphaMax);
   const double alpha_min = std::clamp(floor * (1.0 - 1e-9), kAlphaMin, alpha_max);
-  return geometry_aware::cone_half_angle(scene, apex, other, alpha_min, alpha_max);
+  return geometry_aware::cone_half_angle(
+      ctx.scene, apex, other, alpha_min, alpha_max,
+      ctx.field_cone ? geometry_aware::ConeMethod::Field : geometry_aware::ConeMethod::Exact);
 }
 
 double distance(const PathVertex& a, const PathVertex& b) {
@@ -63,11 +66,11 @@ double image_radius_limit(const Path& z, int l, const MutationContext& ctx, cons
     double eye_length = 0.0;
     for (int j = l + 1; j <= k - 1; ++j) eye_length += distance(v[size_t(j + 1)], v[size_t(j)]);
     const double per_pixel = rpp * eye_length / distance(v[size_t(l + 1)], v[size_t(l)]);
-    rho = cone(ctx.scene, v[size_t(l)], v[size_t(l + 1)], rho_min * per_pixel, rho * per_pixel) /
-          per_pixel;
+    rho =
+        cone(ctx, v[size_t(l)], v[size_t(l + 1)], rho_min * per_pixel, rho * per_pixel) / per_pixel;
   }
   if (p.eye_cone && rho > rho_min)
-    rho = std::min(rho, cone(ctx.scene, v[size_t(k)], v[size_t(k - 1)], rho_min * rpp, rho * rpp) / rpp);
+    rho = std::min(rho, cone(ctx, v[size_t(k)], v[size_t(k - 1)], rho_min * rpp, rho * rpp) / rpp);
   return std::clamp(p.step_scale * rho, lo, hi);
 }
 
@@ -81,6 +84,11 @@ double log_range_ratio(double a, double b_x, double b_y) {
 }
 
 }  // namespace
+
+void prepare_cones(const MutationContext& ctx) {
+  ctx.scene.surface_bvh();
+  if (ctx.field_cone) ctx.scene.clearance_field();
+}
 
 // ---------------------------------------------------------------------------------------
 // Lens.
@@ -133,10 +141,9 @@ void GaCausticPerturbation::angle_range(const Path& z, const MutationContext& ct
   const double eye_per_theta = chain_length / distance(v[size_t(k - 1)], v[size_t(k)]);
   // limit ≥ hi / c saturates Θ at hi; the second cone only matters below the first.
   const double limit_min = lo / params_.step_scale;
-  double limit =
-      cone(ctx.scene, v[size_t(l)], v[size_t(l + 1)], limit_min, hi / params_.step_scale);
+  double limit = cone(ctx, v[size_t(l)], v[size_t(l + 1)], limit_min, hi / params_.step_scale);
   if (limit > limit_min)
-    limit = std::min(limit, cone(ctx.scene, v[size_t(k)], v[size_t(k - 1)], limit_min * eye_per_theta,
+    limit = std::min(limit, cone(ctx, v[size_t(k)], v[size_t(k - 1)], limit_min * eye_per_theta,
                                  limit * eye_per_theta) /
                                 eye_per_theta);
   *theta_max = std::clamp(params_.step_scale * limit, lo, hi);
@@ -193,10 +200,10 @@ std::vector<double> GaMultiChainPerturbation::angle_limits(const Path& z, const 
   std::vector<double> limits;
   for (int i = z.edges() - 1; i >= l + 2; --i)
     if (!v[size_t(i)].delta)
-      limits.push_back(std::clamp(
-          params_.step_scale *
-              cone(ctx.scene, v[size_t(i)], v[size_t(i - 1)], lo / params_.step_scale, hi / params_.step_scale),
-          lo, hi));
+      limits.push_back(
+          std::clamp(params_.step_scale * cone(ctx, v[size_t(i)], v[size_t(i - 1)],
+                                               lo / params_.step_scale, hi / params_.step_scale),
+                     lo, hi));
   return limits;
 }
 

@@ -51,6 +51,10 @@
 
 namespace emlt {
 
+// Builds what the cone estimates search: the surface hierarchy, and the clearance field when
+// ctx asks for the cheap cones.
+void prepare_cones(const MutationContext& ctx);
+
 struct GeometryAwareParams {
   double step_scale = 4.0;  // c: the largest step as a multiple of the free cone
   double ceiling = 2.0;     // upper clamp, as a multiple of Veach's largest step
@@ -63,7 +67,7 @@ class GaLensPerturbation final : public Mutation {
  public:
   explicit GaLensPerturbation(GeometryAwareParams params = {}) : params_(params) {}
   std::string_view name() const override { return "ga-lens"; }
-  void prepare(const Scene& scene) const override { scene.surface_bvh(); }
+  void prepare(const MutationContext& ctx) const override { prepare_cones(ctx); }
   bool applies_to(const Path& x, const MutationContext& ctx) const override { return base_.applies_to(x, ctx); }
   std::optional<Proposal> propose(const Path& x, Rng& rng, const MutationContext& ctx) const override;
   std::optional<Proposal> perturb_to(const Path& x, const Vec2& raster, const MutationContext& ctx) const;
@@ -79,7 +83,7 @@ class GaCausticPerturbation final : public Mutation {
  public:
   explicit GaCausticPerturbation(GeometryAwareParams params = {}) : params_(params) {}
   std::string_view name() const override { return "ga-caustic"; }
-  void prepare(const Scene& scene) const override { scene.surface_bvh(); }
+  void prepare(const MutationContext& ctx) const override { prepare_cones(ctx); }
   bool applies_to(const Path& x, const MutationContext& ctx) const override { return base_.applies_to(x, ctx); }
   std::optional<Proposal> propose(const Path& x, Rng& rng, const MutationContext& ctx) const override;
   std::optional<Proposal> perturb_to(const Path& x, const Vec3& direction, const MutationContext& ctx) const;
@@ -98,7 +102,7 @@ class GaMultiChainPerturbation final : public Mutation {
   GaMultiChainPerturbation(GeometryAwareParams params, double theta_min, double theta_max)
       : params_(params), base_(theta_min, theta_max) {}
   std::string_view name() const override { return "ga-multichain"; }
-  void prepare(const Scene& scene) const override { scene.surface_bvh(); }
+  void prepare(const MutationContext& ctx) const override { prepare_cones(ctx); }
   bool applies_to(const Path& x, const MutationContext& ctx) const override { return base_.applies_to(x, ctx); }
   std::optional<Proposal> propose(const Path& x, Rng& rng, const MutationContext& ctx) const override;
   std::optional<Proposal> perturb_to(const Path& x, const Vec2& raster, const std::vector<Vec3>& directions,

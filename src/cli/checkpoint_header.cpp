@@ -51,6 +51,7 @@ CheckpointHeader CheckpointHeader::describe(const SceneDescription& desc,
   add("--mutations", s.mutations.empty() ? "(the integrator's own)" : s.mutations);
   add("--direct", s.direct_separate ? "separate" : "mlt");
   add("--mlt-splat", s.mlt_expected_values ? "expected" : "state");
+  add("--gamlt-cone", s.gamlt_field_cone ? "field" : "exact");
   add("--direct-spp", s.direct_spp > 0 ? number(s.direct_spp) : "(from the budget)");
   add("--ensemble-size", number(s.ensemble_size));
   add("--ensemble-neighbours", number(s.ensemble_neighbours));

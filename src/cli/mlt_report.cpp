@@ -22,11 +22,16 @@ void report_mlt_statistics(const std::string& name, const MltStatistics& st,
                static_cast<unsigned long long>(st.chains),
                static_cast<unsigned long long>(st.mutations),
                st.seconds > 0.0 ? double(st.mutations) / st.seconds * 1e-6 : 0.0);
+  // The searches some strategies build before the chains (gamlt's), when they took any time.
+  char prepared[64] = "";
+  if (st.prepare_seconds >= 0.0005)
+    std::snprintf(prepared, sizeof prepared, ", %.3f s building searches before them",
+                  st.prepare_seconds);
   std::fprintf(
       stderr,
-      "  time: %.3f s direct light (%d spp), %.3f s bootstrap, chains alone %.3f M mutations/s\n",
+      "  time: %.3f s direct light (%d spp), %.3f s bootstrap, chains alone %.3f M mutations/s%s\n",
       st.direct_seconds, st.direct_spp, st.bootstrap_seconds,
-      st.chain_mutations_per_second() * 1e-6);
+      st.chain_mutations_per_second() * 1e-6, prepared);
   if (st.ensemble_size > 0)
     std::fprintf(stderr,
                  "  ensembles: 2 x %llu paths, M = %llu guides, %llu steps per path between swaps, "
@@ -82,6 +87,7 @@ void report_mlt_statistics(const std::string& name, const MltStatistics& st,
       {"direct_seconds", st.direct_seconds},
       {"direct_spp", st.direct_spp},
       {"bootstrap_seconds", st.bootstrap_seconds},
+      {"prepare_seconds", st.prepare_seconds},
       {"strategies", strategies}};
   // Known only to the run that made the pool (a resumed run does not save it).
   if (st.bootstrap_effective_candidates > 0.0)

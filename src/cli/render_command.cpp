@@ -137,6 +137,12 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
                      "tangent plane")
       ->check(CLI::IsMember({"vmf", "plane"}));
   command
+      .add_option("--gamlt-cone", o.gamlt_cone,
+                  "gamlt (the ga-* strategies): the occluder-free cones that set their step "
+                  "ranges, by the exact hierarchy walk (exact) or a cheap conservative bound "
+                  "from a clearance field (field: narrower cones)")
+      ->check(CLI::IsMember({"exact", "field"}));
+  command
       .add_option("--mlt-splat", o.mlt_splat,
                   "mlt/gamlt/emlt: what a step adds to the image: the proposal and the current "
                   "path weighted by the acceptance probability (expected), or the state after "
@@ -258,6 +264,7 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   if (given("--ensemble-aniso-multiscale"))
     settings.ensemble_aniso_smallest_scale = cli.ensemble_aniso_smallest_scale;
   if (given("--mlt-splat")) settings.mlt_expected_values = o.mlt_splat == "expected";
+  if (given("--gamlt-cone")) settings.gamlt_field_cone = o.gamlt_cone == "field";
   if (given("--ensemble-aniso-covariance"))
     settings.ensemble_aniso_weighted = o.ensemble_aniso_covariance == "weighted";
   if (given("--ensemble-guides")) settings.ensemble_nearby_guides = o.ensemble_guides == "nearby";

@@ -304,7 +304,6 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
                    : std::make_shared<const StrategyMix>(StrategyMix::parse(
                          settings.mutations.empty() ? options_.default_mix : settings.mutations));
   const StrategyMix& mix = *mix_holder;
-  for (size_t i = 0; i < mix.size(); ++i) mix.strategy(i).prepare(scene);
   stats_ = MltStatistics{};
   for (size_t i = 0; i < mix.size(); ++i) stats_.strategy_names.push_back(mix.name(i));
   stats_.strategies.assign(mix.size(), StrategyStats{});
@@ -314,6 +313,11 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   ctx.max_edges = settings.max_depth < 0 ? BidirectionalPathTracer::kUnlimitedDepth
                                          : std::min(settings.max_depth, kMaxPathVertices - 1);
   ctx.lens_max_radius = std::sqrt(0.05f * float(pixels) / kPi);
+  ctx.field_cone = settings.gamlt_field_cone;
+  // Timed apart: the chains' rate leaves it out (MltStatistics::prepare_seconds).
+  const double prepare_start = elapsed();
+  for (size_t i = 0; i < mix.size(); ++i) mix.strategy(i).prepare(ctx);
+  stats_.prepare_seconds = elapsed() - prepare_start;
 
   // Checkpoints (render_control.h, mcmc_run.h).
   RenderControl* control = run.control();

@@ -763,4 +763,9 @@ const SurfaceBvh& Scene::surface_bvh() const {
   return surface_bvh_;
 }
 
+const ClearanceField& Scene::clearance_field() const {
+  std::call_once(clearance_field_built_, [this] { clearance_field_.build(surface_bvh()); });
+  return clearance_field_;
+}
+
 }  // namespace emlt

@@ -158,7 +158,7 @@ void MltMutations(benchmark::State& state, const std::string& scene_name, const 
     mlt.render(scene, settings, progress);
     const MltStatistics& st = mlt.statistics();
     mutations += st.mutations;
-    chain_seconds += st.seconds - st.direct_seconds - st.bootstrap_seconds;
+    chain_seconds += st.seconds - st.direct_seconds - st.bootstrap_seconds - st.prepare_seconds;
     for (const auto& s : st.strategies) {
       acceptance_sum += s.acceptance_sum;
       proposed += double(s.proposed);

@@ -66,8 +66,10 @@ Image bdpt_reference(const Scene& scene, int spp) {
   return render(BidirectionalPathTracer(), scene, s);
 }
 
-Image mlt_image(const Scene& scene, const std::string& mix, double mpp, MltStatistics* stats) {
+Image mlt_image(const Scene& scene, const std::string& mix, double mpp, MltStatistics* stats,
+                bool field_cone) {
   RenderSettings s = base_settings();
+  s.gamlt_field_cone = field_cone;
   s.mutations = mix;
   s.mutations_per_pixel = mpp;
   s.chains = 64;

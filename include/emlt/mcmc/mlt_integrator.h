@@ -29,12 +29,15 @@ struct MltStatistics {
   double direct_seconds = 0.0;     // the separate direct-lighting pass (--direct separate)
   int direct_spp = 0;              // its samples per pixel (0 with --direct mlt)
   double bootstrap_seconds = 0.0;  // bootstrap and chain seeding
+  // The strategies' searches built before the chains (Mutation::prepare: gamlt's surface
+  // hierarchy and clearance field), in this run; not the chains' time.
+  double prepare_seconds = 0.0;
   // What the seed pool is worth in equally weighted candidates (0 after a resume: not saved,
   // and then left out of --stats).
   double bootstrap_effective_candidates = 0.0;
   // Mutations per second of the chains alone (what the benchmark calls "chain only").
   double chain_mutations_per_second() const {
-    const double chain_seconds = seconds - direct_seconds - bootstrap_seconds;
+    const double chain_seconds = seconds - direct_seconds - bootstrap_seconds - prepare_seconds;
     return chain_seconds > 0.0 ? double(mutations) / chain_seconds : 0.0;
   }
   std::vector<std::string> strategy_names;

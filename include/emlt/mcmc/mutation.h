@@ -29,6 +29,9 @@ struct MutationContext {
   // guided strategies then behave as their unguided fallbacks.
   const EnsembleGuides* ensemble = nullptr;
   uint64_t chain = 0, step = 0;
+  // The geometry-aware perturbations' occluder-free cones by the cheap conservative bound
+  // instead of the exact hierarchy walk (mutations/geometry_aware/cone.h; --gamlt-cone).
+  bool field_cone = false;
 };
 
 struct Proposal {
@@ -53,8 +56,9 @@ class Mutation {
   virtual std::optional<Proposal> propose(const Path& x, Rng& rng,
                                           const MutationContext& ctx) const = 0;
   // Builds what the strategy searches in the scene besides its rays (once per scene, kept
-  // by the scene), before the chains start, so that no chain's step pays for it.
-  virtual void prepare(const Scene& /*scene*/) const {}
+  // by the scene), before the chains start, so that no chain's step pays for it; ctx is the
+  // one the chains will use.
+  virtual void prepare(const MutationContext& /*ctx*/) const {}
 };
 
 }  // namespace emlt

@@ -95,6 +95,9 @@ struct RenderSettings {
   // < 1: the anisotropic kernels as scale mixtures of their fitted Gaussian, scales from this
   // to 1 (EnsembleParams::aniso_smallest_scale); 1: the paper's single Gaussian.
   double ensemble_aniso_smallest_scale = 1.0;
+  // The geometry-aware (gamlt) perturbations' cones by the cheap conservative bound from the
+  // clearance field instead of the exact hierarchy walk (mutations/geometry_aware/cone.h).
+  bool gamlt_field_cone = false;
   // The anisotropic covariance as a reliability-weighted covariance (times 0.05) instead of
   // eq. 11 as printed.
   bool ensemble_aniso_weighted = false;

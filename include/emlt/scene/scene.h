@@ -10,11 +10,12 @@
 #include <vector>
 
 #include "emlt/scene/camera.h"
+#include "emlt/scene/clearance_field.h"
 #include "emlt/scene/description.h"
 #include "emlt/scene/direct_triangles.h"
-#include "emlt/scene/surface_bvh.h"
 #include "emlt/scene/light_set.h"
 #include "emlt/scene/ray.h"
+#include "emlt/scene/surface_bvh.h"
 
 namespace emlt {
 
@@ -95,6 +96,9 @@ class Scene {
   // searches that are neither rays nor balls (surface_bvh.h). Built on the first call, by
   // whichever thread makes it, and kept: only the integrators that search it pay for it.
   const SurfaceBvh& surface_bvh() const;
+  // Lower bounds on the distance to the nearest surface (clearance_field.h), over the
+  // hierarchy's triangles and spheres; built on the first call and kept, as surface_bvh.
+  const ClearanceField& clearance_field() const;
 
   const Camera& camera() const { return *camera_; }
   const LightSet& lights() const { return lights_; }
@@ -134,6 +138,8 @@ class Scene {
   float bounds_radius_ = 1.0f;
   mutable std::once_flag surface_bvh_built_;
   mutable SurfaceBvh surface_bvh_;
+  mutable std::once_flag clearance_field_built_;
+  mutable ClearanceField clearance_field_;
 };
 
 }  // namespace emlt

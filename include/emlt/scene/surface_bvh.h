@@ -70,6 +70,7 @@ class SurfaceBvh {
     const uint32_t* index = mesh.indices + 3 * size_t(triangles_[i].triangle);
     return {mesh.positions[index[0]], mesh.positions[index[1]], mesh.positions[index[2]]};
   }
+  uint32_t triangle_count() const { return uint32_t(triangles_.size()); }
   uint64_t id(uint32_t i) const { return (uint64_t(triangles_[i].mesh) << 32) | triangles_[i].triangle; }
   const std::vector<Sphere>& spheres() const { return spheres_; }
 
