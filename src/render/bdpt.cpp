@@ -66,7 +66,7 @@ class BdptStep final : public PixelSampleStep {
 
   // Camera-side contributions go to `pixel` (and the pixel's strategy sums), light-tracing
   // splats to the tile's list.
-  void sample(int x, int y, int, Rng& rng, DVec3& pixel, TileOutput& out) override {
+  void sample(int x, int y, Rng& rng, DVec3& pixel, TileOutput& out) override {
     // Same stream and first draws as the path tracer's.
     const Vec2 jitter = rng.uniform2();
     const Vec2 u_lens = rng.uniform2();

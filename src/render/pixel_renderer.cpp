@@ -13,7 +13,7 @@ class CameraRayStep final : public PixelSampleStep {
   CameraRayStep(const Camera& camera, const RadianceEstimator& radiance)
       : camera_(camera), radiance_(radiance) {}
 
-  void sample(int x, int y, int, Rng& rng, DVec3& pixel_sum, TileOutput& out) override {
+  void sample(int x, int y, Rng& rng, DVec3& pixel_sum, TileOutput& out) override {
     const Vec2 jitter = rng.uniform2();
     const Vec2 u_lens = rng.uniform2();
     const Ray ray = camera_.generate_ray(camera_.filter().sample(x, y, jitter), u_lens);

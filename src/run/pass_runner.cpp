@@ -111,7 +111,7 @@ void PassRunner::render_pass(int first, int last) {
                             const int begin = k;
                             for (; k < last && !interruption::requested(); ++k) {
                               Rng rng(pixel_stream, uint64_t(k));
-                              step_.sample(x, y, k, rng, sum, out);
+                              step_.sample(x, y, rng, sum, out);
                             }
                             state_.counts[pixel] = k;
                             tile_samples += uint64_t(k - begin);

@@ -39,13 +39,13 @@ class PixelSampleStep {
  public:
   virtual ~PixelSampleStep() = default;
 
-  // Sample number `index` of pixel (x, y). `rng` is the sample's own stream, unused so far;
-  // the step adds its estimate of the pixel's value to `pixel_sum` (several additions are
-  // fine: the order is part of the image's bits), splats contributions to other pixels to
-  // out.splats, as values of the whole film (the camera's W_e, camera.h), and counts the
-  // values it drops (not finite, negative) in out.invalid. Called concurrently for
-  // distinct pixels, each pixel's samples in order by one thread.
-  virtual void sample(int x, int y, int index, Rng& rng, DVec3& pixel_sum, TileOutput& out) = 0;
+  // One sample of pixel (x, y). `rng` is the sample's own stream (seed, pixel, sample
+  // number), unused so far; the step adds its estimate of the pixel's value to `pixel_sum`
+  // (several additions are fine: their order is part of the image's bits), splats
+  // contributions to other pixels to out.splats, as values of the whole film (the camera's
+  // W_e, camera.h), and counts the values it drops (not finite, negative) in out.invalid.
+  // Called concurrently for distinct pixels, each pixel's samples in order by one thread.
+  virtual void sample(int x, int y, Rng& rng, DVec3& pixel_sum, TileOutput& out) = 0;
 
   // Whether sample() splats: the runner then keeps a film, bounds the passes so that a
   // pass's splat lists stay small, and scales the film by pixels / samples (one light path
