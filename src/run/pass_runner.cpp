@@ -96,30 +96,8 @@ void PassRunner::load(StateReader& in) {
 void PassRunner::render_pass(int first, int last) {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles_.size(), 1),
                     [&](const tbb::blocked_range<size_t>& range) {
-                      for (size_t index = range.begin(); index < range.end(); ++index) {
-                        const Tile& tile = tiles_[index];
-                        if (!owns_row(tile.y0)) continue;
-                        TileOutput& out = outputs_[index];
-                        uint64_t tile_samples = 0;
-                        for (int y = tile.y0; y < tile.y1; ++y) {
-                          for (int x = tile.x0; x < tile.x1; ++x) {
-                            const uint64_t pixel = uint64_t(y) * uint64_t(width_) + uint64_t(x);
-                            int k = std::max(first, int(state_.counts[pixel]));
-                            if (k >= last || interruption::requested()) continue;
-                            const uint64_t pixel_stream = derive_stream_seed(settings_.seed, pixel);
-                            DVec3& sum = state_.sums[pixel];
-                            const int begin = k;
-                            for (; k < last && !interruption::requested(); ++k) {
-                              Rng rng(pixel_stream, uint64_t(k));
-                              step_.sample(x, y, rng, sum, out);
-                            }
-                            state_.counts[pixel] = k;
-                            tile_samples += uint64_t(k - begin);
-                            interruption::poll(uint64_t(k - begin));
-                          }
-                        }
-                        progress_.advance(tile_samples);
-                      }
+                      for (size_t index = range.begin(); index < range.end(); ++index)
+                        if (owns_row(tiles_[index].y0)) render_tile(index, first, last);
                     });
   // The values dropped count as soon as the workers return, so a checkpoint in mid-pass
   // keeps them.
@@ -127,6 +105,30 @@ void PassRunner::render_pass(int first, int last) {
     state_.invalid += out.invalid.count;
     out.invalid.count = 0;
   }
+}
+
+void PassRunner::render_tile(size_t index, int first, int last) {
+  const Tile& tile = tiles_[index];
+  TileOutput& out = outputs_[index];
+  uint64_t tile_samples = 0;
+  for (int y = tile.y0; y < tile.y1; ++y) {
+    for (int x = tile.x0; x < tile.x1; ++x) {
+      const uint64_t pixel = uint64_t(y) * uint64_t(width_) + uint64_t(x);
+      int k = std::max(first, int(state_.counts[pixel]));
+      if (k >= last || interruption::requested()) continue;
+      const uint64_t pixel_stream = derive_stream_seed(settings_.seed, pixel);
+      DVec3& sum = state_.sums[pixel];
+      const int begin = k;
+      for (; k < last && !interruption::requested(); ++k) {
+        Rng rng(pixel_stream, uint64_t(k));
+        step_.sample(x, y, rng, sum, out);
+      }
+      state_.counts[pixel] = k;
+      tile_samples += uint64_t(k - begin);
+      interruption::poll(uint64_t(k - begin));
+    }
+  }
+  progress_.advance(tile_samples);
 }
 
 // Adds the pass's splats to the film in tile order (every rank's, on rank 0), the same bits

@@ -96,6 +96,7 @@ class PassRunner {
   PassRunner(const Scene& scene, const RenderSettings& settings, ProgressReporter& progress,
              PixelSampleStep& step, std::unique_ptr<PixelRenderState> state);
   void render_pass(int first, int last);
+  void render_tile(size_t index, int first, int last);
   void merge_pass_splats();
   Image image_now();
 
