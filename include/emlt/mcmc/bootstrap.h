@@ -22,6 +22,18 @@ struct BootstrapParams {
   int rr_depth = 5;
   MisHeuristic mis = MisHeuristic::Power;
   int threads = 0;
+
+  // A render's: its seed, samples, depths and MIS, on its threads.
+  static BootstrapParams of(const RenderSettings& settings, int min_edges, int max_edges,
+                            int threads) {
+    return {settings.start_seed(),
+            settings.bootstrap_samples,
+            min_edges,
+            max_edges,
+            settings.rr_depth,
+            settings.mis,
+            threads};
+  }
 };
 
 struct BootstrapCandidate {

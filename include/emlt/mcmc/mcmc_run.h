@@ -21,7 +21,11 @@ struct MltStatistics;
 class McmcRun {
  public:
   // Loads a resumed render's state (settings.control); damaged state throws StateError.
-  McmcRun(const RenderSettings& settings, int width, int height);
+  McmcRun(const Scene& scene, const RenderSettings& settings);
+
+  // The camera's pixels, and a result with their image black: what the chains add to.
+  uint64_t pixels() const { return uint64_t(width_) * uint64_t(height_); }
+  RenderResult black_result() const;
 
   // Seconds since the first run began, the runs before a resume included.
   double elapsed() const;
@@ -42,6 +46,16 @@ class McmcRun {
   // Ends a render without chains (nothing for them to do, or cut short before them).
   void finish_before_chains() const;
 
+  // A render that ends before its chains, `result` then its whole answer, with its seconds:
+  // there is nothing for them to do (no path length is left to them, or the bootstrap found
+  // no light: then `warning` on rank 0).
+  void end_without_chains(RenderResult& result, MltStatistics& stats,
+                          const char* warning = nullptr) const;
+  // Whether a stop cut any rank's bootstrap short (a collective call): then nothing of it is
+  // kept, as a resumed render runs it again to the same bits, and `result` is the render's
+  // whole answer.
+  bool stopped_in_bootstrap(bool interrupted, RenderResult& result, MltStatistics& stats) const;
+
   // With settings.direct_separate, the direct light (paths of one and two segments, as
   // Mitsuba renders them by default) into result.image, its time and samples into stats;
   // false when a stop cut the pass short, with result then the render's whole answer.
@@ -50,6 +64,7 @@ class McmcRun {
 
  private:
   const RenderSettings& settings_;
+  int width_, height_;
   const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   RenderControl* control_;
   mutable McmcPhaseState phase_;  // the direct pass's state advances inside direct_pass

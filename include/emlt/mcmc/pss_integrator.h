@@ -14,14 +14,12 @@
 // L = 1 for a large step; it is unbiased for any b > 0 and p_L, and with p_L = 0 reduces to
 // the plain MLT estimator b F / f*.
 //
-// The driver is the MLT one's in structure: MLT's bootstrap (BDPT samples) gives b (b_k),
-// N independent primary samples the chains' seeds (resampled in proportion to f*, so
-// there is no start-up bias), the chains run in a fixed partition of 64 blocks on TBB, splat into fixed-point
-// films, and take whole sweeps of equal steps, so a seed gives the same bits at any thread
-// count. The direct light may be rendered separately (--direct separate) as for MLT, and
-// checkpoints save and resume the whole chain state to the same bits, as MLT's do. Under
-// MPI each rank runs a contiguous share of the blocks (and of the seeds' bootstrap) and the
-// integer films are summed: the image of one process, bit for bit.
+// MLT's bootstrap (BDPT samples) gives b (b_k), N independent primary samples the chains'
+// seeds (resampled in proportion to f*, so there is no start-up bias); the chains
+// (pss_chains.h) run on the chain sweeper (chain_sweeper.h), as MLT's do, in a fixed
+// partition of 64 blocks, taking whole sweeps of equal steps, so a seed gives the same bits
+// at any thread or rank count and across a stop and resume. The direct light may be
+// rendered separately (--direct separate) as for MLT.
 #include "emlt/mcmc/mlt_integrator.h"
 #include "emlt/mcmc/primary_sample_tracer.h"
 #include "emlt/render/integrator.h"
