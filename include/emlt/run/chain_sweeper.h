@@ -34,8 +34,6 @@
 
 namespace emlt {
 
-class ChainSweeper;
-
 // The chains of an MCMC integrator, as the sweeper drives them. Every call but
 // sweep_block() is made by one thread, at the same point of the loop on every rank.
 class ChainSteps {
@@ -48,7 +46,8 @@ class ChainSteps {
   virtual uint64_t planned() const = 0;
   // Whether no more sweeps are to come: the budget is spent.
   virtual bool spent() const = 0;
-  // Steps this rank's chains had taken when the render began (a resumed render's).
+  // The progress this rank's chains had made when the render began (a resumed render's),
+  // in the unit sweep_block() counts.
   virtual uint64_t taken_before() const = 0;
   // Whether the time budget may end the render here, before a sweep (false: the chains get
   // a first sweep even when the bootstrap spent the time).
@@ -97,7 +96,7 @@ struct alignas(64) BlockCounter : StrategyStats {};
 class ChainSweeper {
  public:
   // `blocks`: the fixed partition of the chains, of which each rank owns a contiguous share;
-  // `names`: the statistics each block counts (ChainSteps::block_stats). The sweeper keeps
+  // `names`: the statistics each block counts (block_stats()). The sweeper keeps
   // references to settings, progress and run.
   ChainSweeper(const RenderSettings& settings, ProgressReporter& progress, McmcRun& run,
                uint64_t pixels, int blocks, std::vector<std::string> names);
