@@ -14,7 +14,8 @@ McmcRun::McmcRun(const Scene& scene, const RenderSettings& settings)
     : settings_(settings),
       width_(scene.camera().width()),
       height_(scene.camera().height()),
-      control_(settings.control) {
+      control_(settings.control),
+      scene_(scene) {
   if (control_ && !control_->resume_state().empty())
     phase_.load(control_->resume_state(), settings.direct_separate, width_, height_);
 }
@@ -42,16 +43,21 @@ void McmcRun::finish_before_chains() const {
   RenderControl::finish(control_, [this](StateWriter& out) { save_before_chains(out); });
 }
 
-void McmcRun::end_without_chains(RenderResult& result, MltStatistics& stats,
-                                 const char* warning) const {
+void McmcRun::end_without_chains(RenderResult& result, MltStatistics& stats, const char* warning) {
   // Every rank holds the same bootstrap; one warning is enough.
   if (warning && cluster::is_root()) std::fprintf(stderr, "emlt: warning: %s\n", warning);
-  finish_before_chains();
+  if (direct_up_to(1.0, [this] { pause_before_chains(); })) {
+    finish_before_chains();
+  } else {
+    result.interrupted = true;
+    result.stopped_in = "the direct-light pass";
+  }
+  result.image = direct_image();
+  direct_statistics(stats);
   result.seconds = stats.seconds = elapsed();
 }
 
-bool McmcRun::stopped_in_bootstrap(bool interrupted, RenderResult& result,
-                                   MltStatistics& stats) const {
+bool McmcRun::stopped_in_bootstrap(bool interrupted, RenderResult& result, MltStatistics& stats) {
   // Every rank knows whether any rank's bootstrap was cut short (bootstrap.cpp); the
   // agreement makes every rank's stop request and checkpoint the same.
   interruption::agree(interrupted);
@@ -59,23 +65,30 @@ bool McmcRun::stopped_in_bootstrap(bool interrupted, RenderResult& result,
   pause_before_chains();
   result.interrupted = true;
   result.stopped_in = "the bootstrap";
+  result.image = direct_image();
+  direct_statistics(stats);
   result.seconds = stats.seconds = elapsed();
   return true;
 }
 
-bool McmcRun::direct_pass(const Scene& scene, RenderResult& result, MltStatistics& stats) const {
+bool McmcRun::direct_up_to(double share, const std::function<void()>& on_pause) {
   if (!settings_.direct_separate) return true;
-  const RenderResult direct =
-      render_direct_pass(scene, settings_, phase_.direct, [this] { pause_before_chains(); });
-  result.image = direct.image;
-  stats.direct_spp = direct.samples_per_pixel;
-  stats.direct_seconds = direct.seconds;
-  if (!direct.interrupted) return true;
-  result.interrupted = true;
-  result.stopped_in = "the direct-light pass";
-  result.per_pixel = 0.0;
-  result.seconds = stats.seconds = elapsed();
-  return false;
+  const RenderResult direct = render_direct_pass(scene_, settings_, phase_.direct, on_pause, share);
+  // The next slice continues from here.
+  phase_.direct.resumed = true;
+  direct_spp_ = direct.samples_per_pixel;
+  direct_seconds_ = direct.seconds;
+  return !direct.interrupted;
+}
+
+Image McmcRun::direct_image() const {
+  if (!settings_.direct_separate || phase_.direct.sums.empty()) return Image(width_, height_);
+  return phase_.direct.totals().image(width_, height_);
+}
+
+void McmcRun::direct_statistics(MltStatistics& stats) const {
+  stats.direct_spp = direct_spp_;
+  stats.direct_seconds = direct_seconds_;
 }
 
 }  // namespace emlt

@@ -90,8 +90,7 @@ std::vector<MltChain> MltChains::load_chains(StateReader& in, const PathCodec& c
 }
 
 MltChains::MltChains(MltSetup setup, std::vector<MltChain> chains, McmcRun& run,
-                     ProgressReporter& progress, MltStatistics& stats, Image direct,
-                     StateReader* resumed_section)
+                     ProgressReporter& progress, MltStatistics& stats, StateReader* resumed_section)
     : setup_(std::move(setup)),
       chains_(std::move(chains)),
       stats_(stats),
@@ -108,7 +107,7 @@ MltChains::MltChains(MltSetup setup, std::vector<MltChain> chains, McmcRun& run,
                strategy_names(setup_.mix)),
       move_films_(record_moves_ ? sweeper_.films().size() : 0, FixedPointFilm(pixels_, 256.0)),
       round_size_(std::max<uint64_t>(pixels_, chain_count_)),
-      direct_(std::move(direct)),
+      run_(run),
       resumed_(resumed_section != nullptr) {
   for (int b = 0; b < sweeper_.blocks(); ++b)
     blocks_.push_back({sweeper_.block_stats(size_t(b)), {}});
@@ -336,9 +335,8 @@ bool MltChains::log_final(uint64_t done) {
 // weight not yet splatted (added to a copy: the chains go on untouched), scaled so the
 // image's mean luminance is b. Complete on rank 0 (the films and the chains' unsplatted
 // weights summed over ranks). It runs while the chains and films are held, at the render's
-// peak memory: each buffer is released as soon as it is used, and the last call takes the
-// direct image instead of copying it.
-Image MltChains::compose(uint64_t mutations_done, bool last) {
+// peak memory: each buffer is released as soon as it is used.
+Image MltChains::compose(uint64_t mutations_done) {
   const std::vector<FixedPointFilm>& films = sweeper_.films();
   std::vector<DVec3> total(pixels_, DVec3(0.0));
   const auto overflowed = [] {
@@ -377,7 +375,7 @@ Image MltChains::compose(uint64_t mutations_done, bool last) {
   }
   const double splatted = double(mutations_done) * double(live_) / double(chain_count_);
   const double scale = splatted > 0.0 ? double(pixels_) * stats_.b / splatted : 0.0;
-  Image image = last ? std::move(direct_) : direct_;
+  Image image = run_.direct_image();
   for (uint64_t p = 0; p < pixels_; ++p) image.pixels[p] += Rgb(total[p] * scale);
   return image;
 }

@@ -66,8 +66,6 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   std::string& chain_section = run.chain_section();
 
   RenderResult result = run.black_result();
-  // The chains then never visit the direct pass's paths.
-  if (!run.direct_pass(scene, result, stats_)) return result;
   if (ctx.min_edges > ctx.max_edges) {
     run.end_without_chains(result, stats_);
     return result;
@@ -165,11 +163,12 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
                            options_.drop_rejected_steps},
                  planned,
                  std::move(ensemble)};
-  MltChains mlt(std::move(setup), std::move(chains), run, progress, stats_, std::move(result.image),
+  MltChains mlt(std::move(setup), std::move(chains), run, progress, stats_,
                 chain_in ? &*chain_in : nullptr);
   chain_in.reset();
   chain_section.clear();
   result = mlt.render(options_.name);
+  run.direct_statistics(stats_);
   stats_.seconds = result.seconds;
   return result;
 }

@@ -84,7 +84,7 @@ double PssBootstrap::b() const {
 }
 
 PssChains::PssChains(PssSetup setup, McmcRun& run, ProgressReporter& progress, MltStatistics& stats,
-                     Image direct, StateReader* resumed_section)
+                     StateReader* resumed_section)
     : setup_(std::move(setup)),
       stats_(stats),
       width_(setup_.scene.camera().width()),
@@ -96,7 +96,7 @@ PssChains::PssChains(PssSetup setup, McmcRun& run, ProgressReporter& progress, M
       chains_(chain_count_),
       sweeper_(setup_.settings, progress, run, pixels_, block_count_,
                statistic_names(setup_.min_edges, setup_.max_edges, setup_.options.multiplexed)),
-      direct_(std::move(direct)) {
+      run_(run) {
   const RenderSettings& settings = setup_.settings;
   const bool multiplexed = setup_.options.multiplexed;
   const PssBootstrap& bootstrap = setup_.bootstrap;
@@ -136,6 +136,11 @@ PssChains::PssChains(PssSetup setup, McmcRun& run, ProgressReporter& progress, M
 uint64_t PssChains::planned() const {
   uint64_t mutations = 0;
   return __builtin_mul_overflow(planned_steps_, chain_count_, &mutations) ? UINT64_MAX : mutations;
+}
+
+uint64_t PssChains::sweep_end() const {
+  uint64_t mutations = 0;
+  return __builtin_mul_overflow(sweep_end_, chain_count_, &mutations) ? UINT64_MAX : mutations;
 }
 
 uint64_t PssChains::taken_before() const {
@@ -181,8 +186,8 @@ void PssChains::load(StateReader& in) {
   bool consistent = sweep_active_ <= 1 && rounds_ > 0 && (rounds_ & (rounds_ - 1)) == 0 &&
                     rounds_ <= (uint64_t(1) << 40) && steps_done_ <= (uint64_t(1) << 40);
   if (consistent && sweep_active_)
-    consistent = sweep_end_ > steps_done_ && sweep_end_ <= planned_steps_ &&
-                 (!timed || sweep_end_ - steps_done_ <= rounds_);
+    consistent = sweep_end_ > steps_done_ &&
+                 (!timed || (sweep_end_ <= planned_steps_ && sweep_end_ - steps_done_ <= rounds_));
   for (uint64_t c = first; consistent && c < end; ++c) {
     const uint64_t steps = chains_[size_t(c)].steps;
     consistent = sweep_active_ ? steps >= steps_done_ && steps <= sweep_end_ : steps == steps_done_;
@@ -311,7 +316,7 @@ bool PssChains::log_final(uint64_t done) {
 // The image after `done` steps: the films plus every chain's weight not yet splatted
 // (added to a copy), scaled by pixels b / steps. Under MPI, on rank 0: each rank adds its
 // own chains' films and weights, and the integer sums are added over the ranks.
-Image PssChains::compose(uint64_t done, bool last) {
+Image PssChains::compose(uint64_t done) {
   std::vector<FixedPointFilm> total(1, FixedPointFilm(pixels_));
   FixedPointFilm::load_units(total, sweeper_.film_units());
   const PixelFilter& filter = setup_.scene.camera().filter();
@@ -325,7 +330,7 @@ Image PssChains::compose(uint64_t done, bool last) {
     throw Error("the MCMC film overflowed: too many mutations' worth of weight in one pixel");
   cluster::sum_to_root(units);
   const double scale = done > 0 ? double(pixels_) * setup_.bootstrap.b() / double(done) : 0.0;
-  Image image = last ? std::move(direct_) : direct_;
+  Image image = run_.direct_image();
   for (uint64_t p = 0; p < pixels_; ++p)
     image.pixels[p] +=
         Rgb(DVec3(double(units[3 * p]), double(units[3 * p + 1]), double(units[3 * p + 2])) *

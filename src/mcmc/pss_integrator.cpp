@@ -55,7 +55,6 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
   std::string& chain_section = run.chain_section();
 
   RenderResult result = run.black_result();
-  if (!run.direct_pass(scene, result, stats_)) return result;
   if (min_edges > max_edges) {
     run.end_without_chains(result, stats_);
     return result;
@@ -192,7 +191,7 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
   stats_.b = b;
 
   PssChains pss(PssSetup{scene, settings, tracer, options_, min_edges, max_edges, std::move(boot)},
-                run, progress, stats_, std::move(result.image), chain_in ? &*chain_in : nullptr);
+                run, progress, stats_, chain_in ? &*chain_in : nullptr);
   if (!chain_in) {
     std::vector<PssChain>& chains = pss.chains();
     // (Not a structured binding: clang 14, the fuzz build's compiler, cannot capture one.)
@@ -217,6 +216,7 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
   chain_in.reset();
   chain_section.clear();
   result = pss.render(name());
+  run.direct_statistics(stats_);
   stats_.seconds = result.seconds;
   return result;
 }

@@ -35,15 +35,24 @@ RenderResult DirectIntegrator::render(const Scene& scene, const RenderSettings& 
 }
 
 RenderResult render_direct_pass(const Scene& scene, const RenderSettings& settings,
-                                PixelRenderState& state, const std::function<void()>& on_pause) {
+                                PixelRenderState& state, const std::function<void()>& on_pause,
+                                double share) {
   RenderSettings direct = settings;
   const bool time_only = settings.time_limit_s > 0.0 && !(settings.mutations_per_pixel > 0.0);
   constexpr double kDirectTimeShare = 0.15;
-  direct.spp = settings.direct_spp > 0 ? settings.direct_spp
-               : time_only             ? 0
-                           : std::max(1, int(std::ceil(settings.mutations_per_pixel)));
-  direct.time_limit_s =
-      time_only && settings.direct_spp <= 0 ? kDirectTimeShare * settings.time_limit_s : 0.0;
+  const int spp = settings.direct_spp > 0 ? settings.direct_spp
+                  : time_only             ? 0
+                              : std::max(1, int(std::ceil(settings.mutations_per_pixel)));
+  // Up to the share of the samples, never fewer than a resumed state has done or begun
+  // within the budget (beyond it, the schedule refuses the state).
+  const int begun = std::max(state.schedule.done, state.schedule.pass_end);
+  direct.spp = spp <= 0 ? 0
+               : begun > spp
+                   ? spp
+                   : std::max({int(std::ceil(std::clamp(share, 0.0, 1.0) * spp)), begun, 1});
+  direct.time_limit_s = time_only && settings.direct_spp <= 0
+                            ? kDirectTimeShare * settings.time_limit_s * share
+                            : 0.0;
   direct.snapshots = nullptr;  // the log follows the chains, not this pass
   direct.control = nullptr;    // its state is part of the outer render's
   ProgressReporter quiet(false);

@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 
@@ -96,7 +97,7 @@ void ChainSweeper::root_decides(uint64_t& value) const {
 }
 
 void ChainSweeper::snapshot(ChainSteps& chains, uint64_t done) {
-  snapshot_image(done, chains.compose(done, false));
+  snapshot_image(done, chains.compose(done));
 }
 
 void ChainSweeper::snapshot_image(uint64_t done, const Image& image) {
@@ -110,13 +111,25 @@ void ChainSweeper::snapshot_image(uint64_t done, const Image& image) {
   run_.write_off(std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count());
 }
 
+// How much of the direct light's budget is to be done by the end of the sweep under way: the
+// share of the chains' budget it ends at, or under a time budget alone the share of the time
+// spent (rank 0's clock: the direct pass runs the same samples on every rank).
+double ChainSweeper::direct_share(const ChainSteps& chains) const {
+  if (chains.planned() != UINT64_MAX)
+    return std::min(1.0, double(chains.sweep_end()) / double(chains.planned()));
+  uint64_t share = std::bit_cast<uint64_t>(run_.counted_seconds() / settings_.time_limit_s);
+  root_decides(share);
+  return std::min(1.0, std::bit_cast<double>(share));
+}
+
 RenderResult ChainSweeper::run(ChainSteps& chains, const std::string& label) {
   const auto save = [&](StateWriter& out) {
     run_.save(out, [&](StateWriter& section) { chains.save(section); });
   };
+  const auto pause = [&] { RenderControl::pause(run_.control(), save); };
   progress_.start(label, timed_ ? 0 : chains.planned(), settings_.time_limit_s);
   progress_.advance(chains.taken_before());
-  bool stopped = false;
+  bool stopped = false, stopped_in_direct = false;
   while (true) {
     if (!chains.in_sweep()) {
       if (chains.spent()) break;
@@ -127,6 +140,11 @@ RenderResult ChainSweeper::run(ChainSteps& chains, const std::string& label) {
       chains.begin_sweep(chains.rounds());
     } else {
       chains.continue_sweep();
+    }
+    // The direct light first takes its share of the work up to the sweep's end.
+    if (!run_.direct_up_to(direct_share(chains), pause)) {
+      stopped = stopped_in_direct = true;
+      break;
     }
     const double sweep_start = run_.elapsed();
     const double steps_start = profile_.enabled ? SweepProfile::now() : 0.0,
@@ -162,23 +180,28 @@ RenderResult ChainSweeper::run(ChainSteps& chains, const std::string& label) {
     }
     chains.sweep_agreed(decision.incomplete, lengths);
     if (decision.pause()) {
-      RenderControl::pause(run_.control(), save);
+      pause();
       if (decision.stop && (decision.incomplete || !chains.spent())) {
         stopped = true;
         break;
       }
     }
   }
+  // The direct light's whole budget, when the chains' is done (under a time budget, its
+  // share of the time).
+  if (!stopped && !run_.direct_up_to(1.0, pause)) stopped = true;
   profile_.print();
   progress_.finish();
 
   const uint64_t done = chains.final_done();
   RenderResult result;
-  result.image = chains.compose(done, true);
+  result.image = chains.compose(done);
   // A stopped render's log ends with the image it writes, as a finished one's does.
   if (settings_.snapshots && chains.log_final(done)) snapshot_image(done, result.image);
   if (!stopped) RenderControl::finish(run_.control(), save);
   result.interrupted = stopped;
+  // Stopped before any chain took a step: the image is the direct light so far, and says so.
+  if (stopped_in_direct && done == 0) result.stopped_in = "the direct-light pass";
   result.seconds = run_.counted_seconds();
   result.samples = done;
   result.samples_per_pixel = int(std::llround(double(done) / double(pixels_)));

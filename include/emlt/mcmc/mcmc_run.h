@@ -2,7 +2,8 @@
 // The frame around every MCMC driver's chains (mlt, gamlt, emlt, pssmlt, mmlt): the render's
 // clock, which carries the seconds of the runs before a resume and can leave out the time
 // spent writing snapshots; the checkpoint state it resumed from and saves
-// (mcmc_phase_state.h); and the separate direct-light pass that comes before the chains.
+// (mcmc_phase_state.h); and the separate direct-light pass, which keeps pace with the
+// chains so that a render stopped at any moment has both parts of the image.
 #include <chrono>
 #include <functional>
 #include <string>
@@ -46,28 +47,37 @@ class McmcRun {
   // Ends a render without chains (nothing for them to do, or cut short before them).
   void finish_before_chains() const;
 
-  // A render that ends before its chains, `result` then its whole answer, with its seconds:
-  // there is nothing for them to do (no path length is left to them, or the bootstrap found
-  // no light: then `warning` on rank 0).
+  // A render that ends before its chains, `result` then its whole answer (the direct light,
+  // rendered to the end of its budget), with its seconds: there is nothing for them to do
+  // (no path length is left to them, or the bootstrap found no light: then `warning` on
+  // rank 0).
   void end_without_chains(RenderResult& result, MltStatistics& stats,
-                          const char* warning = nullptr) const;
+                          const char* warning = nullptr);
   // Whether a stop cut any rank's bootstrap short (a collective call): then nothing of it is
   // kept, as a resumed render runs it again to the same bits, and `result` is the render's
-  // whole answer.
-  bool stopped_in_bootstrap(bool interrupted, RenderResult& result, MltStatistics& stats) const;
+  // whole answer (with the direct light so far).
+  bool stopped_in_bootstrap(bool interrupted, RenderResult& result, MltStatistics& stats);
 
   // With settings.direct_separate, the direct light (paths of one and two segments, as
-  // Mitsuba renders them by default) into result.image, its time and samples into stats;
-  // false when a stop cut the pass short, with result then the render's whole answer.
-  // Without it, leaves result as it is and returns true.
-  bool direct_pass(const Scene& scene, RenderResult& result, MltStatistics& stats) const;
+  // Mitsuba renders them by default) rendered up to `share` of its budget
+  // (render_direct_pass), calling `on_pause` at a checkpoint or stop inside it; false when
+  // a stop cut it short. Without it, nothing to do: true. A collective call.
+  bool direct_up_to(double share, const std::function<void()>& on_pause);
+  // The direct image so far, each pixel the mean of its samples (black without
+  // --direct separate), complete on rank 0 (a collective call).
+  Image direct_image() const;
+  // The direct pass's samples per pixel and seconds into the statistics.
+  void direct_statistics(MltStatistics& stats) const;
 
  private:
   const RenderSettings& settings_;
   int width_, height_;
   const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   RenderControl* control_;
-  mutable McmcPhaseState phase_;  // the direct pass's state advances inside direct_pass
+  const Scene& scene_;
+  mutable McmcPhaseState phase_;  // the direct pass's state advances inside direct_up_to
+  int direct_spp_ = 0;
+  double direct_seconds_ = 0.0;
   double written_off_ = 0.0;
 };
 

@@ -35,9 +35,9 @@ class MltChains final : public ChainSteps {
                                            MltStatistics& stats, uint64_t ensemble_chains);
 
   // `chains`: seeded, or loaded with load_chains() (then `resumed_section` reads on where
-  // that left off). `direct`: the separate direct image the chains' is added to.
+  // that left off).
   MltChains(MltSetup setup, std::vector<MltChain> chains, McmcRun& run, ProgressReporter& progress,
-            MltStatistics& stats, Image direct, StateReader* resumed_section);
+            MltStatistics& stats, StateReader* resumed_section);
 
   // Runs the chains to the end of the budget or a stop; fills the statistics.
   RenderResult render(const std::string& name);
@@ -48,6 +48,7 @@ class MltChains final : public ChainSteps {
   uint64_t taken_before() const override { return done_; }
   bool in_sweep() const override { return sweep_.active; }
   void begin_sweep(uint64_t rounds) override;
+  uint64_t sweep_end() const override { return sweep_.done_before + sweep_.size; }
   void continue_sweep() override;
   uint64_t sweep_block(int block, size_t film) override;
   bool behind() const override { return steps_left() > 0; }
@@ -56,7 +57,7 @@ class MltChains final : public ChainSteps {
   uint64_t& rounds() override { return timed_rounds_; }
   bool rounds_grow() const override { return !setup_.ensemble; }
   bool log_final(uint64_t done) override;
-  Image compose(uint64_t done, bool last) override;
+  Image compose(uint64_t done) override;
   void save(StateWriter& out) const override;
 
  private:
@@ -90,7 +91,7 @@ class MltChains final : public ChainSteps {
   uint64_t round_size_;
   // Chains with a seed (all, in practice): counted once every rank has them.
   uint64_t live_ = 0;
-  Image direct_;
+  McmcRun& run_;
   bool resumed_;
 };
 

@@ -42,7 +42,7 @@ class PssChains final : public ChainSteps {
   // The chains of every length, with their streams; `resumed_section` (null for a fresh
   // render) reads their state on from the saved bootstrap.
   PssChains(PssSetup setup, McmcRun& run, ProgressReporter& progress, MltStatistics& stats,
-            Image direct, StateReader* resumed_section);
+            StateReader* resumed_section);
 
   // This rank's chains [first, second), which a fresh render seeds (on the arena).
   std::pair<uint64_t, uint64_t> owned_chains() const { return {first_owned_, end_owned_}; }
@@ -59,13 +59,14 @@ class PssChains final : public ChainSteps {
   bool may_end_for_time() const override { return steps_done_ > 0; }
   bool in_sweep() const override { return sweep_active_; }
   void begin_sweep(uint64_t rounds) override;
+  uint64_t sweep_end() const override;
   uint64_t sweep_block(int block, size_t film) override;
   bool behind() const override;
   void sweep_agreed(bool incomplete, std::span<const uint64_t> lengths) override;
   uint64_t& rounds() override { return rounds_; }
   uint64_t final_done() override;
   bool log_final(uint64_t done) override;
-  Image compose(uint64_t done, bool last) override;
+  Image compose(uint64_t done) override;
   void save(StateWriter& out) const override;
 
  private:
@@ -95,7 +96,7 @@ class PssChains final : public ChainSteps {
   uint64_t logged_ = UINT64_MAX;
   uint8_t sweep_active_ = 0;
   uint64_t next_snapshot_ = 1;
-  Image direct_;
+  McmcRun& run_;
 };
 
 }  // namespace emlt

@@ -24,9 +24,13 @@ class DirectIntegrator final : public Integrator {
 // chains then never visit such paths. `--direct-spp` samples per pixel, or as many as the
 // mutations per pixel, or under a pure time budget a fixed share of the time (whole passes:
 // with a fixed 16 samples per pixel the direct image's noise dominated the door scene's
-// error, MSE 1.1-2.0e-4 in 5 s against 1.0-1.5e-5 with a few hundred samples). Continues
-// from `state` and calls `on_pause` at a checkpoint or stop, as render_pixels does.
+// error, MSE 1.1-2.0e-4 in 5 s against 1.0-1.5e-5 with a few hundred samples). `share`:
+// how much of that budget to have done when the call returns, so that the pass can keep
+// pace with the chains in slices; its image is the same bits however it was sliced.
+// Continues from `state` and calls `on_pause` at a checkpoint or stop, as render_pixels
+// does.
 RenderResult render_direct_pass(const Scene& scene, const RenderSettings& settings,
-                                PixelRenderState& state, const std::function<void()>& on_pause);
+                                PixelRenderState& state, const std::function<void()>& on_pause,
+                                double share = 1.0);
 
 }  // namespace emlt

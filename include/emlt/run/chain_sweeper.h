@@ -11,6 +11,9 @@
 // - the rank share (a contiguous range of the blocks on each rank) and the exact
 //   reductions of films and block counters across ranks, so `mpirun -n R` gives the
 //   one-process image and statistics;
+// - the separate direct light (mcmc_run.h) in slices that keep pace with the chains, so that
+//   a render stopped at any moment has both parts of the image, each normalised for the
+//   work done;
 // - stops and checkpoints: the blocks return at a stop signal or a checkpoint falling due,
 //   every rank agrees on what to do (interruption.h), and the state is saved
 //   (render_control.h, mcmc_run.h) or the render ends with the image of the steps taken;
@@ -57,6 +60,8 @@ class ChainSteps {
   virtual bool in_sweep() const = 0;
   // Plans the next sweep; `rounds`: its size in a timed render, in the chains' own unit.
   virtual void begin_sweep(uint64_t rounds) = 0;
+  // The mutations done (every rank's) when the sweep under way is complete.
+  virtual uint64_t sweep_end() const = 0;
   // Before a sweep under way goes on in a resumed render.
   virtual void continue_sweep() {}
   // Runs block `block`'s chains of the sweep (blocks this rank owns only), splatting into
@@ -82,9 +87,9 @@ class ChainSteps {
   // its last row already is it); a true answer counts the row as written.
   virtual uint64_t final_done() { return done(); }
   virtual bool log_final(uint64_t done) = 0;
-  // The MCMC image after `done` mutations, complete on rank 0 (a collective call). `last`:
-  // the final image, after which the chains are not composed again.
-  virtual Image compose(uint64_t done, bool last) = 0;
+  // The image after `done` mutations, the direct light so far (McmcRun::direct_image())
+  // and the chains', complete on rank 0 (a collective call).
+  virtual Image compose(uint64_t done) = 0;
   // The chains' section of the checkpoint (mcmc_run.h).
   virtual void save(StateWriter& out) const = 0;
 };
@@ -148,6 +153,7 @@ class ChainSweeper {
 
  private:
   void snapshot_image(uint64_t done, const Image& image);
+  double direct_share(const ChainSteps& chains) const;
 
   const RenderSettings& settings_;
   ProgressReporter& progress_;
