@@ -26,6 +26,7 @@ PAPER = {
     "cornell-box": {"MLT": 9.62e-3, "Ani": 4.72e-3, "Lin": 4.34e-3, "EMLT": 3.28e-3},
 }
 BASELINE = "MLT"
+DISPLAY_ORDER = ["MLT", "MLT-mix", "MLT-paper", "GAMLT", "Ani", "Lin", "EMLT"]
 BEGIN = "<!-- table1:begin (scripts/experiments/paper_table1/summarise.py --update) -->"
 END = "<!-- table1:end -->"
 
@@ -88,7 +89,10 @@ def main(argv=None):
         rows += load_rows(folder)
         chains.update(load_chains(folder))
     scenes = list(dict.fromkeys(r["scene"] for r in rows))
-    methods = list(dict.fromkeys(r["method"] for r in rows))
+    # The baselines first, then GAMLT-like, the paper's ablation and anything else, whatever
+    # order the runs were made in.
+    found = list(dict.fromkeys(r["method"] for r in rows))
+    methods = [m for m in DISPLAY_ORDER if m in found] + [m for m in found if m not in DISPLAY_ORDER]
 
     def cell(scene, method):
         return [r for r in rows if r["scene"] == scene and r["method"] == method]
