@@ -61,8 +61,10 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
   RenderSettings& s = o.settings;
   command.add_option("scene", o.scene, "Scene file (.json or Mitsuba .xml)")->required();
   command.add_option("-o,--output", o.output, "Output image (.exr, .pfm, .png, .hdr)");
-  command.add_option("--integrator", s.integrator,
-                     "direct | pt | bdpt | mlt | gamlt | emlt | pssmlt | mmlt");
+  std::string integrators;
+  for (const std::string& name : integrator_names())
+    integrators += (integrators.empty() ? "" : " | ") + name;
+  command.add_option("--integrator", s.integrator, integrators);
   command.add_option("--spp", s.spp, "Samples per pixel")
       ->check(whole_number(1, kMaxSpp, "a whole number from 1 to 2^24 (about 16.8 million)"));
   command.add_option("--time", s.time_limit_s, "Time budget in seconds (renders until spent)")

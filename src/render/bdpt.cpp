@@ -1,37 +1,21 @@
 #include "emlt/render/bdpt.h"
 
-#include "emlt/render/pass_schedule.h"
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
+#include <fmt/core.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <optional>
-#include <fmt/core.h>
 
 #include "emlt/core/cluster.h"
-#include "emlt/core/error.h"
 #include "emlt/core/rng.h"
 #include "emlt/path/connection.h"
 #include "emlt/path/path_density.h"
 #include "emlt/path/random_walk.h"
-#include "emlt/render/interruption.h"
-#include "emlt/render/pixel_renderer.h"
-#include "emlt/render/render_control.h"
-#include "emlt/render/snapshot.h"
-#include "emlt/render/splat_film.h"
+#include "emlt/run/pass_runner.h"
 
 namespace emlt {
 
 namespace {
-
-constexpr int kTileSize = 16;
-// Samples per pass are bounded so the splat lists of one pass stay small (a few splats of
-// 20 bytes per sample); the bound depends on the image only, so passes never depend on
-// the thread count.
-constexpr uint64_t kSamplesPerPass = uint64_t(1) << 18;
 
 // Strategy images: paths of n = s + t vertices, n = 2 .. kMaxStrategyImageDepth + 1, and
 // s = 0 .. n - 1, numbered n by n.
@@ -45,35 +29,25 @@ int strategy_image_count() {
   return n * (n + 1) / 2 - 1;
 }
 
-struct Tile {
-  int x0, y0, x1, y1;
-};
-
-std::vector<Tile> make_tiles(int width, int height) {
-  std::vector<Tile> tiles;
-  for (int y = 0; y < height; y += kTileSize)
-    for (int x = 0; x < width; x += kTileSize)
-      tiles.push_back({x, y, std::min(x + kTileSize, width), std::min(y + kTileSize, height)});
-  return tiles;
-}
-
-// Everything one pixel sample needs; the vectors are reused across samples of a tile.
+// Everything one pixel sample needs; the vectors are reused by a thread's samples.
 struct SampleScratch {
   PathVertices light, camera;
   VertexDensity densities[kMaxPathVertices];
 };
 
-// One tile's output for a pass: its light-tracing splats and its dropped-value count.
-struct TileOutput {
-  SplatList splats;
-  InvalidCounter invalid;
-};
-
-class BdptSampler {
+// One pixel sample of BDPT for the pass runner; with strategy images, it also keeps each
+// strategy's camera-side sums per pixel.
+class BdptStep final : public PixelSampleStep {
  public:
-  BdptSampler(const Scene& scene, const RenderSettings& settings, const BdptOptions& options,
-              bool strategy_images)
-      : scene_(scene), settings_(settings), options_(options), strategy_images_(strategy_images) {
+  BdptStep(const Scene& scene, const RenderSettings& settings, const BdptOptions& options,
+           int strategies)
+      : scene_(scene),
+        settings_(settings),
+        options_(options),
+        strategy_images_(strategies > 0),
+        strategies_(strategies),
+        pixels_(size_t(scene.camera().width()) * size_t(scene.camera().height())),
+        strategy_sums_(size_t(strategies) * pixels_, DVec3(0.0)) {
     max_depth_ = settings.max_depth < 0 ? BidirectionalPathTracer::kUnlimitedDepth
                                         : std::min(settings.max_depth, kMaxPathVertices - 1);
     // A path of max_depth segments has max_depth + 1 vertices: s = 0 needs them all on the
@@ -82,10 +56,25 @@ class BdptSampler {
     light_limits_ = {max_depth_, subpath_rr_depth(settings.rr_depth)};
   }
 
-  // One sample at `raster`: camera-side contributions go to `pixel` (and the pixel's
-  // strategy values), light-tracing splats to the tile's list.
-  void sample(Rng& rng, const Vec2& raster, const Vec2& u_lens, SampleScratch& scratch,
-              DVec3& pixel, DVec3* strategy_pixel, TileOutput& out) const {
+  bool splats() const override { return true; }
+  int film_layers() const override { return strategies_; }
+  void save(StateWriter& out) const override { out.put_vector(strategy_sums_); }
+  void load(StateReader& in) override {
+    strategy_sums_ = in.get_vector<DVec3>(strategy_sums_.size());
+  }
+  const std::vector<DVec3>& strategy_sums() const { return strategy_sums_; }
+
+  // Camera-side contributions go to `pixel` (and the pixel's strategy sums), light-tracing
+  // splats to the tile's list.
+  void sample(int x, int y, Rng& rng, DVec3& pixel, TileOutput& out) override {
+    // Same stream and first draws as the path tracer's.
+    const Vec2 jitter = rng.uniform2();
+    const Vec2 u_lens = rng.uniform2();
+    const Vec2 raster = scene_.camera().filter().sample(x, y, jitter);
+    thread_local SampleScratch scratch;
+    DVec3* strategy_pixel =
+        strategy_images_ ? &strategy_sums_[size_t(y) * size_t(scene_.camera().width()) + size_t(x)]
+                         : nullptr;
     auto& camera = scratch.camera;
     auto& light = scratch.light;
     generate_camera_subpath(scene_, rng, raster, u_lens, camera_limits_, camera, &out.invalid);
@@ -104,6 +93,7 @@ class BdptSampler {
   }
 
  private:
+  // strategy_pixel: the pixel's sum of strategy 0; strategy i's lies i * pixels after it.
   void evaluate_strategy(Rng& rng, int s, int t, SampleScratch& scratch, DVec3& pixel,
                          DVec3* strategy_pixel, TileOutput& out) const {
     const auto& camera = scratch.camera;
@@ -153,13 +143,17 @@ class BdptSampler {
       return;
     }
     pixel += DVec3(value);
-    if (strategy >= 0) strategy_pixel[strategy] += DVec3(value);
+    if (strategy >= 0) strategy_pixel[size_t(strategy) * pixels_] += DVec3(value);
   }
 
   const Scene& scene_;
   const RenderSettings& settings_;
   const BdptOptions& options_;
   bool strategy_images_;
+  int strategies_;
+  size_t pixels_;
+  // Strategy i's camera-side sum of pixel p at i * pixels + p.
+  std::vector<DVec3> strategy_sums_;
   int max_depth_ = 0;
   WalkLimits camera_limits_, light_limits_;
 };
@@ -190,200 +184,24 @@ RenderResult BidirectionalPathTracer::render(const Scene& scene, const RenderSet
                                              ProgressReporter& progress) const {
   const Camera& camera = scene.camera();
   const int width = camera.width(), height = camera.height();
-  const uint64_t pixels = uint64_t(width) * uint64_t(height);
   const bool strategy_images = !settings.bdpt_strategies_dir.empty();
-  const int strategies = strategy_images ? strategy_image_count() : 0;
-
-  const std::vector<Tile> tiles = make_tiles(width, height);
-  // Camera-side sums and sample counts per pixel, as the pixel driver keeps them.
-  PixelRenderState state;
-  std::vector<DVec3> strategy_sums(size_t(strategies) * pixels, DVec3(0.0));
-  SplatFilm film(width, height, strategies);
-  // The splats of the pass under way, added to the film in tile order when it completes.
-  std::vector<TileOutput> outputs(tiles.size());
-  const BdptSampler sampler(scene, settings, options_, strategy_images);
-
-  RenderControl* control = settings.control;
-  const auto save = [&](StateWriter& out) {
-    state.save(out);
-    out.put_vector(strategy_sums);
-    film.save(out);
-    for (const TileOutput& tile : outputs) {
-      out.put_vector(tile.splats.records);
-      out.put(tile.invalid.count);
-    }
-  };
-  if (control && !control->resume_state().empty()) {
-    StateReader in(control->resume_state());
-    state.load(in, width, height);
-    strategy_sums = in.get_vector<DVec3>(size_t(strategies) * pixels);
-    film.load(in);
-    for (TileOutput& tile : outputs) {
-      // A tile makes a few splats per sample; kSamplesPerPass bounds a pass's samples.
-      tile.splats.records = in.get_vector_up_to<SplatRecord>(64 * kSamplesPerPass);
-      for (const SplatRecord& r : tile.splats.records)
-        if (r.pixel >= pixels || r.layer >= strategies)
-          throw StateError("a saved splat lies outside the image");
-      tile.invalid.count = in.get<uint64_t>();
-    }
-    in.expect_end();
-  } else {
-    state.sums.assign(pixels, DVec3(0.0));
-    state.counts.assign(pixels, 0);
-  }
-  // Under MPI each rank renders the tiles of its rows (owns_row), and rank 0 adds every
-  // rank's splats to the film in tile order.
-  const auto owns_tile = [&](size_t index) { return owns_row(tiles[index].y0); };
-  const auto merge_pass_splats = [&] {
-    std::vector<SplatList> lists(outputs.size());
-    if (cluster::size() == 1) {
-      for (size_t i = 0; i < outputs.size(); ++i) lists[i].records.swap(outputs[i].splats.records);
-    } else {
-      StateWriter mine;
-      for (size_t i = 0; i < outputs.size(); ++i) {
-        if (!owns_tile(i)) continue;
-        mine.put<uint64_t>(i);
-        mine.put_vector(outputs[i].splats.records);
-        outputs[i].splats.records.clear();
-      }
-      for (const std::string_view part : cluster::gather_to_root(mine.data())) {
-        StateReader in(part);
-        while (in.remaining() > 0) {
-          const uint64_t i = in.get<uint64_t>();
-          lists.at(i).records = in.get_vector_up_to<SplatRecord>(UINT64_MAX / sizeof(SplatRecord));
-        }
-      }
-    }
-    for (TileOutput& out : outputs) {
-      state.invalid += out.invalid.count;
-      out.invalid.count = 0;
-    }
-    film.add_in_order(lists);
-  };
-
-  // Camera-side estimates average over the pixel's samples. A splat carries W_e of the
-  // whole film (camera.h), so the light-tracing image is scaled by pixels / light paths;
-  // there is one light path per pixel sample. Complete on rank 0.
-  uint64_t light_paths = 0;
-  const auto image_now = [&] {
-    const PixelRenderState::Totals totals = state.totals();
-    light_paths = 0;
-    for (const int32_t c : totals.counts) light_paths += uint64_t(c);
-    Image image(width, height);
-    const double splat_scale = light_paths > 0 ? double(pixels) / double(light_paths) : 0.0;
-    for (uint64_t i = 0; i < pixels; ++i) {
-      const double camera_scale = totals.counts[i] > 0 ? 1.0 / totals.counts[i] : 0.0;
-      const DVec3 sum(totals.sums[3 * i], totals.sums[3 * i + 1], totals.sums[3 * i + 2]);
-      image.pixels[i] = Rgb(sum * camera_scale + film.sums()[i] * splat_scale);
-    }
-    return image;
-  };
-  const auto average = [&](int) { return image_now(); };
-
-  const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
-  tbb::task_arena arena(threads);
-  // Passes are bounded so the splat lists stay small.
-  const int bounded_pass = int(std::max<uint64_t>(1, kSamplesPerPass / std::max<uint64_t>(pixels, 1)));
-  PassSchedule schedule(settings, bounded_pass);
-  if (state.resumed) schedule.restore(state.schedule);
-  const bool timed = settings.time_limit_s > 0.0;
-  progress.start("rendering", timed ? 0 : pixels * uint64_t(schedule.max_samples()), settings.time_limit_s);
-  progress.advance(pixels * uint64_t(schedule.samples()));
-
-  RenderResult result;
-  bool mid_pass = state.schedule.pass_end > 0 && state.resumed;
-  while (schedule.more()) {
-    const int first = schedule.pass_begin(), last = schedule.pass_end();
-    arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
-        SampleScratch scratch;
-        std::vector<DVec3> strategy_pixel(static_cast<size_t>(strategies));
-        for (size_t index = range.begin(); index < range.end(); ++index) {
-          if (!owns_tile(index)) continue;
-          const Tile& tile = tiles[index];
-          TileOutput& out = outputs[index];
-          uint64_t tile_samples = 0;
-          for (int y = tile.y0; y < tile.y1; ++y) {
-            for (int x = tile.x0; x < tile.x1; ++x) {
-              const uint64_t pixel = uint64_t(y) * uint64_t(width) + uint64_t(x);
-              int k = std::max(first, int(state.counts[pixel]));
-              if (k >= last || interruption::requested()) continue;
-              const uint64_t pixel_stream = derive_stream_seed(settings.seed, pixel);
-              // Each sample adds to the pixel's sums in sample order, whatever the passes.
-              DVec3 sum = state.sums[pixel];
-              for (int i = 0; i < strategies; ++i)
-                strategy_pixel[size_t(i)] = strategy_sums[size_t(i) * pixels + pixel];
-              const int begin = k;
-              for (; k < last && !interruption::requested(); ++k) {
-                // Same stream and first draws as the path tracer's pixel driver.
-                Rng rng(pixel_stream, uint64_t(k));
-                const Vec2 jitter = rng.uniform2();
-                const Vec2 u_lens = rng.uniform2();
-                sampler.sample(rng, camera.filter().sample(x, y, jitter), u_lens, scratch, sum,
-                               strategy_pixel.data(), out);
-              }
-              state.sums[pixel] = sum;
-              state.counts[pixel] = k;
-              for (int i = 0; i < strategies; ++i)
-                strategy_sums[size_t(i) * pixels + pixel] = strategy_pixel[size_t(i)];
-              tile_samples += uint64_t(k - begin);
-              interruption::poll(uint64_t(k - begin));
-            }
-          }
-          progress.advance(tile_samples);
-        }
-      });
-    });
-    const bool incomplete = state.behind(last, width);
-    const interruption::Decision decision = interruption::agree(incomplete);
-    mid_pass = decision.incomplete;
-    if (!mid_pass) {
-      // Splats are added in tile order: the same bits at any thread and rank count.
-      merge_pass_splats();
-      schedule.complete_pass(average);
-    }
-    if (decision.pause()) {
-      state.schedule = schedule.save(mid_pass);
-      RenderControl::pause(control, save);
-      if (decision.stop && (mid_pass || schedule.more())) {
-        result.interrupted = true;
-        break;
-      }
-    }
-  }
-  state.schedule = schedule.save(mid_pass);
-  if (!result.interrupted) {
-    schedule.finish(average);
-    RenderControl::finish(control, save);
-  } else {
-    // The image of a stop inside a pass includes that pass's splats so far.
-    merge_pass_splats();
-  }
-  progress.finish();
-
-  result.image = image_now();
-  std::vector<uint64_t> invalid = {state.invalid};
-  cluster::sum_to_root(invalid);
-  result.seconds = schedule.seconds();
-  result.samples_per_pixel = schedule.samples();
-  result.samples = light_paths;
-  result.per_pixel = pixels > 0 ? double(light_paths) / double(pixels) : 0.0;
-  result.invalid_samples = invalid[0];
-  if (result.interrupted && settings.snapshots)
-    settings.snapshots->snapshot(result.per_pixel, result.seconds, result.image, {});
+  BdptStep step(scene, settings, options_, strategy_images ? strategy_image_count() : 0);
+  PassRunner runner(scene, settings, progress, step);
+  RenderResult result = runner.render();
   if (strategy_images) {
-    std::vector<double> strategy_totals(3 * strategy_sums.size());
-    for (size_t i = 0; i < strategy_sums.size(); ++i)
-      for (int c = 0; c < 3; ++c) strategy_totals[3 * i + size_t(c)] = strategy_sums[i][c];
+    const std::vector<DVec3>& sums = step.strategy_sums();
+    std::vector<double> strategy_totals(3 * sums.size());
+    for (size_t i = 0; i < sums.size(); ++i)
+      for (int c = 0; c < 3; ++c) strategy_totals[3 * i + size_t(c)] = sums[i][c];
     cluster::sum_to_root(strategy_totals);
-    const PixelRenderState::Totals totals = state.totals();
+    const PixelRenderState::Totals totals = runner.state().totals();
     if (cluster::is_root()) {
-      for (size_t i = 0; i < strategy_sums.size(); ++i)
+      std::vector<DVec3> strategy_sums(sums.size());
+      for (size_t i = 0; i < sums.size(); ++i)
         strategy_sums[i] = DVec3(strategy_totals[3 * i], strategy_totals[3 * i + 1],
                                  strategy_totals[3 * i + 2]);
-      write_strategy_images(settings.bdpt_strategies_dir, width, height, strategy_sums, film,
-                            totals.counts,
-                            light_paths > 0 ? double(pixels) / double(light_paths) : 0.0);
+      write_strategy_images(settings.bdpt_strategies_dir, width, height, strategy_sums,
+                            runner.film(), totals.counts, runner.splat_scale());
     }
   }
   return result;

@@ -156,6 +156,8 @@ class MitsubaSceneReader {
       s.integrator = "bdpt";
     else if (type == "mlt")
       s.integrator = "mlt";
+    else if (type == "ptracer")
+      s.integrator = "ptracer";
     else  // any unbiased or consistent integrator converges to the same image
       doc_.warn(node,
                 "integrator type '" + type + "' is not supported; using '" + s.integrator + "'",

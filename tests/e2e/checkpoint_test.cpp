@@ -97,6 +97,7 @@ INSTANTIATE_TEST_SUITE_P(
     Integrators, ResumeEveryIntegrator,
     ::testing::Values(Case{"direct", "--spp 16", 16 * 1024}, Case{"pt", "--spp 16", 16 * 1024},
                       Case{"bdpt", "--spp 8", 8 * 1024},
+                      Case{"ptracer", "--spp 8", 8 * 1024},
                       Case{"mlt", "--mpp 16", 2 * 16 * 1024},
                       Case{"gamlt", "--mpp 16", 2 * 16 * 1024},
                       Case{"emlt", "--mpp 16", 2 * 16 * 1024},

@@ -7,6 +7,7 @@
 #include <functional>
 
 #include "emlt/core/error.h"
+#include "emlt/render/integrator.h"
 #include "emlt/scene/obj_loader.h"
 #include "emlt/scene/scene.h"
 #include "support/test_support.h"
@@ -333,6 +334,26 @@ TEST(Loader, XmlAndJsonPrimitiveShapesAndTransformsAgree) {
   const Rgb fa = ha.bsdf->eval({}, wo, wi), fb = hb.bsdf->eval({}, wo, wi);
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(fa[c], fb[c], 1e-5f);
   EXPECT_GT(fa.x, fa.z);  // gold
+}
+
+// Mitsuba's particle tracer is emlt's, with its depth parameters; granularity (the light
+// paths of a work unit) only schedules the work.
+TEST(Loader, XmlParticleTracer) {
+  const auto dir = test::scratch_dir("ptracer");
+  const std::string xml = write_file(dir, "scene.xml", R"(<scene version="0.6.0">
+  <integrator type="ptracer"><integer name="maxDepth" value="6"/>
+    <integer name="rrDepth" value="3"/><integer name="granularity" value="1000"/></integrator>
+  <sensor type="perspective"><float name="fov" value="30"/>
+    <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film>
+  </sensor>
+  <emitter type="constant"><spectrum name="radiance" value="0.5"/></emitter>
+  <shape type="sphere"/>
+</scene>)");
+  const SceneDescription desc = load_scene_description(xml);
+  EXPECT_EQ(desc.defaults.integrator, "ptracer");
+  EXPECT_EQ(desc.defaults.max_depth, 6);
+  EXPECT_EQ(desc.defaults.rr_depth, 3);
+  EXPECT_NE(make_integrator(desc.defaults.integrator), nullptr);
 }
 
 TEST(Loader, XmlSensorFilmSamplerAndIntegrator) {
