@@ -15,6 +15,7 @@
 #include "emlt/core/cluster.h"
 #include "emlt/core/error.h"
 #include "emlt/mcmc/bootstrap.h"
+#include "emlt/mcmc/delayed_acceptance.h"
 #include "emlt/mcmc/fixed_point_film.h"
 #include "emlt/mcmc/mcmc_run.h"
 #include "emlt/path/path_state.h"
@@ -169,6 +170,7 @@ struct StepRules {
   bool ignore_selection = false;
   bool expected_values = true;
   bool drop_rejected_steps = false;  // an injected bug (MltOptions)
+  bool delayed_acceptance = false;   // two stages for proposals with a deferred factor
 };
 
 uint64_t run_chain(Chain& chain, uint64_t chain_index, const StrategyMix& mix, MutationContext ctx,
@@ -199,8 +201,12 @@ uint64_t run_chain(Chain& chain, uint64_t chain_index, const StrategyMix& mix, M
     StrategyStats& stats = out.stats[size_t(chosen)];
     ++stats.proposed;
 
+    // The proposal's expected-value weight: its acceptance probability, or under delayed
+    // acceptance 1{first stage passed}·a2, whose expectation that is (delayed_acceptance.h).
     double acceptance = 0.0;
-    auto proposal = mix.strategy(size_t(chosen)).propose(chain.current, chain.rng, ctx);
+    double accept_below = 0.0;  // the step's uniform accepts the proposal below this
+    const Mutation& strategy = mix.strategy(size_t(chosen));
+    auto proposal = strategy.propose(chain.current, chain.rng, ctx);
     if (proposal && proposal->fallback) ++stats.fallbacks;
     if (proposal && proposal->alpha >= 0.0) out.alpha.add(proposal->alpha);
     if (proposal && film.moves) {
@@ -211,6 +217,8 @@ uint64_t run_chain(Chain& chain, uint64_t chain_index, const StrategyMix& mix, M
     DVec3 contribution(0.0);
     double target = 0.0;
     StrategyMask proposal_applicable = 0;
+    bool two_stages = false;
+    double first_ratio = 0.0;  // the whole ratio, or the first stage's with two
     if (proposal) {
       // Proposals land anywhere on the image, so the splat below would usually wait on
       // memory (a film is larger than the caches): start loading the pixel now, while the
@@ -218,15 +226,33 @@ uint64_t run_chain(Chain& chain, uint64_t chain_index, const StrategyMix& mix, M
       film.film.prefetch(film_index(proposal->path, width, height));
       contribution = path_contribution(ctx.scene, proposal->path);
       target = luminance(contribution);
+      // A deferred factor is evaluated only for a proposal that can be accepted at all, and
+      // under delayed acceptance only after the first stage (below).
       if (target > 0.0 && std::isfinite(target)) {
         proposal_applicable = mix.applicable(proposal->path, ctx);
         const double p_reverse =
             rules.ignore_selection ? p_forward
                                    : mix.selection_probability(size_t(chosen), proposal_applicable);
-        const double ratio = target / chain.target * std::exp(proposal->log_reverse_over_forward) *
-                             (p_reverse / p_forward);
-        acceptance = std::isfinite(ratio) ? std::clamp(ratio, 0.0, 1.0) : (ratio > 0.0 ? 1.0 : 0.0);
+        two_stages = proposal->deferred && rules.delayed_acceptance;
+        double log_ratio = proposal->log_reverse_over_forward;
+        if (proposal->deferred && !two_stages)
+          log_ratio =
+              with_deferred(log_ratio, strategy.deferred_log_ratio(chain.current, *proposal, ctx));
+        first_ratio = target / chain.target * std::exp(log_ratio) * (p_reverse / p_forward);
+        acceptance = acceptance_probability(first_ratio);
       }
+    }
+    // Nothing draws from the chain's stream after the proposal, so this is the number the
+    // step has always used, drawn before the splats since the second stage needs it.
+    const double u = chain.rng.uniform();
+    if (two_stages) {
+      const TwoStageDecision d = two_stage_decision(first_ratio, u, [&] {
+        return strategy.deferred_log_ratio(chain.current, *proposal, ctx);
+      });
+      acceptance = d.weight;
+      accept_below = d.accept_below;
+    } else {
+      accept_below = acceptance;
     }
     if (!proposal || !(target > 0.0)) ++stats.failed;
     stats.acceptance_sum += acceptance;
@@ -239,7 +265,7 @@ uint64_t run_chain(Chain& chain, uint64_t chain_index, const StrategyMix& mix, M
       if (acceptance > 0.0)
         film.splat(width, height, proposal->path, contribution, target, acceptance);
     }
-    if (chain.rng.uniform() < acceptance) {
+    if (u < accept_below) {
       film.splat(width, height, chain.current, chain.contribution, chain.target, chain.carried);
       chain.current = std::move(proposal->path);
       chain.moved = true;
@@ -314,6 +340,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
                                          : std::min(settings.max_depth, kMaxPathVertices - 1);
   ctx.lens_max_radius = std::sqrt(0.05f * float(pixels) / kPi);
   ctx.field_cone = settings.gamlt_field_cone;
+  ctx.may_defer = true;  // the step asks for deferred factors (run_chain)
   // Timed apart: the chains' rate leaves it out (MltStatistics::prepare_seconds).
   const double prepare_start = elapsed();
   for (size_t i = 0; i < mix.size(); ++i) mix.strategy(i).prepare(ctx);
@@ -752,7 +779,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   bool guides_ready = false;
   if (ensemble) ctx.ensemble = &guides;
   const StepRules rules{options_.ignore_selection_probability, settings.mlt_expected_values,
-                        options_.drop_rejected_steps};
+                        options_.drop_rejected_steps, settings.gamlt_delayed_acceptance};
   tbb::task_arena arena(threads);
   // Y's tree and α from the frozen half (the other one than the sweep's), which nothing
   // changes during the sweep: rebuilding it on resume gives the same guides. Built on the
