@@ -44,9 +44,9 @@
 // be proposed.
 //
 // The range terms at y need y's cones, the costly part of a step; they are what a proposal
-// defers (Proposal::deferred, when ctx.may_defer): the driver asks deferred_log_ratio for them
-// only when f(y) > 0, and under delayed acceptance only after the first stage passed. What
-// the proposal keeps (the base move's ratio) is a ratio in its own right, as that stage needs.
+// defers (Proposal::deferred, when ctx.may_defer: under delayed acceptance), and the driver
+// asks deferred_log_ratio for them only once the first stage has passed. What the proposal
+// keeps (the base move's ratio) is a ratio in its own right, as that stage needs.
 //
 // reverse_uses_x_cones = true is a deliberately wrong variant for the tests: the reverse
 // density is evaluated with x's ranges, i.e. the correction above is dropped.

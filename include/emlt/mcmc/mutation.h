@@ -34,7 +34,8 @@ struct MutationContext {
   // instead of the exact hierarchy walk (mutations/geometry_aware/cone.h; --gamlt-cone).
   bool field_cone = false;
   // The caller asks Mutation::deferred_log_ratio for what a proposal marked `deferred` leaves
-  // out (the MLT driver does); without it every proposal carries its whole ratio.
+  // out (the MLT driver under delayed acceptance, --gamlt-acceptance delayed); without it
+  // every proposal carries its whole ratio.
   bool may_defer = false;
 };
 
@@ -44,10 +45,10 @@ struct Proposal {
   double log_reverse_over_forward = 0.0;
   // Part of the ratio is left out, for Mutation::deferred_log_ratio (only when ctx.may_defer):
   // a factor costly to evaluate (the geometry-aware strategies' ranges at y, which need y's
-  // cones) that a proposal with f(y) = 0, or one rejected by the first stage of delayed
-  // acceptance, never needs. What stays must be a ratio in its own right: exchanging x and y
+  // cones) that a proposal rejected by the first stage of delayed acceptance (f(y) = 0
+  // included) never needs. What stays must be a ratio in its own right: exchanging x and y
   // inverts f(y)/f(x) · exp(log_reverse_over_forward), which the first stage's detailed balance
-  // needs (mlt_integrator.cpp).
+  // needs (include/emlt/mcmc/delayed_acceptance.h).
   bool deferred = false;
   // A guided strategy that used its unguided fallback (fewer than two guides), for the stats.
   bool fallback = false;
