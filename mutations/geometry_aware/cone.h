@@ -29,7 +29,7 @@
 // and caustic moves keep one end of the segment they move, so y's cone is often limited by
 // what limited x's); it narrows the cone the walk starts from, or ends the estimate at the
 // floor, and by the argument above cannot change the result (docs/performance.md: the
-// textured door's estimates 32 % fewer instructions).
+// textured door's estimates 34 % fewer instructions).
 //
 // (Eight Embree ball queries along the segment found the same α before: each ball was at
 // least an eighth of the segment wide however thin the cone, and a wide cone's balls held
