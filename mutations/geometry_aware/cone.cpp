@@ -15,6 +15,8 @@ namespace emlt::geometry_aware {
 
 namespace {
 
+constexpr uint32_t kNoTriangle = ~uint32_t(0);
+
 // A node's four children at once (GCC's vector extensions: one SSE register on x86-64's
 // baseline).
 using Float4 = float __attribute__((vector_size(16)));
@@ -211,7 +213,10 @@ struct ConeSearch {
     return lane_bits(in_box & in_span & (outside <= 0.0f));
   }
 
-  void triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
+  // The triangle that last lowered α (the limiting one so far), or kNoTriangle.
+  uint32_t limiting = kNoTriangle;
+
+  void triangle(uint32_t index, const Vec3& a, const Vec3& b, const Vec3& c) {
     const DVec3 q0 = DVec3(a) - apex, q1 = DVec3(b) - apex, q2 = DVec3(c) - apex;
     // Cheap rejections, cheapest first. Wholly before or beyond the span:
     const double s0 = glm::dot(q0, axis.u), s1 = glm::dot(q1, axis.u), s2 = glm::dot(q2, axis.u);
@@ -254,7 +259,7 @@ struct ConeSearch {
       if (beyond(q0) && beyond(q1) && beyond(q2)) return;
     }
     const double t = triangle_min_tan(q0, q1, q2, axis);
-    if (t < tan_alpha) lower(t);
+    if (t < tan_alpha) lower(t), limiting = index;
   }
 
   void sphere(const Vec3& center, float sphere_radius) {
@@ -278,7 +283,8 @@ struct ConeSearch {
 // from tan α = tan_start down: the smallest tan over the surfaces in that part of the cone,
 // or at most tan_min once it is reached (the caller's floor).
 double walk_span(const Scene& scene, const PathVertex& apex, const PathVertex& other, double length,
-                 double s_lo, double s_hi, double tan_start, double tan_min) {
+                 double s_lo, double s_hi, double tan_start, double tan_min,
+                 uint32_t* hint = nullptr) {
   const DVec3 a(apex.position), b(other.position);
   // Surfaces within this distance of an endpoint are the endpoint's own (ray-hit positions
   // carry float error of about 1e-7 |p|; spawn offsets are 1e-4 |p|).
@@ -303,6 +309,22 @@ double walk_span(const Scene& scene, const PathVertex& apex, const PathVertex& o
   if (!(search.tan_alpha > tan_min)) return search.tan_alpha;
   const auto& nodes = bvh.nodes();
   if (nodes.empty()) return search.tan_alpha;
+  // A candidate first (hint: the triangle that limited a recent cone from the same apex): if
+  // it meets the cone it narrows it before the walk, which then opens fewer nodes, or ends
+  // it at once at the floor. The result does not depend on it: the walk finds the smallest
+  // angle over every surface in the final cone whatever the cone it starts from (it is
+  // tested again where the walk reaches it, with the same value).
+  // The walk then skips it: its angle is already in.
+  uint32_t tested = kNoTriangle;
+  if (hint && *hint < bvh.triangle_count()) {
+    tested = *hint;
+    const SurfaceBvh::Corners corner = bvh.corners(tested);
+    search.triangle(tested, corner.a, corner.b, corner.c);
+    if (!(search.tan_alpha > tan_min)) return search.tan_alpha;
+  }
+  const auto remember = [&] {
+    if (hint && search.limiting != kNoTriangle) *hint = search.limiting;
+  };
   // Depth first, the children that meet the cone taken deepest inside first (by angle, see
   // meets): the limiting surface tends to be found early, and the cone narrows before most
   // nodes are reached. A child waiting on the stack is tested again by its sphere when it is
@@ -342,11 +364,16 @@ double walk_span(const Scene& scene, const PathVertex& apex, const PathVertex& o
       continue;
     }
     for (uint32_t i = pending.index; i < pending.index + pending.count; ++i) {
+      if (i == tested) continue;
       const SurfaceBvh::Corners corner = bvh.corners(i);
-      search.triangle(corner.a, corner.b, corner.c);
+      search.triangle(i, corner.a, corner.b, corner.c);
     }
-    if (!(search.tan_alpha > tan_min)) return search.tan_alpha;
+    if (!(search.tan_alpha > tan_min)) {
+      remember();
+      return search.tan_alpha;
+    }
   }
+  remember();
   return search.tan_alpha;
 }
 
@@ -388,6 +415,31 @@ bool march_field(const ClearanceField& field, const DVec3& a, const DVec3& u, do
   return true;
 }
 
+uint64_t bits(float f) {
+  uint32_t u = 0;
+  std::memcpy(&u, &f, sizeof(u));
+  return u;
+}
+
+uint64_t bits(double d) {
+  uint64_t u = 0;
+  std::memcpy(&u, &d, sizeof(u));
+  return u;
+}
+
+// A hash of a cone's key in [0, 128).
+size_t slot_of(const Vec3& apex, const Vec3& other, double alpha_min, double alpha_max) {
+  uint64_t h = 0x9E3779B97F4A7C15ull;
+  for (const uint64_t b : {bits(apex.x), bits(apex.y), bits(apex.z), bits(other.x), bits(other.y),
+                           bits(other.z), bits(alpha_min), bits(alpha_max)})
+    h = (h ^ b) * 0xff51afd7ed558ccdull;
+  return size_t(h >> 57);
+}
+
+bool same(const Vec3& a, const Vec3& b) {
+  return a.x == b.x && a.y == b.y && a.z == b.z;
+}
+
 }  // namespace
 
 double estimate_cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other,
@@ -396,9 +448,23 @@ double estimate_cone_half_angle(const Scene& scene, const PathVertex& apex, cons
   const double length = glm::length(DVec3(other.position) - DVec3(apex.position));
   if (!(length > 0.0)) return alpha_min;
   const double tan_alpha_min = std::tan(alpha_min);
+  // The triangle that limited this thread's last cone from the same apex, as the walk's first
+  // candidate: a perturbation keeps one end of the segment it moves (the lens and caustic
+  // moves' fixed vertex, the lens point), so y's cone is often limited by the surface that
+  // limited x's. Only a hint: the walk's result does not depend on it (walk_span), so
+  // neither the thread nor what ran on it before matter.
+  struct Hint {
+    const Scene* scene = nullptr;
+    Vec3 apex{0.0f};
+    uint32_t triangle = kNoTriangle;
+  };
+  thread_local std::array<Hint, 64> hints;
+  Hint& hint = hints[slot_of(apex.position, apex.position, 0.0, 0.0) % hints.size()];
+  if (hint.scene != &scene || !same(hint.apex, apex.position))
+    hint = {&scene, apex.position, kNoTriangle};
   const double t =
       walk_span(scene, apex, other, length, 1e-9 * length, length * (1.0 - kConeEndMargin),
-                tan_of_limit(alpha_max), tan_alpha_min);
+                tan_of_limit(alpha_max), tan_alpha_min, &hint.triangle);
   if (!(t > tan_alpha_min)) return alpha_min;
   return std::clamp(std::atan(t), alpha_min, alpha_max);
 }
@@ -444,31 +510,9 @@ struct CacheEntry {
 // scheduling. Direct-mapped by a hash of the key: a linear scan of the entries cost as much
 // as a tenth of an estimate on every call.
 struct ConeCache {
-  static constexpr size_t kSize = 128;
+  static constexpr size_t kSize = 128;  // slot_of's range
   std::array<CacheEntry, kSize> entries;
 };
-
-uint64_t bits(float f) {
-  uint32_t u = 0;
-  std::memcpy(&u, &f, sizeof(u));
-  return u;
-}
-
-uint64_t bits(double d) {
-  uint64_t u = 0;
-  std::memcpy(&u, &d, sizeof(u));
-  return u;
-}
-
-size_t slot_of(const Vec3& apex, const Vec3& other, double alpha_min, double alpha_max) {
-  uint64_t h = 0x9E3779B97F4A7C15ull;
-  for (const uint64_t b : {bits(apex.x), bits(apex.y), bits(apex.z), bits(other.x), bits(other.y), bits(other.z),
-                           bits(alpha_min), bits(alpha_max)})
-    h = (h ^ b) * 0xff51afd7ed558ccdull;
-  return size_t(h >> 57) % ConeCache::kSize;
-}
-
-bool same(const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
 }  // namespace
 

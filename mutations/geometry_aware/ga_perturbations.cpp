@@ -99,20 +99,36 @@ double GaLensPerturbation::max_radius(const Path& z, const MutationContext& ctx)
 
 std::optional<Proposal> GaLensPerturbation::perturb_to(const Path& x, const Vec2& raster,
                                                        const MutationContext& ctx) const {
-  const double r1 = double(ctx.lens_min_radius);
   const double offset = glm::length(glm::dvec2(raster) - glm::dvec2(x.raster()));
   const double r_x = max_radius(x, ctx);
   if (!within(offset, r_x)) return std::nullopt;  // not a move x could propose
   auto proposal = base_.perturb_to(x, raster, ctx);
   if (!proposal) return std::nullopt;
-  const double r_y = params_.reverse_uses_x_cones ? r_x : max_radius(proposal->path, ctx);
-  if (!within(offset, r_y)) {
-    proposal->log_reverse_over_forward = kNegativeInfinity;
+  if (params_.stage_one_keeps_x_range)
+    proposal->log_reverse_over_forward += std::log(std::log(r_x / double(ctx.lens_min_radius)));
+  if (ctx.may_defer) {
+    proposal->deferred = true;
     return proposal;
   }
-  // Planar densities 1/(2π|Δ|² ln(R/r1)): the |Δ|² cancel, the normalisations do not.
-  proposal->log_reverse_over_forward += log_range_ratio(r1, r_x, r_y);
+  proposal->log_reverse_over_forward = with_deferred(
+      proposal->log_reverse_over_forward, reverse_range_term(x, r_x, proposal->path, ctx));
   return proposal;
+}
+
+double GaLensPerturbation::reverse_range_term(const Path& x, double r_x, const Path& y,
+                                              const MutationContext& ctx) const {
+  const double r1 = double(ctx.lens_min_radius);
+  const double offset = glm::length(glm::dvec2(y.raster()) - glm::dvec2(x.raster()));
+  const double r_y = params_.reverse_uses_x_cones ? r_x : max_radius(y, ctx);
+  if (!within(offset, r_y)) return kNegativeInfinity;
+  // Planar densities 1/(2π|Δ|² ln(R/r1)): the |Δ|² cancel, the normalisations do not.
+  if (params_.stage_one_keeps_x_range) return -std::log(std::log(r_y / r1));
+  return log_range_ratio(r1, r_x, r_y);
+}
+
+double GaLensPerturbation::deferred_log_ratio(const Path& x, const Proposal& proposal,
+                                              const MutationContext& ctx) const {
+  return reverse_range_term(x, max_radius(x, ctx), proposal.path, ctx);
 }
 
 std::optional<Proposal> GaLensPerturbation::propose(const Path& x, Rng& rng, const MutationContext& ctx) const {
@@ -153,30 +169,49 @@ std::optional<Proposal> GaCausticPerturbation::perturb_to(const Path& x, const V
                                                           const MutationContext& ctx) const {
   const int l = CausticPerturbation::fixed_vertex(x.type);
   if (l < 0) return std::nullopt;
-  double min_x = 0.0, max_x = 0.0, min_y = 0.0, max_y = 0.0;
+  double min_x = 0.0, max_x = 0.0;
   angle_range(x, ctx, &min_x, &max_x);
   const DVec3 x_direction = perturbation::precise_direction(x.vertices[size_t(l)], x.vertices[size_t(l + 1)]);
   if (!within(perturbation::angle_between(x_direction, DVec3(direction)), max_x)) return std::nullopt;
   // The base move without its own (Veach-range) angular terms: ours replace them.
   auto proposal = base_.retrace(x, direction, ctx);
   if (!proposal) return std::nullopt;
-  const Path& y = proposal->path;
-  const double theta = perturbation::angle_between(
-      x_direction, perturbation::precise_direction(y.vertices[size_t(l)], y.vertices[size_t(l + 1)]));
+  const double theta = turn_angle(x, proposal->path);
   if (!(theta > min_x && within(theta, max_x))) return std::nullopt;
-  if (params_.reverse_uses_x_cones) {
-    min_y = min_x, max_y = max_x;
-  } else {
-    angle_range(y, ctx, &min_y, &max_y);
-  }
-  if (!(theta > min_y && within(theta, max_y))) {
-    proposal->log_reverse_over_forward = kNegativeInfinity;
+  if (ctx.may_defer) {
+    proposal->deferred = true;
     return proposal;
   }
-  // Solid-angle densities 1/(2π θ sin θ ln(Θ/θ1)) with each path's own θ1 and Θ.
-  proposal->log_reverse_over_forward += std::log(std::log(max_x / min_x)) - std::log(std::log(max_y / min_y));
+  proposal->log_reverse_over_forward =
+      with_deferred(proposal->log_reverse_over_forward,
+                    reverse_range_term(min_x, max_x, theta, proposal->path, ctx));
   if (std::isnan(proposal->log_reverse_over_forward)) return std::nullopt;
   return proposal;
+}
+
+double GaCausticPerturbation::turn_angle(const Path& x, const Path& y) const {
+  const int l = CausticPerturbation::fixed_vertex(x.type);
+  return perturbation::angle_between(
+      perturbation::precise_direction(x.vertices[size_t(l)], x.vertices[size_t(l + 1)]),
+      perturbation::precise_direction(y.vertices[size_t(l)], y.vertices[size_t(l + 1)]));
+}
+
+double GaCausticPerturbation::reverse_range_term(double min_x, double max_x, double theta,
+                                                 const Path& y, const MutationContext& ctx) const {
+  double min_y = min_x, max_y = max_x;
+  if (!params_.reverse_uses_x_cones) angle_range(y, ctx, &min_y, &max_y);
+  if (!(theta > min_y && within(theta, max_y))) return kNegativeInfinity;
+  // Solid-angle densities 1/(2π θ sin θ ln(Θ/θ1)) with each path's own θ1 and Θ.
+  return std::log(std::log(max_x / min_x)) - std::log(std::log(max_y / min_y));
+}
+
+double GaCausticPerturbation::deferred_log_ratio(const Path& x, const Proposal& proposal,
+                                                 const MutationContext& ctx) const {
+  double min_x = 0.0, max_x = 0.0;
+  angle_range(x, ctx, &min_x, &max_x);
+  const double term =
+      reverse_range_term(min_x, max_x, turn_angle(x, proposal.path), proposal.path, ctx);
+  return std::isnan(term) ? kNegativeInfinity : term;
 }
 
 std::optional<Proposal> GaCausticPerturbation::propose(const Path& x, Rng& rng, const MutationContext& ctx) const {
@@ -216,38 +251,71 @@ std::optional<Proposal> GaMultiChainPerturbation::perturb_to(const Path& x, cons
                                                              const MutationContext& ctx) const {
   const int l = MultiChainPerturbation::fixed_vertex(x.type);
   if (l < 0) return std::nullopt;
-  const double r1 = double(ctx.lens_min_radius), theta1 = base_.theta_min();
   const double offset = glm::length(glm::dvec2(raster) - glm::dvec2(x.raster()));
   const double r_x = max_radius(x, ctx);
   if (!within(offset, r_x)) return std::nullopt;
   // The base move without its fixed-range check: the ranges are ours.
   auto proposal = base_.retrace(x, raster, directions, ctx);
   if (!proposal) return std::nullopt;
-  const Path& y = proposal->path;
   const auto limits_x = angle_limits(x, ctx);
-  const double r_y = params_.reverse_uses_x_cones ? r_x : max_radius(y, ctx);
-  const auto limits_y = params_.reverse_uses_x_cones ? limits_x : angle_limits(y, ctx);
-  bool reverse_possible = within(offset, r_y);
-  double term = log_range_ratio(r1, r_x, r_y);
-  // The angles in the base's order (from the eye); θ1 is the same in both directions.
-  size_t j = 0;
-  for (int i = x.edges() - 1; i >= l + 2; --i) {
-    if (x.vertices[size_t(i)].delta) continue;
-    const double theta = perturbation::angle_between(
-        perturbation::precise_direction(x.vertices[size_t(i)], x.vertices[size_t(i - 1)]),
-        perturbation::precise_direction(y.vertices[size_t(i)], y.vertices[size_t(i - 1)]));
-    if (!(theta > theta1 * (1.0 - 1e-6) && within(theta, limits_x[j]))) return std::nullopt;
-    if (!within(theta, limits_y[j])) reverse_possible = false;
-    term += log_range_ratio(theta1, limits_x[j], limits_y[j]);
-    ++j;
+  const std::vector<double> thetas = turn_angles(x, proposal->path);
+  for (size_t j = 0; j < thetas.size(); ++j)
+    if (!(thetas[j] > base_.theta_min() * (1.0 - 1e-6) && within(thetas[j], limits_x[j])))
+      return std::nullopt;
+  if (ctx.may_defer) {
+    // A first part that is not finite is a rejection whatever the ranges.
+    if (!std::isfinite(proposal->log_reverse_over_forward)) return std::nullopt;
+    proposal->deferred = true;
+    return proposal;
   }
-  if (!reverse_possible) {
+  const double term = reverse_range_term(x, r_x, limits_x, thetas, proposal->path, ctx);
+  if (term == kNegativeInfinity) {
     proposal->log_reverse_over_forward = kNegativeInfinity;
     return proposal;
   }
   proposal->log_reverse_over_forward += term;
   if (!std::isfinite(proposal->log_reverse_over_forward)) return std::nullopt;
   return proposal;
+}
+
+// The angles between x's and y's directions at the interior non-specular vertices, in the
+// base's order (from the eye).
+std::vector<double> GaMultiChainPerturbation::turn_angles(const Path& x, const Path& y) const {
+  const int l = MultiChainPerturbation::fixed_vertex(x.type);
+  std::vector<double> thetas;
+  for (int i = x.edges() - 1; i >= l + 2; --i)
+    if (!x.vertices[size_t(i)].delta)
+      thetas.push_back(perturbation::angle_between(
+          perturbation::precise_direction(x.vertices[size_t(i)], x.vertices[size_t(i - 1)]),
+          perturbation::precise_direction(y.vertices[size_t(i)], y.vertices[size_t(i - 1)])));
+  return thetas;
+}
+
+double GaMultiChainPerturbation::reverse_range_term(const Path& x, double r_x,
+                                                    const std::vector<double>& limits_x,
+                                                    const std::vector<double>& thetas,
+                                                    const Path& y,
+                                                    const MutationContext& ctx) const {
+  const double r1 = double(ctx.lens_min_radius), theta1 = base_.theta_min();
+  const double offset = glm::length(glm::dvec2(y.raster()) - glm::dvec2(x.raster()));
+  const double r_y = params_.reverse_uses_x_cones ? r_x : max_radius(y, ctx);
+  const auto limits_y = params_.reverse_uses_x_cones ? limits_x : angle_limits(y, ctx);
+  bool reverse_possible = within(offset, r_y);
+  double term = log_range_ratio(r1, r_x, r_y);
+  // θ1 is the same in both directions.
+  for (size_t j = 0; j < thetas.size(); ++j) {
+    if (!within(thetas[j], limits_y[j])) reverse_possible = false;
+    term += log_range_ratio(theta1, limits_x[j], limits_y[j]);
+  }
+  return reverse_possible ? term : kNegativeInfinity;
+}
+
+double GaMultiChainPerturbation::deferred_log_ratio(const Path& x, const Proposal& proposal,
+                                                    const MutationContext& ctx) const {
+  const double term = reverse_range_term(x, max_radius(x, ctx), angle_limits(x, ctx),
+                                         turn_angles(x, proposal.path), proposal.path, ctx);
+  // A ratio that is not finite rejects the move, as perturb_to does without deferral.
+  return std::isfinite(term) ? term : kNegativeInfinity;
 }
 
 std::optional<Proposal> GaMultiChainPerturbation::propose(const Path& x, Rng& rng, const MutationContext& ctx) const {

@@ -43,8 +43,17 @@
 // and = −∞ when |Δ| > R(y) or some θ_i outside [θ1(y), Θ_i(y)]: the reverse move could not
 // be proposed.
 //
+// The range terms at y need y's cones, the costly part of a step; they are what a proposal
+// defers (Proposal::deferred, when ctx.may_defer: under delayed acceptance), and the driver
+// asks deferred_log_ratio for them only once the first stage has passed. What the proposal
+// keeps (the base move's ratio) is a ratio in its own right, as that stage needs.
+//
 // reverse_uses_x_cones = true is a deliberately wrong variant for the tests: the reverse
 // density is evaluated with x's ranges, i.e. the correction above is dropped.
+// stage_one_keeps_x_range = true is another (lens only): the whole ratio is unchanged, but
+// x's normalisation log ln(R(x)/r1) moves into the part the proposal keeps, which is then
+// no ratio in its own right (exchanging x and y does not invert it); invisible without
+// delayed acceptance.
 #include "mutations/caustic_perturbation.h"
 #include "mutations/lens_perturbation.h"
 #include "mutations/multichain_perturbation.h"
@@ -61,6 +70,7 @@ struct GeometryAwareParams {
   double floor = 0.5;       // lower clamp, as a fraction of Veach's largest step (at least 3 x the smallest)
   bool eye_cone = false;    // lens and multi-chain radius also limited by the eye ray's cone
   bool reverse_uses_x_cones = false;  // injected bug, tests only
+  bool stage_one_keeps_x_range = false;  // injected bug, tests only
 };
 
 class GaLensPerturbation final : public Mutation {
@@ -71,10 +81,16 @@ class GaLensPerturbation final : public Mutation {
   bool applies_to(const Path& x, const MutationContext& ctx) const override { return base_.applies_to(x, ctx); }
   std::optional<Proposal> propose(const Path& x, Rng& rng, const MutationContext& ctx) const override;
   std::optional<Proposal> perturb_to(const Path& x, const Vec2& raster, const MutationContext& ctx) const;
+  double deferred_log_ratio(const Path& x, const Proposal& proposal,
+                            const MutationContext& ctx) const override;
   // R(z) in pixels.
   double max_radius(const Path& z, const MutationContext& ctx) const;
 
  private:
+  // log ln(R(x)/r1) − log ln(R(y)/r1), or −∞ when y's range does not reach x.
+  double reverse_range_term(const Path& x, double r_x, const Path& y,
+                            const MutationContext& ctx) const;
+
   GeometryAwareParams params_;
   LensPerturbation base_;
 };
@@ -87,10 +103,18 @@ class GaCausticPerturbation final : public Mutation {
   bool applies_to(const Path& x, const MutationContext& ctx) const override { return base_.applies_to(x, ctx); }
   std::optional<Proposal> propose(const Path& x, Rng& rng, const MutationContext& ctx) const override;
   std::optional<Proposal> perturb_to(const Path& x, const Vec3& direction, const MutationContext& ctx) const;
+  double deferred_log_ratio(const Path& x, const Proposal& proposal,
+                            const MutationContext& ctx) const override;
   // θ1 and Θ(z) for path z.
   void angle_range(const Path& z, const MutationContext& ctx, double* theta_min, double* theta_max) const;
 
  private:
+  // The angle between x's and y's first directions at the fixed vertex.
+  double turn_angle(const Path& x, const Path& y) const;
+  // log ln(Θ(x)/θ1(x)) − log ln(Θ(y)/θ1(y)), or −∞ when y's range does not hold θ.
+  double reverse_range_term(double min_x, double max_x, double theta, const Path& y,
+                            const MutationContext& ctx) const;
+
   GeometryAwareParams params_;
   CausticPerturbation base_;
 };
@@ -107,12 +131,20 @@ class GaMultiChainPerturbation final : public Mutation {
   std::optional<Proposal> propose(const Path& x, Rng& rng, const MutationContext& ctx) const override;
   std::optional<Proposal> perturb_to(const Path& x, const Vec2& raster, const std::vector<Vec3>& directions,
                                      const MutationContext& ctx) const;
+  double deferred_log_ratio(const Path& x, const Proposal& proposal,
+                            const MutationContext& ctx) const override;
   // Θ_i(z) for the interior non-specular vertices, in order from the eye.
   std::vector<double> angle_limits(const Path& z, const MutationContext& ctx) const;
   // R(z) in pixels.
   double max_radius(const Path& z, const MutationContext& ctx) const;
 
  private:
+  std::vector<double> turn_angles(const Path& x, const Path& y) const;
+  // The image and angular range terms at x and y, or −∞ when y's ranges do not reach x.
+  double reverse_range_term(const Path& x, double r_x, const std::vector<double>& limits_x,
+                            const std::vector<double>& thetas, const Path& y,
+                            const MutationContext& ctx) const;
+
   GeometryAwareParams params_;
   MultiChainPerturbation base_;
 };

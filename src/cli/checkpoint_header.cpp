@@ -52,6 +52,7 @@ CheckpointHeader CheckpointHeader::describe(const SceneDescription& desc,
   add("--direct", s.direct_separate ? "separate" : "mlt");
   add("--mlt-splat", s.mlt_expected_values ? "expected" : "state");
   add("--gamlt-cone", s.gamlt_field_cone ? "field" : "exact");
+  add("--gamlt-acceptance", s.gamlt_delayed_acceptance ? "delayed" : "full");
   add("--direct-spp", s.direct_spp > 0 ? number(s.direct_spp) : "(from the budget)");
   add("--ensemble-size", number(s.ensemble_size));
   add("--ensemble-neighbours", number(s.ensemble_neighbours));

@@ -13,7 +13,8 @@ struct RenderOptions {
   RenderSettings settings;
   std::string mis = "power", direct_point_set = "independent", direct_mode = "separate",
               aniso_fallback = "vmf", ensemble_guides = "counter", ensemble_alpha_from = "guides",
-              ensemble_aniso_covariance = "printed", mlt_splat = "expected", gamlt_cone = "exact";
+              ensemble_aniso_covariance = "printed", mlt_splat = "expected", gamlt_cone = "exact",
+              gamlt_acceptance = "full";
   std::string pss_tracer = "pt";
   std::vector<std::string> defines;
   std::string reference, log;

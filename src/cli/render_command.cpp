@@ -145,6 +145,12 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
                   "from a clearance field (field: narrower cones)")
       ->check(CLI::IsMember({"exact", "field"}));
   command
+      .add_option("--gamlt-acceptance", o.gamlt_acceptance,
+                  "gamlt (the ga-* strategies): Metropolis-Hastings in one stage (full), or in "
+                  "two (delayed: the ranges at the proposal, which need its cones, only for "
+                  "proposals that pass a first stage without them; lower acceptance)")
+      ->check(CLI::IsMember({"full", "delayed"}));
+  command
       .add_option("--mlt-splat", o.mlt_splat,
                   "mlt/gamlt/emlt: what a step adds to the image: the proposal and the current "
                   "path weighted by the acceptance probability (expected), or the state after "
@@ -267,6 +273,8 @@ int run_render(const CLI::App& command, RenderOptions& o) {
     settings.ensemble_aniso_smallest_scale = cli.ensemble_aniso_smallest_scale;
   if (given("--mlt-splat")) settings.mlt_expected_values = o.mlt_splat == "expected";
   if (given("--gamlt-cone")) settings.gamlt_field_cone = o.gamlt_cone == "field";
+  if (given("--gamlt-acceptance"))
+    settings.gamlt_delayed_acceptance = o.gamlt_acceptance == "delayed";
   if (given("--ensemble-aniso-covariance"))
     settings.ensemble_aniso_weighted = o.ensemble_aniso_covariance == "weighted";
   if (given("--ensemble-guides")) settings.ensemble_nearby_guides = o.ensemble_guides == "nearby";

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "emlt/mcmc/delayed_acceptance.h"
 #include "emlt/path/path.h"
 #include "emlt/render/interruption.h"
 
@@ -60,8 +61,12 @@ uint64_t run_chain(MltChain& chain, uint64_t chain_index, const StrategyMix& mix
     StrategyStats& stats = out.stats[size_t(chosen)];
     ++stats.proposed;
 
+    // The proposal's expected-value weight: its acceptance probability, or under delayed
+    // acceptance 1{first stage passed}·a2, whose expectation that is (delayed_acceptance.h).
     double acceptance = 0.0;
-    auto proposal = mix.strategy(size_t(chosen)).propose(chain.current, chain.rng, ctx);
+    double accept_below = 0.0;  // the step's uniform accepts the proposal below this
+    const Mutation& strategy = mix.strategy(size_t(chosen));
+    auto proposal = strategy.propose(chain.current, chain.rng, ctx);
     if (proposal && proposal->fallback) ++stats.fallbacks;
     if (proposal && proposal->alpha >= 0.0) out.alpha.add(proposal->alpha);
     if (proposal && film.moves) {
@@ -72,6 +77,8 @@ uint64_t run_chain(MltChain& chain, uint64_t chain_index, const StrategyMix& mix
     DVec3 contribution(0.0);
     double target = 0.0;
     StrategyMask proposal_applicable = 0;
+    bool two_stages = false;
+    double first_ratio = 0.0;  // the whole ratio, or the first stage's with two stages
     if (proposal) {
       // Proposals land anywhere on the image, so the splat below would usually wait on
       // memory (a film is larger than the caches): start loading the pixel now, while the
@@ -84,10 +91,25 @@ uint64_t run_chain(MltChain& chain, uint64_t chain_index, const StrategyMix& mix
         const double p_reverse =
             rules.ignore_selection ? p_forward
                                    : mix.selection_probability(size_t(chosen), proposal_applicable);
-        const double ratio = target / chain.target * std::exp(proposal->log_reverse_over_forward) *
-                             (p_reverse / p_forward);
-        acceptance = std::isfinite(ratio) ? std::clamp(ratio, 0.0, 1.0) : (ratio > 0.0 ? 1.0 : 0.0);
+        // A deferred factor (only under delayed acceptance, ctx.may_defer) is evaluated only
+        // after the first stage has passed (below).
+        two_stages = proposal->deferred;
+        first_ratio = target / chain.target * std::exp(proposal->log_reverse_over_forward) *
+                      (p_reverse / p_forward);
+        acceptance = acceptance_probability(first_ratio);
       }
+    }
+    // Nothing draws from the chain's stream after the proposal, so this is the number the
+    // step has always used, drawn before the splats since the second stage needs it.
+    const double u = chain.rng.uniform();
+    if (two_stages) {
+      const TwoStageDecision d = two_stage_decision(first_ratio, u, [&] {
+        return strategy.deferred_log_ratio(chain.current, *proposal, ctx);
+      });
+      acceptance = d.weight;
+      accept_below = d.accept_below;
+    } else {
+      accept_below = acceptance;
     }
     if (!proposal || !(target > 0.0)) ++stats.failed;
     stats.acceptance_sum += acceptance;
@@ -100,7 +122,7 @@ uint64_t run_chain(MltChain& chain, uint64_t chain_index, const StrategyMix& mix
       if (acceptance > 0.0)
         film.splat(width, height, proposal->path, contribution, target, acceptance);
     }
-    if (chain.rng.uniform() < acceptance) {
+    if (u < accept_below) {
       film.splat(width, height, chain.current, chain.contribution, chain.target, chain.carried);
       chain.current = std::move(proposal->path);
       chain.moved = true;

@@ -67,9 +67,10 @@ Image bdpt_reference(const Scene& scene, int spp) {
 }
 
 Image mlt_image(const Scene& scene, const std::string& mix, double mpp, MltStatistics* stats,
-                bool field_cone) {
+                GamltVariant variant) {
   RenderSettings s = base_settings();
-  s.gamlt_field_cone = field_cone;
+  s.gamlt_field_cone = variant.field_cone;
+  s.gamlt_delayed_acceptance = variant.delayed_acceptance;
   s.mutations = mix;
   s.mutations_per_pixel = mpp;
   s.chains = 64;

@@ -23,10 +23,15 @@ Image render(const Integrator& integrator, const Scene& scene, RenderSettings se
 // Depth 6, 2 threads, seed 7: the settings every strategy test renders with.
 RenderSettings base_settings();
 Image bdpt_reference(const Scene& scene, int spp);
+// The geometry-aware strategies' variants: the cheap cones (RenderSettings::gamlt_field_cone)
+// and delayed acceptance (RenderSettings::gamlt_delayed_acceptance).
+struct GamltVariant {
+  bool field_cone = false;
+  bool delayed_acceptance = false;
+};
 // MLT with `mix` (64 chains, 50k bootstrap samples, 256-spp direct image).
-// field_cone: the geometry-aware strategies' cheap cones (RenderSettings::gamlt_field_cone).
 Image mlt_image(const Scene& scene, const std::string& mix, double mpp,
-                MltStatistics* stats = nullptr, bool field_cone = false);
+                MltStatistics* stats = nullptr, GamltVariant variant = {});
 // Luminance sums over blocks x blocks tiles and over the image. The image total must be
 // within total_tolerance of the reference (it carries the bootstrap's error in b, a global
 // scale), and each tile, divided by that total ratio, within tile_tolerance: the shape of

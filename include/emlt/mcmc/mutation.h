@@ -7,6 +7,7 @@
 //
 // Strategies hold no mutable state, so chains run in parallel without locks. Anything a
 // strategy needs besides the path comes through the MutationContext.
+#include <limits>
 #include <optional>
 #include <string_view>
 
@@ -32,18 +33,35 @@ struct MutationContext {
   // The geometry-aware perturbations' occluder-free cones by the cheap conservative bound
   // instead of the exact hierarchy walk (mutations/geometry_aware/cone.h; --gamlt-cone).
   bool field_cone = false;
+  // The caller asks Mutation::deferred_log_ratio for what a proposal marked `deferred` leaves
+  // out (the MLT driver under delayed acceptance, --gamlt-acceptance delayed); without it
+  // every proposal carries its whole ratio.
+  bool may_defer = false;
 };
 
 struct Proposal {
   Path path;
   // log T(y->x) - log T(x->y) of this strategy alone (selection probability excluded).
   double log_reverse_over_forward = 0.0;
+  // Part of the ratio is left out, for Mutation::deferred_log_ratio (only when ctx.may_defer):
+  // a factor costly to evaluate (the geometry-aware strategies' ranges at y, which need y's
+  // cones) that a proposal rejected by the first stage of delayed acceptance (f(y) = 0
+  // included) never needs. What stays must be a ratio in its own right: exchanging x and y
+  // inverts f(y)/f(x) · exp(log_reverse_over_forward), which the first stage's detailed balance
+  // needs (include/emlt/mcmc/delayed_acceptance.h).
+  bool deferred = false;
   // A guided strategy that used its unguided fallback (fewer than two guides), for the stats.
   bool fallback = false;
   // The stretch scale α a guided linear kernel drew with (EMLT §3.4), for the statistics;
   // negative when the step drew none.
   double alpha = -1.0;
 };
+
+// The whole log ratio from a proposal's first part and its deferred one: -infinity whenever
+// the deferred part is (the reverse move impossible), whatever the first part.
+inline double with_deferred(double first, double deferred) {
+  return deferred == -std::numeric_limits<double>::infinity() ? deferred : first + deferred;
+}
 
 class Mutation {
  public:
@@ -59,6 +77,13 @@ class Mutation {
   // by the scene), before the chains start, so that no chain's step pays for it; ctx is the
   // one the chains will use.
   virtual void prepare(const MutationContext& /*ctx*/) const {}
+  // The log-ratio factor a proposal left out (Proposal::deferred), from x and that proposal:
+  // log T(y->x) - log T(x->y) is with_deferred(proposal.log_reverse_over_forward, this),
+  // -infinity when y could not propose x.
+  virtual double deferred_log_ratio(const Path& /*x*/, const Proposal& /*proposal*/,
+                                    const MutationContext& /*ctx*/) const {
+    return 0.0;
+  }
 };
 
 }  // namespace emlt

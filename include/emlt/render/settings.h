@@ -98,6 +98,10 @@ struct RenderSettings {
   // The geometry-aware (gamlt) perturbations' cones by the cheap conservative bound from the
   // clearance field instead of the exact hierarchy walk (mutations/geometry_aware/cone.h).
   bool gamlt_field_cone = false;
+  // Delayed (two-stage) acceptance for proposals that defer part of their ratio (the gamlt
+  // perturbations' ranges at y): y's cones only for proposals past the first stage
+  // (include/emlt/mcmc/delayed_acceptance.h).
+  bool gamlt_delayed_acceptance = false;
   // The anisotropic covariance as a reliability-weighted covariance (times 0.05) instead of
   // eq. 11 as printed.
   bool ensemble_aniso_weighted = false;
