@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Which CPUs slow each other down: a one-thread render pinned to CPU 0 alone, then beside an
-identical one pinned to each other CPU in turn (issue 24, the cause of a many-thread loss).
+identical one pinned to each other CPU in turn (the cause of a many-thread loss).
 
   bench/cpu_pairs.py [--scene scenes/cornell-box/scene.xml] [--methods pt,mlt] [--work 16]
 

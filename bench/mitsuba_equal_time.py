@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""MLT's error at equal time, emlt against Mitsuba 0.6, on one Mitsuba scene file (issue 24:
+"""MLT's error at equal time, emlt against Mitsuba 0.6, on one Mitsuba scene file (the goal:
 "on the door an MSE at equal time <= 1/2 of Mitsuba MLT's").
 
 Each seed: Mitsuba's `mlt` renders MPP mutations per pixel (direct light inside the chains,

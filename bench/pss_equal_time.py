@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Equal-time error of the MCMC baselines on the Cornell box (issue 22's bench).
+"""Equal-time error of the MCMC baselines on the Cornell box.
 
 Every method renders the same scene for the same wall-clock budget, several seeds each,
 runs interleaved so that a change in machine load touches every method alike. Two figures

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""emlt's performance suite (issue 24): whole-process figures on four scenes of the repository.
+"""emlt's performance suite: whole-process figures on four scenes of the repository.
 
   bench/run.sh [--quick] [--repeat N] [--threads T] [--scenes a,b] [--no-profile] [--scaling]
   MITSUBA=.../dist/mitsuba bench/compare_mitsuba.sh [--door .../veach_door/door-mlt.xml]

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Strong scaling over many threads (issue 24): the suite's scenes rendered with the same work
+"""Strong scaling over many threads: the suite's scenes rendered with the same work
 at 1 thread and at each count of --threads, whole-process wall clock and the render alone.
 
   bench/thread_scaling.py --threads 1,4,16 [--door .../door-mlt.xml] [--work 8] [--ceiling]

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Tungsten's Multiplexed MLT against emlt's mmlt and pt at equal time on the Cornell box.
 
-Issue 22 asks for emlt's mmlt to reach at most half of Tungsten's MMLT error at 30 s on the
+The goal set for emlt's mmlt was at most half of Tungsten's MMLT error at 30 s on the
 Cornell box. This script writes a Tungsten scene from our own scenes/cornell-box/scene.json
 (same OBJ meshes, albedos, emission, camera, box filter, linear HDR output), then renders
 Tungsten's `multiplexed_mlt`, emlt's `mmlt` and emlt's `pt` for the same wall-clock budget

@@ -26,14 +26,14 @@ METHODS = {
     "pt": (["--integrator", "pt"], "--spp"),
     "bdpt": (["--integrator", "bdpt"], "--spp"),
     "mlt": (["--integrator", "mlt"], "--mpp"),  # the engine's default mutation mix
-    "gamlt": (["--integrator", "gamlt"], "--mpp"),  # geometry-aware MLT (issue 7)
-    "emlt": (["--integrator", "emlt"], "--mpp"),  # ensemble MLT, all strategies (issue 6)
+    "gamlt": (["--integrator", "gamlt"], "--mpp"),  # geometry-aware MLT
+    "emlt": (["--integrator", "emlt"], "--mpp"),  # ensemble MLT, all strategies
     "emlt-ani": (["--integrator", "emlt", "--mutations", "emlt-ani"], "--mpp"),  # paper Table 1 "Ani"
     "emlt-lin": (["--integrator", "emlt", "--mutations", "emlt-lin"], "--mpp"),  # paper Table 1 "Lin"
-    "pssmlt": (["--integrator", "pssmlt"], "--mpp"),  # Kelemen et al. 2002 over the path tracer (issue 22)
+    "pssmlt": (["--integrator", "pssmlt"], "--mpp"),  # Kelemen et al. 2002 over the path tracer
     "pssmlt-bdpt": (["--integrator", "pssmlt", "--pss-tracer", "bdpt"], "--mpp"),  # ... over BDPT
-    "mmlt": (["--integrator", "mmlt"], "--mpp"),  # Hachisuka et al. 2014, Multiplexed MLT (issue 22)
-    # Issue 21, ensemble-informed ideas beyond the paper (docs/experiments.md, "Beyond the paper"):
+    "mmlt": (["--integrator", "mmlt"], "--mpp"),  # Hachisuka et al. 2014, Multiplexed MLT
+    # Ensemble-informed ideas beyond the paper (docs/experiments.md, "Beyond the paper"):
     # the ensemble driver with Veach's mix, then with the density jump and/or the
     # spread-scaled perturbations in place of Veach's lens, caustic and multi-chain moves.
     "emlt-veach": (["--integrator", "emlt", "--mutations", "mlt"], "--mpp"),

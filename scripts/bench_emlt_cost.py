@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Ensemble MLT's cost per mutation against MLT's, with a breakdown (issue 21).
+"""Ensemble MLT's cost per mutation against MLT's, with a breakdown.
 
 Two measurements per scene, both single-threaded:
 
@@ -23,7 +23,7 @@ Two measurements per scene, both single-threaded:
 
 A last row gives EMLT's extra instructions per mutation over MLT's, by category.
 
-With --structure it also separates EMLT's driver from its kernels (issue 21, third round):
+With --structure it also separates EMLT's driver from its kernels (docs/experiments.md, "Third round"):
 `emlt-mlt-mix` runs EMLT's ensembles, swaps and tree rebuilds with MLT's own strategies, and
 the `-it32` rows take 32 steps per chain between swaps (what a 1024x1024 image gets from
 the paper's it = floor(W H / (|X| + |Y|))) instead of 2 at 256x256. emlt-mlt-mix over mlt

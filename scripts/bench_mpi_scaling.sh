@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Strong scaling of MPI on this machine (issue 20): the same render as 1 rank x 2 threads
+# Strong scaling of MPI on this machine: the same render as 1 rank x 2 threads
 # and as 2 ranks x 1 thread (mpirun), for each integrator. Efficiency = time(1 x 2) /
 # time(2 x 1): 1.0 when splitting the work over processes costs nothing beyond threads.
 #   scripts/bench_mpi_scaling.sh [SIZE [INTEGRATOR...]]

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 19's acceptance check: a long MLT render killed with SIGINT at a random moment and
+# The checkpoints' long-render check: a long MLT render killed with SIGINT at a random moment and
 # resumed is bit-identical to the same render run without interruption.
 #   scripts/long_resume_check.sh [MPP] [SIZE]   (defaults: 65536 mutations per pixel on the
 #   Cornell box at 128 x 128, about ten minutes on two cores)

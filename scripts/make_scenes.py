@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Writes the procedural interior scenes of the EMLT test set (project issue 5):
+"""Writes the procedural interior scenes of the EMLT test set:
 
   scenes/staircase/       a two-storey hall: recessed light above the top of the stairs,
                           the space under the gallery and the stairs lit only by bounces

@@ -154,7 +154,8 @@ bool plain_products(std::span<const double> first, std::span<const double> secon
 // row, w(n) = context_row[n] * S(centre, guide n) as plain doubles when every factor and
 // product is >= kRenormalise (as normalise_row_products decides); else the normalised weights
 // of guide_weights. A scatter is the same for any scale of its weights, and normalising them
-// (a division a guide and a sum) cost a fifth of a fit (issue 21). `usable` as
+// (a division a guide and a sum) cost a fifth of a fit
+// (docs/experiments.md, "Cost per mutation"). `usable` as
 // guide_weights reports it.
 bool fit_weights(const Vec3& centre, const GuideSet& guides, const SimilarityParams* similarity,
                  std::span<double> weights) {
@@ -355,7 +356,8 @@ double tangent_gaussian_log_pdf(const TangentGaussian& gaussian, const Vec3& poi
 double log_plane_to_surface_jacobian(double cos_at_surface, double distance_to_surface,
                                      double cos_at_plane, double distance_to_plane) {
   // log[(|cos_x'| / d_x'^2) / (|cos_z'| / d_z'^2)], one log of the ratio: four logs were a
-  // third of a density evaluation (issue 21). The cosines are at least kMinPlaneCosine or
+  // third of a density evaluation (docs/experiments.md, "Cost per mutation").
+  // The cosines are at least kMinPlaneCosine or
   // nonzero, the distances scene lengths: the ratio neither overflows nor underflows.
   return std::log((std::abs(cos_at_surface) * (distance_to_plane * distance_to_plane)) /
                   (std::abs(cos_at_plane) * (distance_to_surface * distance_to_surface)));

@@ -106,7 +106,8 @@ double vmf_log_pdf(double concentration, double cos_to_mean) {
   if (concentration < kUniformConcentration) return -std::log(4.0 * kPiDouble);
   // The normaliser depends on kappa alone, and the anisotropic path perturbation's fallback
   // evaluates one kappa all render long: its three logs and expm1 were half of a fallback
-  // density (issue 21). Kept for the last kappa, per thread; the same value bit for bit.
+  // density (docs/experiments.md, "Cost per mutation"). Kept for the last kappa,
+  // per thread; the same value bit for bit.
   thread_local double last_concentration = std::numeric_limits<double>::quiet_NaN();
   thread_local double last_log_normaliser = 0.0;
   if (!(concentration == last_concentration)) {

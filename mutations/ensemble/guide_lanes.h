@@ -4,7 +4,8 @@
 // the weights of EMLT's guided steps are computed with. GCC does not vectorise the plain
 // loops for these itself (a reduction to a bool, a conversion between widths), and a row of
 // eight guides in scalar code cost as much as the rest of a guided step's arithmetic
-// (issue 21). Every lane runs exactly the scalar operations, so the results are the same.
+// (docs/experiments.md, "Cost per mutation"). Every lane runs exactly the scalar
+// operations, so the results are the same.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>

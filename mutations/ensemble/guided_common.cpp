@@ -129,7 +129,8 @@ void path_similarities(const Path& x, const GuideView& guides, int first, int la
 // (every factor and every partial product >= kRenormalise, so that the products' log parts
 // are 0 and their values are the doubles). The weights are `out`, or, where a single row is
 // the whole product (1 * S is S exactly), that row itself: copying it cost as much as
-// testing it. The products cost more than the rows they multiply (issue 21).
+// testing it. The products cost more than the rows they multiply
+// (docs/experiments.md, "Cost per mutation").
 std::optional<std::span<const double>> plain_path_similarities(
     const Path& x, const GuideView& guides, int first, int last, const SimilarityParams& params,
     std::span<double> out, SimilarityRows* kept, const SimilarityRows* reuse) {

@@ -101,7 +101,8 @@ class SimilarityRows {
 
 // A guide drawn with P(n | x) proportional to S(x, v^n, first, last) (eq. 9). Where every
 // weight was a plain double, P(n | x) is kept as weight / total (the logs are taken once, in
-// the selection ratio: four logs a guided step were a tenth of its extra cost, issue 21);
+// the selection ratio: four logs a guided step were a tenth of its extra cost,
+// docs/experiments.md, "Cost per mutation");
 // else as log_probability.
 struct SimilarGuide {
   uint32_t index = 0;

@@ -72,7 +72,7 @@ double arc_log_density_ratio(double lambda, double sine_proposed, double sine_cu
   const double planar = linear_log_density_ratio(lambda, params, 2);
   if (planar == kNegativeInfinity) return kNegativeInfinity;
   // For Goodman-Weare's g, planar is log l, and log l - log l is 0 exactly: the two logs are
-  // skipped there (issue 21), with the very same result.
+  // skipped there (docs/experiments.md, "Cost per mutation"), with the very same result.
   const double planar_over_lambda =
       params.distribution == StretchDistribution::InverseSqrt ? 0.0 : planar - std::log(lambda);
   return planar_over_lambda + std::log(sine_proposed) - std::log(sine_current);

@@ -137,7 +137,8 @@ void similarities_to_guides(const Vec3& point, std::span<const double> x, std::s
                             std::span<double> out) {
   assert(x.size() == out.size() && y.size() == out.size() && z.size() == out.size());
   // Each group of four guides stays in registers from the coordinates to the similarities:
-  // rows through arrays of floored distances and of similarities cost twice as much (issue 21).
+  // rows through arrays of floored distances and of similarities cost twice as much
+  // (docs/experiments.md, "Cost per mutation").
   if (params.length_scale * params.length_scale == 1.0)
     similarity_row<false>(point, x.data(), y.data(), z.data(), params, out.data(), out.size());
   else

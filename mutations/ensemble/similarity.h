@@ -51,7 +51,7 @@ class GuideBuffer {
  public:
   // The entries live on the stack, or (more than kStackGuides) in heap_; data_ points to them
   // either way, so that reading a buffer is one load (a std::vector member and a test a read
-  // cost a guided step a few percent, issue 21).
+  // cost a guided step a few percent; docs/experiments.md, "Cost per mutation").
   explicit GuideBuffer(size_t size) : size_(size) {
     if (size > kStackGuides) {
       heap_ = std::make_unique<T[]>(size);
@@ -87,7 +87,8 @@ struct SimilarityParams {
 // need the same function of the state in both directions, not a precise one), and a row of
 // guides then takes four lanes a vector operation instead of two: the double-precision
 // form, tanh to double rounding, cost 85 instructions a guide, most of EMLT's similarity
-// time (issue 21). The distance itself is computed in double, as before.
+// time (docs/experiments.md, "Cost per mutation"). The distance itself is
+// computed in double, as before.
 inline double floored_scaled_distance(double squared_distance, const SimilarityParams& params) {
   const double length_squared = params.length_scale * params.length_scale;
   const double scaled =
@@ -226,7 +227,8 @@ NormalisedWeights normalise_weights(std::span<const SimilarityProduct> weights,
 // empty: first[n] alone), formed as SimilarityProduct{}.multiply(first[n]), then
 // .multiply(second[n]): the same probabilities and effective count, bit for bit. When every
 // weight is a plain positive double (no factor or product below kRenormalise, no NaN) the
-// products are never built: they were a third of an anisotropic fit's cost (issue 21).
+// products are never built: they were a third of an anisotropic fit's cost
+// (docs/experiments.md, "Cost per mutation").
 NormalisedWeights normalise_row_products(std::span<const double> first,
                                          std::span<const double> second,
                                          std::span<double> probabilities);

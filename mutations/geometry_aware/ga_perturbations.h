@@ -1,6 +1,6 @@
 #pragma once
-// Geometry-aware (GAMLT-like) lens, caustic and multi-chain perturbations (project issue 7;
-// Otsu et al. 2018's idea as summarised in notes/mlt-algorithms.md §9, our own design).
+// Geometry-aware (GAMLT-like) lens, caustic and multi-chain perturbations (Otsu et al.
+// 2018's idea, our own design).
 // Each has the structure of Veach's perturbation of the same name (and reuses its
 // deterministic move and Jacobians), but its step range depends on the path through the
 // occluder-free cones of the segments whose visibility the move can break (cone.h):

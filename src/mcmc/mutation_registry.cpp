@@ -34,7 +34,7 @@ std::unique_ptr<Mutation> make_mutation(const std::string& name) {
   if (name == "emlt-multichain" || name == "emlt-multi-chain") return std::make_unique<GuidedMultiChainPerturbation>();
   if (name == "emlt-aniso") return std::make_unique<AnisotropicPathPerturbation>();
   if (name == "emlt-env") return std::make_unique<EnvironmentPerturbation>();
-  // Issue 21's ensemble-informed variants (docs/experiments.md).
+  // The ensemble-informed variants beyond the paper (docs/experiments.md, "Beyond the paper").
   if (name == "emlt-jump") return std::make_unique<DensityJumpLens>();
   if (name == "emlt-jump-near") return std::make_unique<DensityJumpLens>(true);
   if (name == "emlt-spread-lens")

@@ -136,8 +136,8 @@ const Scene& shipped_scene_256(const std::string& name) {
 // divides the mutations by the whole render's time, which includes a small bootstrap
 // (10000 BDPT samples), a 1-spp direct image and allocating and summing the threads' films.
 // "chain mutations/s" takes out the bootstrap and the direct pass (the render's own timing
-// split, MltStatistics): the rate of the chains themselves, the figure the README and
-// issue 4 quote. At 4 mutations per pixel the films' fixed cost was 8 % of the chains' time.
+// split, MltStatistics): the rate of the chains themselves, the figure docs/performance.md
+// quotes. At 4 mutations per pixel the films' fixed cost was 8 % of the chains' time.
 void MltMutations(benchmark::State& state, const std::string& scene_name, const std::string& mix,
                   const std::string& integrator_name) {
   const Scene& scene = shipped_scene_256(scene_name);

@@ -1,4 +1,4 @@
-// Long renders survive interruption (issue 19): a stop (Ctrl-C, SIGTERM, or the test hook
+// Long renders survive interruption: a stop (Ctrl-C, SIGTERM, or the test hook
 // EMLT_STOP_AFTER that stops as if by Ctrl-C after so many samples or mutations) writes the
 // image so far and a checkpoint; --resume continues to the very bits of an uninterrupted
 // render; a bad checkpoint is refused by name with nothing written.

@@ -1,4 +1,4 @@
-// Bad numbers never get through (issue 23, parts 1, 2 and 5): non-finite geometry is
+// Bad numbers never get through: non-finite geometry is
 // dropped with a counted warning (refused by --strict), non-finite scene parameters and
 // absurd sizes are one-line errors, and every numeric flag states its range in words.
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# MPI renders against single-process renders (issue 20), run by CTest (label mpi):
+# MPI renders against single-process renders, run by CTest (label mpi):
 #   mpi_check.sh EMLT MPIRUN same INTEGRATOR   -n 2 and -n 3 give the single-process bits
 #   mpi_check.sh EMLT MPIRUN resume INTEGRATOR a 2-rank render stopped (EMLT_STOP_AFTER) and
 #                                              resumed gives the single-process bits

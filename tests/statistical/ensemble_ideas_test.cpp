@@ -1,4 +1,4 @@
-// Issue 21's ensemble-informed variants beyond the paper (docs/experiments.md, "Beyond the
+// The ensemble-informed variants beyond the paper (docs/experiments.md, "Beyond the
 // paper"): the density jump (density_jump.h, strategies emlt-jump and emlt-jump-near, the
 // latter weighing the guides by a vertex the move keeps) and the perturbations whose
 // range is the spread of the frozen ensemble (spread_scaled_perturbation.h, emlt-spread-*).

@@ -1,4 +1,4 @@
-// Statistical tests of the materials added with textures (issue 8): rough dielectric
+// Statistical tests of the materials added with textures: rough dielectric
 // (GGX and Beckmann, both sides, both transport modes), thin dielectric, smooth
 // conductor, Beckmann conductor and plastic, nonlinear plastic, and textured parameters.
 // Same checks as the core BSDFs: sampling follows pdf() (chi-square over the sphere),

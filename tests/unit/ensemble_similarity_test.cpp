@@ -150,7 +150,8 @@ TEST(EnsembleSimilarityShortcuts, SelectionFromProductsEqualsSelectionFromLogs) 
 }
 
 // The anisotropic fits and the guide choice form their weights as plain doubles where every
-// SimilarityProduct would stay plain (issue 21): the probabilities, the effective count, the
+// SimilarityProduct would stay plain (faster; docs/experiments.md, "Cost per mutation"): the
+// probabilities, the effective count, the
 // chosen guide and its log probability must be the products' bit for bit, and the products'
 // rule must decide wherever one would not stay plain (a factor or a product below
 // kRenormalise, a zero, a NaN).

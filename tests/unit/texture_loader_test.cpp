@@ -1,4 +1,4 @@
-// Loading the Mitsuba material vocabulary added with textures (issue 8), and the JSON
+// Loading the Mitsuba material vocabulary added with textures, and the JSON
 // format's texture objects: everything here must load without a single warning and
 // build the intended BSDFs, textures, masks and bump maps.
 #include <gtest/gtest.h>

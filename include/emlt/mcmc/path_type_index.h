@@ -68,7 +68,7 @@ class PathTypeIndex {
   std::vector<Group> groups_;      // sorted by (vertices, mask)
   // Open addressing over the groups (index, or -1 for an empty slot; a power of two of them,
   // at most half full): every guided step looks its type up, and a binary search over the
-  // groups cost as much as the rest of finding Υ (issue 21).
+  // groups cost as much as the rest of finding Υ (docs/experiments.md, "Cost per mutation").
   std::vector<int32_t> slots_;
 };
 

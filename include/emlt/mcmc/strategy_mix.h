@@ -43,7 +43,7 @@ struct StrategyStats {
 // the bidirectional mutation with probability 1/3, the other strategies sharing the rest.
 // MLT (Veach & Guibas 1997):
 inline constexpr const char* kMltMix = "bidir=3,lens=2,caustic=2,multichain=2";
-// Geometry-aware MLT (project issue 7; mutations/geometry_aware/ga_perturbations.h):
+// Geometry-aware MLT (mutations/geometry_aware/ga_perturbations.h):
 inline constexpr const char* kGamltMix = "bidir=3,ga-lens=2,ga-caustic=2,ga-multichain=2";
 // Ensemble MLT (mutations/ensemble/guided_strategies.h), all its strategies:
 // the paper's mix exactly: the bidirectional mutation at 1/3 of the proposals, the guided
