@@ -1,5 +1,5 @@
 #pragma once
-// Veach's caustic perturbation (1997 §11.4.3; notes/mlt-algorithms.md §5) for paths whose
+// Veach's caustic perturbation (1997 §11.4.3) for paths whose
 // eye end is (L|D) S* D E: the direction leaving the fixed light-side vertex x_l is turned
 // by a 1/θ-distributed angle, traced through the same specular lobes to a new non-specular
 // vertex x_{k-1}, which is connected to the fixed lens point (so the pixel moves). The lens

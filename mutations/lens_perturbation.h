@@ -1,5 +1,5 @@
 #pragma once
-// Veach's lens perturbation (1997 §11.4.3; notes/mlt-algorithms.md §4). It acts on paths
+// Veach's lens perturbation (1997 §11.4.3). It acts on paths
 // whose eye end is (L|D) D S* E: the image point moves by a 1/r-distributed offset, the ray
 // from the same lens point is traced through the same specular lobes to a new first
 // non-specular vertex, and that vertex is connected to the fixed x_l. Small image-space

@@ -1,5 +1,5 @@
 #pragma once
-// Veach's multi-chain perturbation (1997 §11.4.3; notes/mlt-algorithms.md §6) for paths whose
+// Veach's multi-chain perturbation (1997 §11.4.3) for paths whose
 // eye end is (L|D) D (S+ D)+ S* E: a non-specular vertex seen through specular chains that
 // are separated by further non-specular vertices (a caustic lit indirectly, seen through
 // glass...), where the lens perturbation cannot connect. The image point moves as in the

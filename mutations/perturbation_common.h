@@ -1,6 +1,6 @@
 #pragma once
-// Pieces shared by Veach's perturbations (lens, caustic, multi-chain; Veach 1997 §11.4.3,
-// notes/mlt-algorithms.md §4–6): the 1/r image-plane offset, the 1/θ angular offset, walking
+// Pieces shared by Veach's perturbations (lens, caustic, multi-chain; Veach 1997 §11.4.3):
+// the 1/r image-plane offset, the 1/θ angular offset, walking
 // through a specular chain with the same Dirac lobes, and the Jacobians that turn the
 // perturbations' densities (image plane, solid angle) into the area-product measure the
 // path layer's f and densities are written in.

@@ -4,7 +4,7 @@
 // their length scales from. A function of Υ alone, never of the path being moved: Υ is
 // drawn from the frozen complementary ensemble by (path type, chain, step), and the moves
 // that use it keep the path type, so the forward and the reverse move of one step see the
-// same scale and a symmetric kernel stays symmetric (emlt-notes.md §1–2). A scale fitted to
+// same scale and a symmetric kernel stays symmetric. A scale fitted to
 // the moved chain's own history would not (adaptive MCMC).
 #include <span>
 

@@ -10,7 +10,7 @@
 // state-dependent probabilities, see similarity.h]). Densities are with respect to area
 // (R^2 / tangent plane / surface) or solid angle (S^2). The paper's typos and ambiguities,
 // and the corrections applied here, are noted in each section below and in
-// shared/design/notes/emlt-notes.md. Every ratio is verified by running the kernel alone as
+// docs/emlt-fidelity.md. Every ratio is verified by running the kernel alone as
 // an MH chain on a known target (tests/statistical/ensemble_kernel_test.cpp).
 //
 // Numerics: the interface uses emlt's float vectors; all arithmetic is in double.

@@ -1,6 +1,6 @@
 #pragma once
 // Occluder-free cones around path segments, for the geometry-aware (GAMLT-like)
-// perturbations (ga_perturbations.h; notes/mlt-algorithms.md §9.5, our design: the paper's
+// perturbations (ga_perturbations.h; our design: the paper's
 // cone estimators are not public).
 //
 // cone_half_angle(apex, other) gives the half-angle α of the largest cone with its apex at

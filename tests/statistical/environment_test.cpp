@@ -1,4 +1,4 @@
-// Environment maps (seed-lights.md §6.1-6.4: T-ENV-1..5 and the §6.4 variance figures):
+// Environment maps (the checks T-ENV-1..5 and their variance figures):
 // Mitsuba 0.6's bilinear radiance lookup, and importance sampling whose pdf is exactly the
 // density it samples. Maps are synthesised here; the test keeps its own lookup and texel
 // table so that radiance and pdf are checked against the formulas, not only against

@@ -1,4 +1,4 @@
-// Area-light sampling (T-LIGHT-1, T-LIGHT-2 of seed-lights.md §6.5) and light selection.
+// Area-light sampling (the checks T-LIGHT-1 and T-LIGHT-2) and light selection.
 // Every Monte Carlo check uses a fixed seed and a 4-sigma (or chi-square p) criterion.
 #include <gtest/gtest.h>
 

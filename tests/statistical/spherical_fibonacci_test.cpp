@@ -6,7 +6,7 @@
 using namespace emlt;
 
 TEST(SphericalFibonacci, EnergyDecaysAsNToTheMinusThreeQuarters) {
-  // seed-qmc-bmc.md 4.2: E_N(SF) * N^(3/4) lies in [0.89, 0.92] for N in [64, 4096];
+  // E_N(SF) * N^(3/4) lies in [0.89, 0.92] for N in [64, 4096];
   // random points give E[E_N^2] = 4/(3N), i.e. far larger.
   for (uint32_t n : {64u, 256u, 1024u}) {
     std::vector<Vec3> points;
@@ -60,7 +60,7 @@ TEST(SphericalFibonacci, ShiftedSetIsUnbiased) {
 
 TEST(SphericalFibonacci, RotationOnlyCarriesTheMidpointBias) {
   // Without the Cranley-Patterson shift the estimate is deterministic in z: its bias is
-  // exactly -pi/(6 N^2) (seed-qmc-bmc.md 2.1), which the unbiased variant removes.
+  // exactly -pi/(6 N^2), which the unbiased variant removes.
   const double exact = 2.0 * M_PI / 3.0;
   const uint32_t n = 4;
   double mean, se;

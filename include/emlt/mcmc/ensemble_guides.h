@@ -3,7 +3,7 @@
 // al. 2021, §3.1): Y's paths, the path-type tree over them, and the quantities derived from
 // Y once per swap (the linear kernels' α, §3.4). A strategy asks for Υ, the guide paths of
 // its current path's type: as the paper's §3.1.1 reads, by a counter (type, seed, chain,
-// step), the same Υ both ways (emlt-notes.md §2); or the M paths of that type nearest the
+// step), the same Υ both ways; or the M paths of that type nearest the
 // current path's image point (along a Hilbert order of Y, path_type_index.h), a function of
 // the path, so that the reverse move is evaluated against the proposal's own Υ.
 // docs/emlt-fidelity.md gives the measurements that keep the counter as the default.

@@ -10,7 +10,7 @@
 // Ensemble mode (EMLT): the same chains, estimator and bootstrap, run as two halves that
 // take turns; while one half (X) moves, the other (Y) is frozen and guides it
 // (ensemble_guides.h). Each X step keeps f invariant for a fixed Y, so each half-sweep
-// preserves the product density of both ensembles (paper §3, emlt-notes.md §1).
+// preserves the product density of both ensembles (paper §3).
 //
 // Determinism: chains are grouped in a fixed number of blocks, each with its own film,
 // summed in block order; the schedule is a fixed number of rounds. The same seed and

@@ -45,7 +45,7 @@ struct StrategyStats {
 inline constexpr const char* kMltMix = "bidir=3,lens=2,caustic=2,multichain=2";
 // Geometry-aware MLT (mutations/geometry_aware/ga_perturbations.h):
 inline constexpr const char* kGamltMix = "bidir=3,ga-lens=2,ga-caustic=2,ga-multichain=2";
-// Ensemble MLT (mutations/ensemble/guided_strategies.h), all its strategies:
+// Ensemble MLT (mutations/ensemble/), all its strategies:
 // the paper's mix exactly: the bidirectional mutation at 1/3 of the proposals, the guided
 // strategies that apply sharing the rest equally (the guided moves replacing Veach's):
 inline constexpr const char* kEmltMix =
