@@ -13,6 +13,7 @@
 #include "emlt/scene/loader.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/scene.h"
+#include "support/image_checks.h"
 #include "support/test_support.h"
 
 using namespace emlt;
@@ -107,29 +108,6 @@ double channel_mean(const Image& image, int channel) {
 
 double mean(const Image& image) {
   return (channel_mean(image, 0) + channel_mean(image, 1) + channel_mean(image, 2)) / 3.0;
-}
-
-// Largest relative difference of block means (blocks of block x block pixels), each
-// relative to the reference block's mean (floored at a quarter of the image mean, so that
-// nearly black blocks do not dominate).
-double worst_block_error(const Image& reference, const Image& test, int block) {
-  const double floor = 0.25 * mean(reference);
-  double worst = 0.0;
-  for (int by = 0; by + block <= reference.height; by += block) {
-    for (int bx = 0; bx + block <= reference.width; bx += block) {
-      double a = 0.0, b = 0.0;
-      for (int y = by; y < by + block; ++y)
-        for (int x = bx; x < bx + block; ++x) {
-          const Rgb& p = reference.at(x, y);
-          const Rgb& q = test.at(x, y);
-          a += (p.x + p.y + p.z) / 3.0;
-          b += (q.x + q.y + q.z) / 3.0;
-        }
-      const double n = double(block) * block;
-      worst = std::max(worst, std::abs(a - b) / n / std::max(a / n, floor));
-    }
-  }
-  return worst;
 }
 
 double exact_box_radiance(float albedo, float le, int max_depth) {
@@ -227,7 +205,7 @@ TEST(BdptLightTracing, AloneMatchesPathTracerOnCornellBox) {
   settings.seed = 7;
   const Image light_traced = render(BidirectionalPathTracer(options), *scene, settings).image;
   EXPECT_NEAR(mean(light_traced), mean(reference), 0.02 * mean(reference));
-  EXPECT_LT(worst_block_error(reference, light_traced, 8), 0.05);
+  EXPECT_LT(test::worst_block_error(reference, light_traced, 8), 0.05);
 }
 
 // --- BDPT against the path tracer on the shipped scenes ------------------------------
@@ -253,7 +231,7 @@ TEST_P(BdptMatchesPathTracer, OnShippedScene) {
   const RenderResult r = render(BidirectionalPathTracer(), *scene, settings);
   EXPECT_EQ(r.invalid_samples, 0u);
   EXPECT_NEAR(mean(r.image), mean(reference), c.mean_tolerance * mean(reference)) << c.name;
-  EXPECT_LT(worst_block_error(reference, r.image, 8), c.block_tolerance) << c.name;
+  EXPECT_LT(test::worst_block_error(reference, r.image, 8), c.block_tolerance) << c.name;
 }
 
 INSTANTIATE_TEST_SUITE_P(

@@ -12,6 +12,7 @@
 #include "emlt/scene/loader.h"
 #include "emlt/scene/scene.h"
 #include "support/test_scenes.h"
+#include "support/image_checks.h"
 #include "support/test_support.h"
 
 using namespace emlt;
@@ -52,38 +53,15 @@ Image scaled(Image image, float factor) {
 // 1.5 %; the glass box within 0.1 % (blocks 0.7 %) of BDPT's light tracing. The injected
 // bugs miss by 3-7 % (blocks 4-16 %).
 
-// Largest relative difference of the means of blocks of block x block pixels, each relative
-// to the reference block's mean (floored at a quarter of the image mean, so that nearly
-// black blocks do not dominate).
-double worst_block_error(const Image& reference, const Image& test, int block) {
-  const double floor = 0.25 * mean(reference);
-  double worst = 0.0;
-  for (int by = 0; by + block <= reference.height; by += block) {
-    for (int bx = 0; bx + block <= reference.width; bx += block) {
-      double a = 0.0, b = 0.0;
-      for (int y = by; y < by + block; ++y)
-        for (int x = bx; x < bx + block; ++x) {
-          const Rgb& p = reference.at(x, y);
-          const Rgb& q = test.at(x, y);
-          a += (p.x + p.y + p.z) / 3.0;
-          b += (q.x + q.y + q.z) / 3.0;
-        }
-      const double n = double(block) * block;
-      worst = std::max(worst, std::abs(a - b) / n / std::max(a / n, floor));
-    }
-  }
-  return worst;
-}
-
 struct Tolerance {
   double mean, block;
 };
 
-// Whether `test` agrees with `reference` within the tolerances (relative error of the
+// Whether `image` agrees with `reference` within the tolerances (relative error of the
 // image mean, worst 8 x 8 block).
-::testing::AssertionResult agrees(const Image& reference, const Image& test, Tolerance t) {
-  const double mean_error = std::abs(mean(test) - mean(reference)) / mean(reference);
-  const double block_error = worst_block_error(reference, test, 8);
+::testing::AssertionResult agrees(const Image& reference, const Image& image, Tolerance t) {
+  const double mean_error = std::abs(mean(image) - mean(reference)) / mean(reference);
+  const double block_error = test::worst_block_error(reference, image, 8);
   if (mean_error < t.mean && block_error < t.block) return ::testing::AssertionSuccess();
   return ::testing::AssertionFailure()
          << "mean off by " << mean_error << " (tolerance " << t.mean << "), worst block by "
