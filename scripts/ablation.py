@@ -525,7 +525,7 @@ def parse_args(argv):
     parser.add_argument("--no-report", action="store_true", help="run and write results.csv only")
     parser.add_argument("--figures", metavar="PREFIX",
                         help="also copy convergence.png and strip.png to PREFIX-convergence.png and "
-                             "PREFIX-strip.png (the README's figures: --figures docs/ablation)")
+                             "PREFIX-strip.png (docs/comparing-methods.md's figures: --figures docs/ablation)")
     return parser.parse_args(argv)
 
 
