@@ -1,6 +1,6 @@
 #pragma once
 // Metropolis-Hastings acceptance, in one stage or in two (delayed acceptance, Christen and
-// Fox 2005), for the MLT driver's step (mlt_integrator.cpp).
+// Fox 2005), for the MLT driver's step (mlt_step.cpp).
 //
 // Two stages. A strategy may leave a costly factor out of its proposal's ratio
 // (Proposal::deferred: the geometry-aware strategies' ranges at y, which need y's cones). The
