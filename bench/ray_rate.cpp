@@ -28,7 +28,7 @@
 #include "emlt/core/error.h"
 #include "emlt/core/rng.h"
 #include "emlt/core/warp.h"
-#include "emlt/scene/loader.h"
+#include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/scene.h"
 
 using namespace emlt;

@@ -9,8 +9,8 @@
 #include <utility>
 #include <vector>
 
-#include "emlt/render/settings.h"
 #include "emlt/scene/description.h"
+#include "emlt/settings/settings.h"
 
 namespace emlt {
 class ConvergenceLog;

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "emlt/render/settings.h"
+#include "emlt/settings/settings.h"
 
 namespace emlt::cli {
 

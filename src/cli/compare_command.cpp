@@ -7,9 +7,10 @@
 #include <nlohmann/json.hpp>
 
 #include "emlt/core/error.h"
-#include "emlt/render/image_metrics.h"
-#include "emlt/scene/loader.h"
+#include "emlt/image/image_metrics.h"
+#include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/scene.h"
+#include "emlt/scene/visible_emitters.h"
 
 namespace emlt::cli {
 

@@ -2,7 +2,7 @@
 
 #include "cli/commands.h"
 #include "cli/fidelity.h"
-#include "emlt/scene/loader.h"
+#include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/scene.h"
 
 namespace emlt::cli {

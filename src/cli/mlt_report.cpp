@@ -7,8 +7,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "emlt/core/atomic_write.h"
 #include "emlt/core/error.h"
-#include "emlt/render/interruption.h"
+#include "emlt/core/interruption.h"
 
 namespace emlt::cli {
 
@@ -105,17 +106,7 @@ void report_mlt_statistics(const std::string& name, const MltStatistics& st,
                               {"q1", st.alpha.quantile(0.25)}, {"median", st.alpha.quantile(0.5)},
                               {"q3", st.alpha.quantile(0.75)}, {"max", st.alpha.max},
                               {"mean", st.alpha.mean()}};
-  const std::string temporary = json_path + ".tmp-" + std::to_string(getpid());
-  interruption::register_temporary(temporary);  // a second Ctrl-C removes it
-  struct Forget {
-    ~Forget() { interruption::register_temporary(""); }
-  } forget;
-  {
-    std::ofstream out(temporary);
-    out << j.dump(2) << "\n";
-    if (!out) throw file_error(json_path, "cannot write statistics");
-  }
-  std::filesystem::rename(temporary, json_path);
+  write_file_atomically(json_path, "statistics", j.dump(2) + "\n");
 }
 
 }  // namespace emlt::cli

@@ -1,7 +1,7 @@
 #pragma once
 #include <string>
 
-#include "emlt/mcmc/mlt_integrator.h"
+#include "emlt/integrators/mlt/mlt_integrator.h"
 
 namespace emlt::cli {
 

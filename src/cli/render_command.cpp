@@ -1,30 +1,33 @@
+#include <fmt/core.h>
+
 #include <cmath>
-#include <cstdlib>
-#include <optional>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <future>
-#include <fmt/core.h>
+#include <optional>
 
 #include "cli/checkpoint_header.h"
 #include "cli/commands.h"
 #include "cli/fidelity.h"
 #include "cli/mlt_report.h"
-#include "cli/readable_range.h"
 #include "cli/rank_agreement.h"
+#include "cli/readable_range.h"
 #include "cli/signals.h"
-#include "emlt/mcmc/mlt_integrator.h"
-#include "emlt/render/convergence_log.h"
-#include "emlt/render/image_metrics.h"
 #include "emlt/core/cluster.h"
 #include "emlt/core/error.h"
-#include "emlt/mcmc/pss_integrator.h"
-#include "emlt/render/checkpoint_file.h"
-#include "emlt/render/integrator.h"
-#include "emlt/render/interruption.h"
-#include "emlt/render/render_control.h"
-#include "emlt/render/snapshot.h"
-#include "emlt/scene/loader.h"
+#include "emlt/core/interruption.h"
+#include "emlt/image/image_metrics.h"
+#include "emlt/integrators/mlt/mlt_integrator.h"
+#include "emlt/integrators/pss/pss_integrator.h"
+#include "emlt/integrators/registry.h"
+#include "emlt/run/checkpoint_file.h"
+#include "emlt/run/convergence_log.h"
+#include "emlt/run/integrator.h"
+#include "emlt/run/render_control.h"
+#include "emlt/run/snapshot.h"
+#include "emlt/scene/loaders/loader.h"
+#include "emlt/scene/visible_emitters.h"
 
 namespace emlt::cli {
 

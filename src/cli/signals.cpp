@@ -4,7 +4,7 @@
 
 #include <csignal>
 
-#include "emlt/render/interruption.h"
+#include "emlt/core/interruption.h"
 
 namespace emlt::cli {
 

@@ -6,7 +6,7 @@
 #include <atomic>
 #include <cassert>
 
-#include "mutations/ensemble/adaptive_alpha.h"
+#include "emlt/mcmc/adaptive_alpha.h"
 
 namespace emlt {
 

@@ -9,9 +9,9 @@
 
 #include "emlt/core/cluster.h"
 #include "emlt/core/error.h"
-#include "emlt/render/interruption.h"
-#include "emlt/render/render_control.h"
-#include "emlt/render/snapshot.h"
+#include "emlt/core/interruption.h"
+#include "emlt/run/render_control.h"
+#include "emlt/run/snapshot.h"
 
 namespace emlt {
 
@@ -25,8 +25,9 @@ int ChainSweeper::thread_count(const RenderSettings& settings) {
   return settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
 }
 
-ChainSweeper::ChainSweeper(const RenderSettings& settings, ProgressReporter& progress, McmcRun& run,
-                           uint64_t pixels, int blocks, std::vector<std::string> names)
+ChainSweeper::ChainSweeper(const RenderSettings& settings, ProgressReporter& progress,
+                           ChainFrame& run, uint64_t pixels, int blocks,
+                           std::vector<std::string> names)
     : settings_(settings),
       progress_(progress),
       run_(run),

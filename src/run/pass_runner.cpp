@@ -9,9 +9,9 @@
 
 #include "emlt/core/cluster.h"
 #include "emlt/core/error.h"
-#include "emlt/render/interruption.h"
-#include "emlt/render/render_control.h"
-#include "emlt/render/snapshot.h"
+#include "emlt/core/interruption.h"
+#include "emlt/run/render_control.h"
+#include "emlt/run/snapshot.h"
 
 namespace emlt {
 

@@ -8,7 +8,7 @@
 #include <limits>
 #include <string>
 
-#include "emlt/render/settings.h"
+#include "emlt/settings/settings.h"
 
 namespace emlt::loader {
 

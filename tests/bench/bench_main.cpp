@@ -15,10 +15,11 @@
 
 #include "emlt/core/rng.h"
 #include "emlt/core/warp.h"
-#include "emlt/mcmc/mlt_integrator.h"
-#include "emlt/render/bdpt.h"
-#include "emlt/render/path_tracer.h"
-#include "emlt/scene/loader.h"
+#include "emlt/integrators/bdpt.h"
+#include "emlt/integrators/mlt/mlt_integrator.h"
+#include "emlt/integrators/path_tracer.h"
+#include "emlt/integrators/registry.h"
+#include "emlt/scene/loaders/loader.h"
 
 using namespace emlt;
 

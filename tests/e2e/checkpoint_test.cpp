@@ -14,8 +14,8 @@
 #include <random>
 #include <thread>
 
-#include "emlt/render/checkpoint_file.h"
-#include "emlt/render/image.h"
+#include "emlt/image/image.h"
+#include "emlt/run/checkpoint_file.h"
 #include "support/test_support.h"
 
 using namespace emlt;

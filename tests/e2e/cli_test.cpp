@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "emlt/render/image.h"
-#include "emlt/render/image_metrics.h"
+#include "emlt/image/image.h"
+#include "emlt/image/image_metrics.h"
 #include "support/test_support.h"
 
 using namespace emlt;

@@ -10,10 +10,11 @@
 #include <memory>
 #include <string>
 
-#include "emlt/render/integrator.h"
-#include "emlt/render/progress.h"
-#include "emlt/render/render_control.h"
-#include "emlt/scene/loader.h"
+#include "emlt/integrators/registry.h"
+#include "emlt/run/integrator.h"
+#include "emlt/run/progress.h"
+#include "emlt/run/render_control.h"
+#include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/scene.h"
 
 namespace emlt::fuzz {

@@ -19,7 +19,7 @@
 #include "cli/checkpoint_header.h"
 #include "emlt/core/error.h"
 #include "emlt/core/state_io.h"
-#include "emlt/render/checkpoint_file.h"
+#include "emlt/run/checkpoint_file.h"
 #include "fuzz_input.h"
 
 namespace {

@@ -1,5 +1,5 @@
 // libFuzzer target: read_image on a .png file.
-#include "emlt/render/image.h"
+#include "emlt/image/image.h"
 #include "fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

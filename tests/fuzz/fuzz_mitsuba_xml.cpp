@@ -1,5 +1,5 @@
 // libFuzzer target: the Mitsuba 0.6 XML parser and scene loader.
-#include "emlt/scene/loader.h"
+#include "emlt/scene/loaders/loader.h"
 #include "fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -2,7 +2,7 @@
 // odd size, flat on even.
 #include <vector>
 
-#include "emlt/scene/obj_loader.h"
+#include "emlt/scene/loaders/obj_loader.h"
 #include "fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -1,7 +1,7 @@
 // libFuzzer target: the PLY mesh loader (ASCII and binary).
 #include <vector>
 
-#include "emlt/scene/ply_loader.h"
+#include "emlt/scene/loaders/ply_loader.h"
 #include "fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -1,6 +1,6 @@
 // libFuzzer target: the Mitsuba .serialized mesh reader. Mesh 0 goes through the header
 // and the first zlib stream; mesh 1 also through the offset dictionary at the end.
-#include "emlt/scene/serialized_loader.h"
+#include "emlt/scene/loaders/serialized_loader.h"
 #include "fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -1,16 +1,17 @@
 // Bidirectional path tracing against exact answers and against the path tracer. Seeds are
 // fixed, so every threshold below was checked to hold with margin (noise is a few times
 // smaller than the threshold) while a wrong MIS weight or density visibly breaks it.
+#include "emlt/integrators/bdpt.h"
+
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstring>
-#include <fmt/core.h>
 #include <filesystem>
 
-#include "emlt/render/bdpt.h"
-#include "emlt/render/path_tracer.h"
-#include "emlt/scene/loader.h"
+#include "emlt/integrators/path_tracer.h"
+#include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/scene.h"
 #include "support/image_checks.h"

@@ -9,9 +9,9 @@
 #include <cstdio>
 #include <cstring>
 
-#include "emlt/mcmc/mlt_integrator.h"
+#include "emlt/integrators/bdpt.h"
+#include "emlt/integrators/mlt/mlt_integrator.h"
 #include "emlt/mcmc/strategy_mix.h"
-#include "emlt/render/bdpt.h"
 #include "mutations/ensemble/anisotropic_path.h"
 #include "mutations/ensemble/environment_perturbation.h"
 #include "mutations/ensemble/guided_caustic.h"

@@ -18,7 +18,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "emlt/mcmc/mlt_integrator.h"
+#include "emlt/integrators/mlt/mlt_integrator.h"
 #include "emlt/mcmc/strategy_mix.h"
 #include "mutations/ensemble/density_jump.h"
 #include "mutations/ensemble/density_jump_lens.h"

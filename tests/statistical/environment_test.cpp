@@ -3,6 +3,8 @@
 // density it samples. Maps are synthesised here; the test keeps its own lookup and texel
 // table so that radiance and pdf are checked against the formulas, not only against
 // themselves.
+#include "emlt/scene/environment.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,10 +13,9 @@
 
 #include "emlt/core/rng.h"
 #include "emlt/core/warp.h"
-#include "emlt/render/bdpt.h"
-#include "emlt/render/direct_integrator.h"
-#include "emlt/render/path_tracer.h"
-#include "emlt/scene/environment.h"
+#include "emlt/integrators/bdpt.h"
+#include "emlt/integrators/direct_integrator.h"
+#include "emlt/integrators/path_tracer.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/scene.h"
 #include "support/test_scenes.h"

@@ -4,9 +4,9 @@
 
 #include <cstring>
 
-#include "emlt/render/direct_integrator.h"
-#include "emlt/render/direct_lighting.h"
-#include "emlt/render/path_tracer.h"
+#include "emlt/integrators/direct_integrator.h"
+#include "emlt/integrators/path_tracer.h"
+#include "emlt/sampling/direct_lighting.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/scene.h"
 #include "support/test_scenes.h"

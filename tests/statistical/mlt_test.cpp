@@ -10,11 +10,11 @@
 #include <cstring>
 
 #include "emlt/core/error.h"
-#include "emlt/mcmc/bootstrap.h"
-#include "emlt/mcmc/mlt_integrator.h"
+#include "emlt/integrators/bdpt.h"
+#include "emlt/integrators/mlt/bootstrap.h"
+#include "emlt/integrators/mlt/mlt_integrator.h"
 #include "emlt/mcmc/two_tailed_geometric.h"
-#include "emlt/render/bdpt.h"
-#include "emlt/scene/loader.h"
+#include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/materials.h"
 #include "mutations/bidirectional.h"
 #include "support/test_scenes.h"

@@ -16,8 +16,8 @@
 #include <numeric>
 #include <vector>
 
+#include "emlt/mcmc/adaptive_alpha.h"
 #include "emlt/mcmc/raster_order.h"
-#include "mutations/ensemble/adaptive_alpha.h"
 #include "statistical/ensemble_kernel_harness.h"
 
 using namespace emlt;

@@ -6,13 +6,14 @@
 
 #include <cstring>
 
-#include "emlt/render/bdpt.h"
-#include "emlt/render/integrator.h"
-#include "emlt/render/path_tracer.h"
-#include "emlt/scene/loader.h"
+#include "emlt/integrators/bdpt.h"
+#include "emlt/integrators/path_tracer.h"
+#include "emlt/integrators/registry.h"
+#include "emlt/run/integrator.h"
+#include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/scene.h"
-#include "support/test_scenes.h"
 #include "support/image_checks.h"
+#include "support/test_scenes.h"
 #include "support/test_support.h"
 
 using namespace emlt;

@@ -10,12 +10,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include "emlt/mcmc/bootstrap.h"
-#include "emlt/mcmc/mlt_integrator.h"
+#include "emlt/integrators/bdpt.h"
+#include "emlt/integrators/mlt/bootstrap.h"
+#include "emlt/integrators/mlt/mlt_integrator.h"
 #include "emlt/path/connection.h"
-#include "emlt/render/bdpt.h"
-#include "emlt/render/progress.h"
-#include "emlt/scene/loader.h"
+#include "emlt/run/progress.h"
+#include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/materials.h"
 #include "mutations/caustic_perturbation.h"
 #include "mutations/lens_perturbation.h"

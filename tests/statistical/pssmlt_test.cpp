@@ -1,5 +1,5 @@
 // Primary-sample-space MLT (Kelemen) and Multiplexed MLT (Hachisuka) against exact answers
-// and against BDPT, with the classic mistakes injected (mcmc/pss_integrator.h).
+// and against BDPT, with the classic mistakes injected (integrators/pss/pss_integrator.h).
 //
 // The closed emissive box with a coloured albedo gives the exact colour of every path
 // length (mlt_test.cpp explains why its colour records how the chains weigh lengths); the
@@ -8,10 +8,10 @@
 
 #include <cstring>
 
-#include "emlt/mcmc/pss_integrator.h"
-#include "emlt/render/bdpt.h"
-#include "emlt/render/path_tracer.h"
-#include "emlt/scene/loader.h"
+#include "emlt/integrators/bdpt.h"
+#include "emlt/integrators/path_tracer.h"
+#include "emlt/integrators/pss/pss_integrator.h"
+#include "emlt/scene/loaders/loader.h"
 #include "support/mlt_test_helpers.h"
 #include "support/test_scenes.h"
 #include "support/test_support.h"

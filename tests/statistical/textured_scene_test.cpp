@@ -5,8 +5,9 @@
 // the independent `bdpt` estimator, region by region.
 #include <gtest/gtest.h>
 
-#include "emlt/render/integrator.h"
-#include "emlt/scene/loader.h"
+#include "emlt/integrators/registry.h"
+#include "emlt/run/integrator.h"
+#include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/scene.h"
 #include "support/test_support.h"

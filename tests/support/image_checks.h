@@ -1,6 +1,6 @@
 #pragma once
 // Comparisons of a rendered image with a reference that the estimator tests share.
-#include "emlt/render/image.h"
+#include "emlt/image/image.h"
 
 namespace emlt::test {
 

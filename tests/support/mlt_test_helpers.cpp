@@ -6,10 +6,10 @@
 #include <cstdio>
 #include <numeric>
 
-#include "emlt/mcmc/bootstrap.h"
+#include "emlt/integrators/bdpt.h"
+#include "emlt/integrators/mlt/bootstrap.h"
 #include "emlt/path/connection.h"
-#include "emlt/render/bdpt.h"
-#include "emlt/scene/loader.h"
+#include "emlt/scene/loaders/loader.h"
 #include "mutations/perturbation_common.h"
 #include "support/test_support.h"
 

@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "emlt/mcmc/mlt_integrator.h"
+#include "emlt/integrators/mlt/mlt_integrator.h"
 #include "emlt/mcmc/mutation.h"
 #include "emlt/path/path.h"
-#include "emlt/render/integrator.h"
+#include "emlt/run/integrator.h"
 #include "emlt/scene/scene.h"
 
 namespace emlt::test {

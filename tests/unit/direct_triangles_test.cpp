@@ -9,7 +9,7 @@
 
 #include "emlt/core/rng.h"
 #include "emlt/core/warp.h"
-#include "emlt/scene/loader.h"
+#include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/scene.h"
 #include "emlt/scene/shape_builders.h"

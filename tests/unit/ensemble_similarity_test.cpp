@@ -13,9 +13,9 @@
 #include <vector>
 
 #include "emlt/core/rng.h"
+#include "emlt/mcmc/adaptive_alpha.h"
 #include "emlt/mcmc/ensemble_guides.h"
 #include "emlt/path/path_state.h"
-#include "mutations/ensemble/adaptive_alpha.h"
 #include "mutations/ensemble/guided_common.h"
 #include "mutations/ensemble/similarity.h"
 

@@ -1,4 +1,4 @@
-#include "emlt/mcmc/fixed_point_film.h"
+#include "emlt/film/fixed_point_film.h"
 
 #include <gtest/gtest.h>
 

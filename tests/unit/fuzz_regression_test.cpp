@@ -18,8 +18,9 @@
 
 #include "emlt/core/error.h"
 #include "emlt/core/state_io.h"
-#include "emlt/render/checkpoint_file.h"
-#include "emlt/render/image.h"
+#include "emlt/image/image.h"
+#include "emlt/integrators/registry.h"
+#include "emlt/run/checkpoint_file.h"
 #include "fuzz/checkpoint_resume.h"
 #include "support/test_support.h"
 

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "emlt/core/error.h"
-#include "emlt/render/image.h"
+#include "emlt/image/image.h"
 #include "support/test_support.h"
 
 using namespace emlt;

@@ -1,7 +1,8 @@
+#include "emlt/image/image_metrics.h"
+
 #include <gtest/gtest.h>
 
 #include "emlt/core/error.h"
-#include "emlt/render/image_metrics.h"
 
 using namespace emlt;
 

@@ -1,6 +1,6 @@
 // The registry of temporaries that a second stop signal removes: an image and its preview
 // are written at once by two threads, and both must go.
-#include "emlt/render/interruption.h"
+#include "emlt/core/interruption.h"
 
 #include <gtest/gtest.h>
 

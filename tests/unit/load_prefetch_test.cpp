@@ -1,6 +1,6 @@
 // Files read ahead by a LoadPrefetch are the files the loader would have read itself: the
 // same contents and the same errors, taken once each, and nothing for files not announced.
-#include "emlt/scene/load_prefetch.h"
+#include "emlt/scene/loaders/load_prefetch.h"
 
 #include <gtest/gtest.h>
 
@@ -10,8 +10,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "emlt/core/error.h"
-#include "emlt/render/image.h"
-#include "emlt/scene/obj_loader.h"
+#include "emlt/image/image.h"
+#include "emlt/scene/loaders/obj_loader.h"
 #include "emlt/scene/shape_builders.h"
 #include "support/test_support.h"
 

@@ -1,14 +1,15 @@
 // Scene loaders: JSON and Mitsuba XML agree on the shipped Cornell box, bad input gives a
 // one-line error naming the file, unsupported Mitsuba features are reported.
-#include "emlt/scene/loader.h"
+#include "emlt/scene/loaders/loader.h"
 
 #include <gtest/gtest.h>
 
 #include <functional>
 
 #include "emlt/core/error.h"
-#include "emlt/render/integrator.h"
-#include "emlt/scene/obj_loader.h"
+#include "emlt/integrators/registry.h"
+#include "emlt/run/integrator.h"
+#include "emlt/scene/loaders/obj_loader.h"
 #include "emlt/scene/scene.h"
 #include "support/test_support.h"
 

@@ -9,10 +9,10 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "emlt/core/error.h"
-#include "emlt/scene/load_prefetch.h"
-#include "emlt/scene/loader.h"
-#include "emlt/scene/ply_loader.h"
-#include "emlt/scene/serialized_loader.h"
+#include "emlt/scene/loaders/load_prefetch.h"
+#include "emlt/scene/loaders/loader.h"
+#include "emlt/scene/loaders/ply_loader.h"
+#include "emlt/scene/loaders/serialized_loader.h"
 #include "support/test_support.h"
 
 using namespace emlt;

@@ -9,11 +9,11 @@
 #include <vector>
 
 #include "emlt/core/rng.h"
+#include "emlt/mcmc/adaptive_alpha.h"
 #include "emlt/mcmc/alpha_tally.h"
 #include "emlt/mcmc/ensemble_guides.h"
 #include "emlt/mcmc/path_type_index.h"
 #include "emlt/mcmc/raster_order.h"
-#include "mutations/ensemble/adaptive_alpha.h"
 
 using namespace emlt;
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "emlt/core/error.h"
-#include "emlt/scene/loader.h"
+#include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/scene.h"
 #include "support/test_support.h"
 

@@ -9,7 +9,7 @@
 
 #include "emlt/path/connection.h"
 #include "emlt/path/random_walk.h"
-#include "emlt/scene/loader.h"
+#include "emlt/scene/loaders/loader.h"
 #include "support/test_support.h"
 
 using namespace emlt;

@@ -88,7 +88,7 @@ TEST(PathTypeIndex, BuildIsTheSameOnOneAndTwoThreads) {
   }
 }
 
-#include "mutations/ensemble/adaptive_alpha.h"
+#include "emlt/mcmc/adaptive_alpha.h"
 
 TEST(EnsembleAdaptiveAlpha, FollowsThePapersSigmoidBetweenTheBounds) {
   using namespace emlt::ensemble;

@@ -1,7 +1,7 @@
 // The film's reconstruction filter: camera-side samples of a pixel are distributed as the
 // footprint that light-side splats give that pixel, and every footprint integrates to one
 // over the image (border pixels included), so both kinds of estimator agree.
-#include "emlt/render/pixel_filter.h"
+#include "emlt/film/pixel_filter.h"
 
 #include <gtest/gtest.h>
 

@@ -4,6 +4,8 @@
 // averages with an adaptive single-precision Gauss-Lobatto quadrature that is accurate to a
 // few 1e-5 relative, so those figures are matched to 1e-4; the exact values (an independent
 // double-precision computation) are matched to 1e-6.
+#include "emlt/scene/spectrum.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -13,8 +15,7 @@
 #include <vector>
 
 #include "emlt/core/error.h"
-#include "emlt/scene/loader.h"
-#include "emlt/scene/spectrum.h"
+#include "emlt/scene/loaders/loader.h"
 #include "support/test_support.h"
 
 using namespace emlt;

@@ -7,8 +7,8 @@
 #include <filesystem>
 
 #include "emlt/core/error.h"
-#include "emlt/render/image.h"
-#include "emlt/scene/loader.h"
+#include "emlt/image/image.h"
+#include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/scene.h"
 #include "support/test_support.h"
 

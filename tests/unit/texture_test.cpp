@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "emlt/core/error.h"
-#include "emlt/render/image.h"
+#include "emlt/image/image.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/scene.h"
 #include "support/test_support.h"

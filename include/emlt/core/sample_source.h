@@ -1,7 +1,7 @@
 #pragma once
 // A source of uniform numbers in [0, 1) other than a PCG stream: primary-sample-space MLT
 // drives the path tracer and the subpath walks from the coordinates of its chain state
-// (mcmc/primary_sample_vector.h). The renderers keep their Rng versions (the same code,
+// (integrators/pss/primary_sample_vector.h). The renderers keep their Rng versions (the same code,
 // instantiated for Rng, so their images keep their bits); these overloads take this.
 #include "emlt/core/math.h"
 

@@ -1,5 +1,5 @@
 #pragma once
-// Binary encoding of a render's state for checkpoints (render/checkpoint_file.h). Values are
+// Binary encoding of a render's state for checkpoints (run/checkpoint_file.h). Values are
 // written in the machine's byte order, floating point bit for bit, so that a state read
 // back continues the render to the very same bits; a checkpoint is only ever read by the
 // build that wrote it (its format version and a checksum guard that). A reader never reads

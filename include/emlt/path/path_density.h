@@ -8,7 +8,7 @@
 #include <span>
 
 #include "emlt/path/vertex.h"
-#include "emlt/render/settings.h"
+#include "emlt/settings/settings.h"
 
 namespace emlt {
 

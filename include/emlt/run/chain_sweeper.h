@@ -28,11 +28,11 @@
 #include <utility>
 #include <vector>
 
-#include "emlt/mcmc/fixed_point_film.h"
-#include "emlt/mcmc/mcmc_run.h"
-#include "emlt/mcmc/strategy_mix.h"
-#include "emlt/render/integrator.h"
-#include "emlt/render/progress.h"
+#include "emlt/film/fixed_point_film.h"
+#include "emlt/run/chain_frame.h"
+#include "emlt/run/integrator.h"
+#include "emlt/run/progress.h"
+#include "emlt/run/strategy_stats.h"
 #include "emlt/run/sweep_profile.h"
 
 namespace emlt {
@@ -87,7 +87,7 @@ class ChainSteps {
   // its last row already is it); a true answer counts the row as written.
   virtual uint64_t final_done() { return done(); }
   virtual bool log_final(uint64_t done) = 0;
-  // The image after `done` mutations, the direct light so far (McmcRun::direct_image())
+  // The image after `done` mutations, the direct light so far (ChainFrame::direct_image())
   // and the chains', complete on rank 0 (a collective call).
   virtual Image compose(uint64_t done) = 0;
   // The chains' section of the checkpoint (mcmc_run.h).
@@ -103,7 +103,7 @@ class ChainSweeper {
   // `blocks`: the fixed partition of the chains, of which each rank owns a contiguous share;
   // `names`: the statistics each block counts (block_stats()). The sweeper keeps
   // references to settings, progress and run.
-  ChainSweeper(const RenderSettings& settings, ProgressReporter& progress, McmcRun& run,
+  ChainSweeper(const RenderSettings& settings, ProgressReporter& progress, ChainFrame& run,
                uint64_t pixels, int blocks, std::vector<std::string> names);
   ~ChainSweeper();
 
@@ -157,7 +157,7 @@ class ChainSweeper {
 
   const RenderSettings& settings_;
   ProgressReporter& progress_;
-  McmcRun& run_;
+  ChainFrame& run_;
   uint64_t pixels_;
   int threads_;
   std::unique_ptr<tbb::task_arena> arena_;

@@ -20,9 +20,9 @@
 
 #include "emlt/core/rng.h"
 #include "emlt/core/state_io.h"
+#include "emlt/film/splat_film.h"
 #include "emlt/path/vertex.h"
-#include "emlt/render/integrator.h"
-#include "emlt/render/splat_film.h"
+#include "emlt/run/integrator.h"
 #include "emlt/run/pixel_state.h"
 
 namespace emlt {

@@ -7,8 +7,8 @@
 
 #include "emlt/core/math.h"
 #include "emlt/core/state_io.h"
-#include "emlt/render/image.h"
-#include "emlt/render/pass_schedule.h"
+#include "emlt/image/image.h"
+#include "emlt/run/pass_schedule.h"
 
 namespace emlt {
 

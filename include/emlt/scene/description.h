@@ -8,11 +8,11 @@
 #include <vector>
 
 #include "emlt/core/math.h"
-#include "emlt/render/image.h"
-#include "emlt/render/pixel_filter.h"
-#include "emlt/render/settings.h"
+#include "emlt/film/pixel_filter.h"
+#include "emlt/image/image.h"
 #include "emlt/scene/bsdf.h"
 #include "emlt/scene/texture.h"
+#include "emlt/settings/settings.h"
 
 namespace emlt {
 

@@ -5,7 +5,7 @@
 // interpolation of that table. The sampler's pdf and pdf_direction() agree exactly (same
 // table, same Jacobian), which MIS and MLT require.
 #include "emlt/core/distribution.h"
-#include "emlt/render/image.h"
+#include "emlt/image/image.h"
 #include "emlt/scene/light.h"
 
 namespace emlt {

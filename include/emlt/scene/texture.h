@@ -13,7 +13,7 @@
 #include <string>
 
 #include "emlt/core/math.h"
-#include "emlt/render/image.h"
+#include "emlt/image/image.h"
 
 namespace emlt {
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "emlt/core/error.h"
-#include "emlt/scene/load_prefetch.h"
+#include "emlt/scene/loaders/load_prefetch.h"
 #include "emlt/scene/texture.h"
 
 namespace emlt {

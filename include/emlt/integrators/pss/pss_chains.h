@@ -1,0 +1,103 @@
+#pragma once
+// The chains of primary-sample-space MLT (pssmlt, mmlt) as the chain sweeper drives them:
+// Kelemen's step (pss_integrator.h), whole sweeps of equal steps per chain, the image they
+// make, their checkpoint section and their statistics.
+#include <cstdint>
+#include <vector>
+
+#include "emlt/image/image.h"
+#include "emlt/integrators/mlt/mcmc_run.h"
+#include "emlt/integrators/mlt/mlt_integrator.h"
+#include "emlt/integrators/pss/pss_chain.h"
+#include "emlt/integrators/pss/pss_integrator.h"
+#include "emlt/run/chain_sweeper.h"
+
+namespace emlt {
+
+// What the bootstrap gave the chains: each length's normalisation b_k (b for PSSMLT) and
+// chains, and the figures of the statistics. Saved at the head of the chains' section.
+struct PssBootstrap {
+  std::vector<double> b_length;
+  std::vector<int32_t> chains_of_length;
+  int chain_count = 0;
+
+  void save(StateWriter& out, const MltStatistics& stats) const;
+  // Throws StateError for a state that does not fit `lengths` path lengths.
+  void load(StateReader& in, int lengths, MltStatistics& stats);
+  // b, the sum of the b_k in length order.
+  double b() const;
+};
+
+// What the render fixed before the chains.
+struct PssSetup {
+  const Scene& scene;
+  const RenderSettings& settings;
+  const PrimarySampleTracer& tracer;
+  PssOptions options;
+  int min_edges, max_edges;
+  PssBootstrap bootstrap;
+};
+
+class PssChains final : public ChainSteps {
+ public:
+  // The chains of every length, with their streams; `resumed_section` (null for a fresh
+  // render) reads their state on from the saved bootstrap.
+  PssChains(PssSetup setup, McmcRun& run, ProgressReporter& progress, MltStatistics& stats,
+            StateReader* resumed_section);
+
+  // This rank's chains [first, second), which a fresh render seeds (on the arena).
+  std::pair<uint64_t, uint64_t> owned_chains() const { return {first_owned_, end_owned_}; }
+  std::vector<PssChain>& chains() { return chains_; }
+  tbb::task_arena& arena() { return sweeper_.arena(); }
+
+  // Runs the chains to the end of the budget or a stop; fills the statistics.
+  RenderResult render(const std::string& name);
+
+  uint64_t done() const override { return steps_done_ * chain_count_; }
+  uint64_t planned() const override;
+  bool spent() const override { return steps_done_ >= planned_steps_; }
+  uint64_t taken_before() const override;
+  bool may_end_for_time() const override { return steps_done_ > 0; }
+  bool in_sweep() const override { return sweep_active_; }
+  void begin_sweep(uint64_t rounds) override;
+  uint64_t sweep_end() const override;
+  uint64_t sweep_block(int block, size_t film) override;
+  bool behind() const override;
+  void sweep_agreed(bool incomplete, std::span<const uint64_t> lengths) override;
+  uint64_t& rounds() override { return rounds_; }
+  uint64_t final_done() override;
+  bool log_final(uint64_t done) override;
+  Image compose(uint64_t done) override;
+  void save(StateWriter& out) const override;
+
+ private:
+  void load(StateReader& in);
+  void step(PssChain& chain, PssSample& proposal, FixedPointFilm& film,
+            std::vector<BlockCounter>& stats) const;
+  uint64_t first_chain_of(uint64_t block) const {
+    return chain_count_ * block / uint64_t(block_count_);
+  }
+
+  PssSetup setup_;
+  MltStatistics& stats_;
+  int width_, height_;
+  uint64_t pixels_;
+  uint64_t chain_count_;
+  int block_count_;
+  double p_large_;
+  size_t no_light_row_;
+  std::vector<PssChain> chains_;
+  ChainSweeper sweeper_;
+  uint64_t first_owned_, end_owned_;
+  // The schedule (begin_sweep()): the steps every chain has taken at the end of the last
+  // whole sweep, the sweep under way (each chain takes steps up to sweep_end), the timed
+  // sweeps' rounds, the steps of the log's last row, and its next row's mutations per pixel.
+  uint64_t planned_steps_;
+  uint64_t steps_done_ = 0, sweep_end_ = 0, rounds_ = 1;
+  uint64_t logged_ = UINT64_MAX;
+  uint8_t sweep_active_ = 0;
+  uint64_t next_snapshot_ = 1;
+  McmcRun& run_;
+};
+
+}  // namespace emlt

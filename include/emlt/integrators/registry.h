@@ -1,0 +1,17 @@
+#pragma once
+// Every integrator by the name the command line and the scene files give it: one line each
+// in src/integrators/registry.cpp, which sits above all of them.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "emlt/run/integrator.h"
+
+namespace emlt {
+
+// The integrator called `name`; throws Error naming the known ones when there is none.
+std::unique_ptr<Integrator> make_integrator(const std::string& name);
+// The names, in the order the command line lists them.
+std::vector<std::string> integrator_names();
+
+}  // namespace emlt

@@ -1,0 +1,39 @@
+#pragma once
+// The shared direct-lighting estimator: light sampling (lights chosen in proportion to
+// power, area lights sampled uniformly by area, the environment by its importance table)
+// and BSDF sampling, combined with MIS. The `direct` integrator uses all of it; the path
+// tracer uses the light-sampling half at every vertex and the emission weight for the
+// BSDF-sampled continuation, so both integrators weight light exactly the same way.
+#include "emlt/core/rng.h"
+#include "emlt/scene/scene.h"
+#include "emlt/settings/settings.h"
+
+namespace emlt {
+
+struct DirectLightingOptions {
+  int samples = 1;  // light samples and BSDF samples each
+  MisHeuristic heuristic = MisHeuristic::Power;
+  DirectPointSet point_set = DirectPointSet::Independent;
+};
+
+// One light-sampling estimate of the radiance reflected at `hit` towards wo (world, unit),
+// MIS-weighted against BSDF sampling. `u_select` picks the light, `u_light` the point.
+Rgb sample_light_contribution(const Scene& scene, const SurfaceHit& hit, const Vec3& wo,
+                              TransportMode mode, float u_select, const Vec2& u_light,
+                              MisHeuristic heuristic);
+
+// Emission found by a BSDF-sampled ray: radiance arriving at `from` along `direction`
+// from the emitter at `emitter_hit` (or from the environment when `emitter_hit` is null),
+// MIS-weighted against light sampling. `bsdf_pdf` is the solid-angle density the BSDF
+// sample was drawn with; `delta` marks a specular sample, which light sampling cannot make.
+Rgb weighted_emission(const Scene& scene, const Vec3& from, const Vec3& direction,
+                      const SurfaceHit* emitter_hit, float bsdf_pdf, bool delta,
+                      MisHeuristic heuristic);
+
+// Full direct-lighting estimate at a camera-visible point: `options.samples` light samples
+// and as many BSDF samples, each set either independent or a randomised spherical
+// Fibonacci set (unbiased; see spherical_fibonacci.h).
+Rgb estimate_direct_lighting(const Scene& scene, const SurfaceHit& hit, const Vec3& wo, Rng& rng,
+                             const DirectLightingOptions& options);
+
+}  // namespace emlt

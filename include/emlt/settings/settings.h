@@ -1,0 +1,121 @@
+#pragma once
+// Every knob of a render, parsed in one place (CLI and scene defaults) and read-only after.
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace emlt {
+
+class SnapshotSink;
+class RenderControl;
+
+// Limits the command line and the scene files share. Beyond them a render could not
+// finish in any useful time, or its counters (samples x pixels in 64 bits) and buffers
+// (bootstrap candidates) would overflow memory, so they are refused before it starts.
+inline constexpr int kMaxSpp = 1 << 24;  // samples (and mutations) per pixel
+inline constexpr int kMaxBootstrapSamples = 1 << 24;
+inline constexpr int kMaxThreads = 1024;                   // 0 means every core TBB may use
+inline constexpr double kMaxTimeSeconds = 30.0 * 86400.0;  // --time: 30 days
+
+enum class MisHeuristic { Balance, Power };
+enum class DirectPointSet { Independent, Fibonacci };
+
+struct RenderSettings {
+  std::string integrator = "pt";
+  int spp = 16;
+  double time_limit_s = 0.0;  // > 0: render passes until the time is up (spp is then a cap)
+  uint64_t seed = 1;
+  int threads = 0;            // 0: all hardware threads
+  int width = 0, height = 0;  // 0: from the scene
+  int max_depth = -1;         // longest path in segments; -1 = unlimited (Russian roulette ends it)
+  int rr_depth = 5;           // Russian roulette starts after this many segments (a bidirectional
+                              // subpath: at this segment, as Mitsuba's; see subpath_rr_depth)
+  // Mitsuba's hideEmitters: light that reaches the camera without scattering (paths of one
+  // segment: an emitter or the sky seen directly) is left out, by every integrator.
+  bool hide_emitters = false;
+  int shortest_path() const { return hide_emitters ? 2 : 1; }  // in segments
+  MisHeuristic mis = MisHeuristic::Power;
+  int direct_samples = 1;  // light and BSDF samples per direct-lighting estimate
+  DirectPointSet direct_point_set = DirectPointSet::Independent;
+  bool progress = true;
+
+  // Metropolis light transport (integrator "mlt").
+  double mutations_per_pixel = 16.0;  // --mpp: total mutations = mpp * width * height
+  int chains = 0;                     // 0: chosen from the budget (reported)
+  int bootstrap_samples = 100000;     // BDPT samples for b and the chains' seeds
+  // Unless --bootstrap is given, the mlt family's pool then grows while it is worth fewer
+  // than two candidates a chain, within a share of the budget (bootstrap.h).
+  bool bootstrap_grows = true;
+  // --bootstrap-seed: the stream of the bootstrap and of the chains' start paths, when it
+  // should stay fixed while --seed varies the chains (as Mitsuba's MLT, whose luminance pass
+  // and seed paths come from one fixed stream): the variance across --seed is then the
+  // chains' alone. Unset: --seed.
+  std::optional<uint64_t> bootstrap_seed;
+  uint64_t start_seed() const { return bootstrap_seed.value_or(seed); }
+  // --mutations name=weight,...; empty: the integrator's own default mix (mlt_integrator.h).
+  std::string mutations;
+  bool direct_separate = true;  // --direct separate|mlt
+  // Samples of the separate direct image; 0: as many as mutations per pixel (at least 1),
+  // so the direct part converges with the chains, or 15 % of a pure time budget.
+  int direct_spp = 0;
+  std::string stats_path;  // --stats FILE.json
+  // Writes the predominant image-plane direction of the chains' proposals per pixel (the
+  // EMLT paper's Figure 12) to this PNG; empty: not recorded.
+  std::string aniso_map_path;
+
+  // Primary-sample-space MLT (integrators "pssmlt" and "mmlt"; integrators/pss/pss_integrator.h).
+  bool pss_bdpt = false;                // --pss-tracer bdpt (pssmlt); false: the path tracer
+  double large_step_probability = 0.3;  // --large-step
+  double pss_sigma = 1.0 / 64.0;        // --pss-sigma: the largest small-step perturbation
+
+  // Path-space MLT (mlt, gamlt, emlt): each step scores the proposal with its acceptance
+  // probability and the current path with the rest (expected values); false: the state
+  // after the step alone, as the original MLT papers' chains (--mlt-splat state).
+  bool mlt_expected_values = true;
+
+  // Ensemble MLT (integrator "emlt"; include/emlt/mcmc/ensemble_guides.h).
+  int ensemble_size = 0;        // |X| = |Y|; 0: 16384, fewer on images under 32768 pixels
+  int ensemble_neighbours = 0;  // M, the guide paths of one step; 0: EnsembleParams' (8)
+  int ensemble_iterations = 0;  // steps per path between swaps; 0: floor(W H / (|X| + |Y|))
+  double ensemble_alpha = 0.0;  // > 0: fixed α of the linear kernels; 0: adaptive (paper §3.4)
+  // > 0: distances in the similarity (eq. 8) are divided by this length (scene units; 1 is
+  // the paper's literal form); 0: the scene's bounding radius over sqrt(3) (EnsembleParams).
+  double ensemble_similarity_length = 0.0;
+  // The anisotropic kernel's fallback when a fit is unusable: false, the paper's vMF about
+  // the direction from the previous vertex; true, an isotropic Gaussian on the tangent plane
+  // (the alternative the paper names).
+  bool ensemble_plane_fallback = false;
+  // How a step's Υ is chosen: false, by the counter (the paper's §3.1.1); true, the M paths
+  // nearest the current path's image point (ensemble_guides.h).
+  bool ensemble_nearby_guides = false;
+  // The adaptive α from all of Y's image points (one α per swap) instead of the step's Υ.
+  bool ensemble_alpha_from_ensemble = false;
+  // > 0: the factor on the anisotropic path perturbation's fitted covariances; 0: its own.
+  double ensemble_aniso_scale = 0.0;
+  // < 1: the anisotropic kernels as scale mixtures of their fitted Gaussian, scales from this
+  // to 1 (EnsembleParams::aniso_smallest_scale); 1: the paper's single Gaussian.
+  double ensemble_aniso_smallest_scale = 1.0;
+  // The geometry-aware (gamlt) perturbations' cones by the cheap conservative bound from the
+  // clearance field instead of the exact hierarchy walk (mutations/geometry_aware/cone.h).
+  bool gamlt_field_cone = false;
+  // Delayed (two-stage) acceptance for proposals that defer part of their ratio (the gamlt
+  // perturbations' ranges at y): y's cones only for proposals past the first stage
+  // (include/emlt/mcmc/delayed_acceptance.h).
+  bool gamlt_delayed_acceptance = false;
+  // The anisotropic covariance as a reliability-weighted covariance (times 0.05) instead of
+  // eq. 11 as printed.
+  bool ensemble_aniso_weighted = false;
+
+  // Receives images at power-of-two samples (mutations) per pixel; not owned. Null: none.
+  SnapshotSink* snapshots = nullptr;
+  std::string bdpt_strategies_dir;  // non-empty: bdpt also writes per-strategy images here
+  // Checkpoints, stop signals and the state to resume from (render_control.h); not owned.
+  // Null: the render runs to its budget unless interruption::request_stop() is called.
+  RenderControl* control = nullptr;
+};
+
+inline const char* to_string(MisHeuristic h) {
+  return h == MisHeuristic::Balance ? "balance" : "power";
+}
+
+}  // namespace emlt

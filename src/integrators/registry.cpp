@@ -1,0 +1,76 @@
+#include "emlt/integrators/registry.h"
+
+#include "emlt/core/error.h"
+#include "emlt/integrators/bdpt.h"
+#include "emlt/integrators/direct_integrator.h"
+#include "emlt/integrators/mlt/mlt_integrator.h"
+#include "emlt/integrators/path_tracer.h"
+#include "emlt/integrators/pss/pss_integrator.h"
+#include "emlt/run/integrator.h"
+
+namespace emlt {
+
+// Integrators written in one file, with no header, declare their factory here.
+std::unique_ptr<Integrator> make_particle_tracer();
+
+namespace {
+
+struct Registration {
+  const char* name;
+  std::unique_ptr<Integrator> (*make)();
+};
+
+// One line an integrator, in the order the command line lists them.
+const Registration kIntegrators[] = {
+    {"direct",
+     []() -> std::unique_ptr<Integrator> { return std::make_unique<DirectIntegrator>(); }},
+    {"pt", []() -> std::unique_ptr<Integrator> { return std::make_unique<PathTracer>(); }},
+    {"bdpt",
+     []() -> std::unique_ptr<Integrator> { return std::make_unique<BidirectionalPathTracer>(); }},
+    {"ptracer", make_particle_tracer},
+    {"mlt", []() -> std::unique_ptr<Integrator> { return std::make_unique<MltIntegrator>(); }},
+    // MLT with the geometry-aware perturbations as its default mix.
+    {"gamlt",
+     []() -> std::unique_ptr<Integrator> {
+       MltOptions options;
+       options.name = "gamlt";
+       options.default_mix = kGamltMix;
+       return std::make_unique<MltIntegrator>(std::move(options));
+     }},
+    // MLT run as two swapped ensembles, with the guided strategies.
+    {"emlt",
+     []() -> std::unique_ptr<Integrator> {
+       MltOptions options;
+       options.name = "emlt";
+       options.default_mix = kEmltMix;
+       options.ensemble = true;
+       return std::make_unique<MltIntegrator>(std::move(options));
+     }},
+    {"pssmlt",
+     []() -> std::unique_ptr<Integrator> { return std::make_unique<PssMltIntegrator>(); }},
+    {"mmlt",
+     []() -> std::unique_ptr<Integrator> {
+       PssOptions options;
+       options.multiplexed = true;
+       return std::make_unique<PssMltIntegrator>(options);
+     }},
+};
+
+}  // namespace
+
+std::vector<std::string> integrator_names() {
+  std::vector<std::string> names;
+  for (const Registration& r : kIntegrators) names.push_back(r.name);
+  return names;
+}
+
+std::unique_ptr<Integrator> make_integrator(const std::string& name) {
+  const std::string wanted = name == "path" ? "pt" : name;  // Mitsuba's name for it
+  for (const Registration& r : kIntegrators)
+    if (wanted == r.name) return r.make();
+  std::string known;
+  for (const auto& n : integrator_names()) known += (known.empty() ? "" : ", ") + n;
+  throw Error("unknown integrator '" + name + "' (available: " + known + ")");
+}
+
+}  // namespace emlt

@@ -1,0 +1,105 @@
+#include "emlt/sampling/direct_lighting.h"
+
+#include "emlt/core/spherical_fibonacci.h"
+#include "emlt/sampling/mis.h"
+
+namespace emlt {
+
+namespace {
+
+// Light from the lower geometric hemisphere must not reach the upper one through an
+// interpolated shading normal, and vice versa.
+bool consistent_sides(const SurfaceHit& hit, const Vec3& w_world, const Vec3& w_local) {
+  return glm::dot(hit.geometric_normal, w_world) * w_local.z > 0.0f;
+}
+
+}  // namespace
+
+Rgb sample_light_contribution(const Scene& scene, const SurfaceHit& hit, const Vec3& wo,
+                              TransportMode mode, float u_select, const Vec2& u_light,
+                              MisHeuristic heuristic) {
+  const LightSet& lights = scene.lights();
+  if (lights.empty() || hit.bsdf->is_purely_delta()) return Rgb(0.0f);
+  float selection = 0.0f;
+  const Light* light = lights.choose(u_select, &selection);
+  if (!light || selection <= 0.0f) return Rgb(0.0f);
+  const auto ls = light->sample_direct(hit.position, u_light);
+  if (!ls || ls->pdf <= 0.0f || is_black(ls->radiance)) return Rgb(0.0f);
+
+  const Vec3 wo_local = hit.shading.to_local(wo), wi_local = hit.shading.to_local(ls->wi);
+  if (!consistent_sides(hit, ls->wi, wi_local) || !consistent_sides(hit, wo, wo_local))
+    return Rgb(0.0f);
+  const BsdfContext ctx{hit.uv, mode};
+  const Rgb f = hit.bsdf->eval(ctx, wo_local, wi_local);
+  if (is_black(f)) return Rgb(0.0f);
+
+  const bool unoccluded =
+      light->is_environment()
+          ? !scene.occluded(spawn_ray(hit.position, hit.geometric_normal, ls->wi))
+          : scene.visible(hit.position, hit.geometric_normal, ls->position, ls->normal);
+  if (!unoccluded) return Rgb(0.0f);
+
+  const float light_pdf = selection * ls->pdf;
+  const float bsdf_pdf = hit.bsdf->pdf(ctx, wo_local, wi_local);
+  const float weight = mis_weight(heuristic, light_pdf, bsdf_pdf);
+  return f * std::abs(wi_local.z) * ls->radiance * (weight / light_pdf);
+}
+
+Rgb weighted_emission(const Scene& scene, const Vec3& from, const Vec3& direction,
+                      const SurfaceHit* emitter_hit, float bsdf_pdf, bool delta,
+                      MisHeuristic heuristic) {
+  const LightSet& lights = scene.lights();
+  Rgb radiance(0.0f);
+  float light_pdf = 0.0f;
+  if (emitter_hit) {
+    if (!emitter_hit->light) return Rgb(0.0f);
+    radiance = emitter_hit->emitted(-direction);
+    if (is_black(radiance)) return Rgb(0.0f);
+    if (!delta)
+      light_pdf = lights.selection_probability(*emitter_hit->light) *
+                  emitter_hit->light->pdf_direct(from, emitter_hit->position,
+                                                 emitter_hit->geometric_normal, direction);
+  } else {
+    const EnvironmentLight* env = scene.environment();
+    if (!env) return Rgb(0.0f);
+    radiance = env->radiance(direction);
+    if (!delta) light_pdf = lights.selection_probability(*env) * env->pdf_direction(direction);
+  }
+  if (delta) return radiance;
+  return radiance * mis_weight(heuristic, bsdf_pdf, light_pdf);
+}
+
+Rgb estimate_direct_lighting(const Scene& scene, const SurfaceHit& hit, const Vec3& wo, Rng& rng,
+                             const DirectLightingOptions& options) {
+  const int n = glm::max(options.samples, 1);
+  std::vector<Vec2> light_points, bsdf_points;
+  if (options.point_set == DirectPointSet::Fibonacci) {
+    light_points = fibonacci_square_points(uint32_t(n), FibonacciRandomisation::draw(rng));
+    bsdf_points = fibonacci_square_points(uint32_t(n), FibonacciRandomisation::draw(rng));
+  }
+  const auto point = [&](std::vector<Vec2>& set, int i) {
+    return set.empty() ? rng.uniform2() : set[size_t(i)];
+  };
+
+  Rgb total(0.0f);
+  const Vec3 wo_local = hit.shading.to_local(wo);
+  const BsdfContext ctx{hit.uv, TransportMode::Radiance};
+  for (int i = 0; i < n; ++i) {
+    const float u_select = rng.uniform();
+    total += sample_light_contribution(scene, hit, wo, TransportMode::Radiance, u_select,
+                                       point(light_points, i), options.heuristic);
+
+    const float u_lobe = rng.uniform();
+    const auto bs = hit.bsdf->sample(ctx, wo_local, u_lobe, point(bsdf_points, i));
+    if (!bs || is_black(bs->weight)) continue;
+    const Vec3 wi = hit.shading.to_world(bs->wi);
+    if (!consistent_sides(hit, wi, bs->wi)) continue;
+    SurfaceHit next;
+    const bool found = scene.intersect(spawn_ray(hit.position, hit.geometric_normal, wi), next);
+    total += bs->weight * weighted_emission(scene, hit.position, wi, found ? &next : nullptr,
+                                            bs->pdf, bs->is_delta(), options.heuristic);
+  }
+  return total / float(n);
+}
+
+}  // namespace emlt

@@ -1,0 +1,304 @@
+// Mitsuba 0.6 <bsdf> elements mapped onto the built-in BSDFs. Mitsuba's defaults are kept
+// (diffuse reflectance 0.5, intIOR bk7 for dielectrics, polypropylene for plastics, Cu
+// conductors, alpha 0.1, Beckmann distribution) so that a scene renders like it does in
+// Mitsuba. `mask` and `bumpmap` become the material's opacity and bump textures;
+// `coating` falls back to its nested BSDF with a warning.
+#include <cctype>
+
+#include "emlt/core/error.h"
+#include "emlt/scene/conductor_presets.h"
+#include "emlt/scene/materials.h"
+#include "src/scene/loaders/loader_common.h"
+#include "src/scene/loaders/mitsuba_parser.h"
+
+namespace emlt::mitsuba {
+
+namespace {
+
+class BsdfReader {
+ public:
+  BsdfReader(const Document& doc, NamedObjects& named) : doc_(doc), named_(named) {}
+
+  MaterialDesc read(pugi::xml_node node) {
+    if (std::string(node.name()) == "ref") {
+      const std::string id = doc_.attribute(node, "id");
+      auto it = named_.bsdfs.find(id);
+      if (it == named_.bsdfs.end()) doc_.fail(node, "unknown reference id '" + id + "'");
+      return it->second;
+    }
+    const std::string type = doc_.attribute(node, "type");
+    Properties props(doc_, node);
+    const int textures_before = varying_textures_;
+    MaterialDesc material = build(type, node, props);
+    material.textured |= varying_textures_ > textures_before || material.bump;
+    props.warn_unused();
+    if (doc_.has_attribute(node, "id")) {
+      material.name = doc_.attribute(node, "id");
+      named_.bsdfs[material.name] = material;
+    }
+    return material;
+  }
+
+ private:
+  // A parameter that may be a texture; counts the ones that vary over the surface.
+  TexturePtr texture(Properties& props, const char* name, const Rgb& fallback) {
+    TexturePtr t = props.get_texture(name, fallback, named_);
+    if (!t->constant()) ++varying_textures_;
+    return t;
+  }
+
+  float ior(Properties& props, const char* name, float fallback, pugi::xml_node node) {
+    if (!props.has(name)) return fallback;
+    // Mitsuba accepts a number (<float>) or a material name (<string>) for an IOR.
+    if (props.kind_of(name) != "string")
+      return props.get_float(name, fallback, loader::kPositiveRange);
+    const std::string text = props.get_string(name, "");
+    if (auto value = loader::named_ior(text)) return *value;
+    doc_.fail(node, "unknown index of refraction '" + text + "'");
+  }
+
+  // Mitsuba's conductor parameters, divided by the exterior IOR like Mitsuba does.
+  void conductor_ior(Properties& props, pugi::xml_node node, Rgb* eta, Rgb* k) {
+    if (props.has("eta") || props.has("k")) {
+      *eta = props.get_color("eta", Rgb(0.0f));
+      *k = props.get_color("k", Rgb(1.0f));
+      if (props.has("material"))
+        doc_.warn(node, "'material' ignored because eta/k are given", Document::Warning::Note);
+      props.ignore({"material"});
+    } else {
+      const std::string material = props.get_string("material", "Cu");
+      if (!conductor_preset(material, eta, k))
+        doc_.fail(node, "unknown conductor material '" + material + "'");
+    }
+    // Mitsuba's default exterior is "air" (1.000277), for named and explicit eta/k alike.
+    const float ext_eta = ior(props, "extEta", 1.000277f, node);
+    // Mitsuba's Fresnel term depends on eta^2 and k^2 only, so a negative component (the
+    // red eta of the AlSb presets) acts as its magnitude; the conductor BSDFs would clamp
+    // it to 0 instead.
+    *eta = glm::abs(*eta / ext_eta);
+    *k = glm::abs(*k / ext_eta);
+  }
+
+  MicrofacetType distribution(Properties& props, pugi::xml_node node) {
+    std::string name = props.get_string("distribution", "beckmann");
+    for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));  // as Mitsuba
+    if (name == "ggx") return MicrofacetType::Ggx;
+    if (name == "phong" || name == "as") return MicrofacetType::Phong;  // "as": Ashikhmin-Shirley
+    if (name != "beckmann")
+      doc_.warn(node,
+                "microfacet distribution '" + name +
+                    "' is not supported; using Beckmann with the same alpha",
+                Document::Warning::Approximated);
+    return MicrofacetType::Beckmann;
+  }
+
+  // Mitsuba's roughness: `alpha`, or both `alphaU` (along dp/du) and `alphaV`; either may
+  // be a texture. `v` is null when the roughness is isotropic.
+  struct Roughness {
+    TexturePtr u, v;
+  };
+  Roughness roughness(Properties& props, pugi::xml_node node) {
+    if (!props.has("alphaU") && !props.has("alphaV")) return {alpha(props, node), nullptr};
+    // Mitsuba refuses both of these.
+    if (props.has("alpha")) doc_.fail(node, "give either 'alpha' or 'alphaU'/'alphaV'");
+    if (!props.has("alphaU") || !props.has("alphaV"))
+      doc_.fail(node, "'alphaU' and 'alphaV' must both be given");
+    TexturePtr u = texture(props, "alphaU", Rgb(0.1f)), v = texture(props, "alphaV", Rgb(0.1f));
+    for (const TexturePtr& a : {u, v})
+      if (auto c = a->constant(); c && !((c->x + c->y + c->z) >= 0.0f))
+        doc_.fail(node, "alphaU and alphaV must not be negative");
+    return {u, v};
+  }
+
+  TexturePtr alpha(Properties& props, pugi::xml_node node) {
+    if (props.has("alphaU") || props.has("alphaV")) {
+      // Only roughplastic comes here with alphaU/alphaV: Mitsuba's refuses anisotropy.
+      const float a = props.get_float("alpha", 0.1f);
+      const float u = props.get_float("alphaU", a), v = props.get_float("alphaV", a);
+      if (u != v)
+        doc_.warn(node,
+                  "anisotropic roughness approximated by the mean of alphaU and alphaV "
+                  "(Mitsuba's roughplastic refuses it)",
+                  Document::Warning::Approximated);
+      if (!(u + v > 0.0f)) doc_.fail(node, "alpha must be positive");
+      return make_constant_texture(Rgb(0.5f * (u + v)));
+    }
+    TexturePtr a = texture(props, "alpha", Rgb(0.1f));
+    if (auto c = a->constant(); c && !((c->x + c->y + c->z) > 0.0f))
+      doc_.fail(node, "alpha must be positive");
+    return a;
+  }
+
+  // The nested BSDF of a wrapper; unnamed <texture> children are left to `textures`.
+  MaterialDesc nested(pugi::xml_node node, Properties& props,
+                      std::vector<pugi::xml_node>* textures = nullptr) {
+    pugi::xml_node inner;
+    for (pugi::xml_node child : props.objects()) {
+      const std::string kind = child.name();
+      if (textures && kind == "texture") {
+        textures->push_back(child);
+        continue;
+      }
+      if (kind != "bsdf" && kind != "ref") {
+        doc_.warn(child,
+                  "unsupported element <" + kind + "> inside " + doc_.describe(node) + " ignored");
+        continue;
+      }
+      if (inner)
+        doc_.warn(child, "only the first nested BSDF of " + doc_.describe(node) + " is used");
+      else
+        inner = child;
+    }
+    if (!inner) doc_.fail(node, doc_.describe(node) + " needs a nested <bsdf>");
+    return read(inner);
+  }
+
+  void no_children(pugi::xml_node node, Properties& props) {
+    for (pugi::xml_node child : props.objects())
+      doc_.warn(child, "unsupported element <" + std::string(child.name()) + "> inside " +
+                           doc_.describe(node) + " ignored");
+  }
+
+  MaterialDesc wrapper(const std::string& type, pugi::xml_node node, Properties& props) {
+    if (type == "twosided") {
+      MaterialDesc inner = nested(node, props);
+      if (inner.bsdf->lobes() & kLobeTransmission) {
+        doc_.warn(node, "<twosided> around a transmissive BSDF has no effect; left out",
+                  Document::Warning::Note);
+        return inner;
+      }
+      inner.bsdf = make_two_sided(inner.bsdf);
+      return inner;
+    }
+    if (type == "mask") {
+      TexturePtr opacity = texture(props, "opacity", Rgb(0.5f));
+      MaterialDesc inner = nested(node, props);
+      if (inner.opacity)
+        doc_.warn(node, "nested masks: only the outer opacity is used",
+                  Document::Warning::Approximated);
+      inner.opacity = opacity;
+      inner.textured |= !opacity->constant();
+      return inner;
+    }
+    if (type == "bumpmap") {
+      std::vector<pugi::xml_node> textures;
+      MaterialDesc inner = nested(node, props, &textures);
+      TexturePtr height;
+      for (const std::string& name : props.names_of_kind("texture"))
+        if (!height) height = props.get_texture(name, Rgb(0.0f), named_);
+      for (const std::string& name : props.names_of_kind("ref"))
+        if (!height) height = props.get_texture(name, Rgb(0.0f), named_);
+      for (pugi::xml_node t : textures)
+        if (!height) height = read_texture(doc_, t, named_);
+      if (!height) doc_.fail(node, "<bsdf type=\"bumpmap\"> needs a nested <texture>");
+      if (inner.bump)
+        doc_.warn(node, "nested bump maps: only the outer one is used",
+                  Document::Warning::Approximated);
+      inner.bump = height;
+      inner.textured = true;
+      return inner;
+    }
+    // coating / normalmap
+    doc_.warn(node, "<bsdf type=\"" + type + "\"> is not supported; using its nested BSDF alone",
+              Document::Warning::Approximated);
+    props.ignore({"thickness", "intIOR", "extIOR", "sigmaA", "specularReflectance", "alpha",
+                  "distribution"});
+    std::vector<pugi::xml_node> ignored_textures;
+    return nested(node, props, &ignored_textures);
+  }
+
+  MaterialDesc build(const std::string& type, pugi::xml_node node, Properties& props) {
+    if (type == "twosided" || type == "mask" || type == "bumpmap" || type == "coating" ||
+        type == "normalmap")
+      return wrapper(type, node, props);
+    no_children(node, props);
+    return MaterialDesc("", scattering(type, node, props));
+  }
+
+  BsdfPtr scattering(const std::string& type, pugi::xml_node node, Properties& props) {
+    // Exporters write roughness onto smooth materials, whose Mitsuba plugins never read it:
+    // ignoring it is what Mitsuba does too.
+    if (type == "dielectric" || type == "thindielectric" || type == "conductor" ||
+        type == "plastic") {
+      for (const char* name : {"alpha", "alphaU", "alphaV", "distribution"}) {
+        if (!props.has(name)) continue;
+        props.ignore({name});
+        doc_.warn(node,
+                  std::string("parameter '") + name + "' of a smooth " + type +
+                      " ignored, as Mitsuba does (it reads no roughness)",
+                  Document::Warning::Note);
+      }
+    }
+    if (type == "diffuse" || type == "roughdiffuse") {
+      if (type == "roughdiffuse") {
+        doc_.warn(node, "roughdiffuse approximated by a Lambertian diffuse",
+                  Document::Warning::Approximated);
+        props.ignore({"alpha", "useFastApprox"});
+      }
+      return make_lambertian(texture(props, "reflectance", Rgb(0.5f)));
+    }
+    if (type == "dielectric" || type == "thindielectric") {
+      const float int_ior = ior(props, "intIOR", 1.5046f, node);
+      const float ext_ior = ior(props, "extIOR", 1.000277f, node);
+      const Rgb reflectance = props.get_color("specularReflectance", Rgb(1.0f));
+      const Rgb transmittance = props.get_color("specularTransmittance", Rgb(1.0f));
+      return type == "dielectric"
+                 ? make_dielectric(int_ior, ext_ior, reflectance, transmittance)
+                 : make_thin_dielectric(int_ior, ext_ior, reflectance, transmittance);
+    }
+    if (type == "roughdielectric") {
+      const MicrofacetType dist = distribution(props, node);
+      const Roughness a = roughness(props, node);
+      const float int_ior = ior(props, "intIOR", 1.5046f, node);
+      const float ext_ior = ior(props, "extIOR", 1.000277f, node);
+      return make_rough_dielectric(a.u, int_ior, ext_ior, dist,
+                                   props.get_color("specularReflectance", Rgb(1.0f)),
+                                   props.get_color("specularTransmittance", Rgb(1.0f)), a.v);
+    }
+    if (type == "conductor") {
+      Rgb eta, k;
+      conductor_ior(props, node, &eta, &k);
+      return make_conductor(eta, k, texture(props, "specularReflectance", Rgb(1.0f)));
+    }
+    if (type == "roughconductor") {
+      const MicrofacetType dist = distribution(props, node);
+      const Roughness a = roughness(props, node);
+      Rgb eta, k;
+      conductor_ior(props, node, &eta, &k);
+      return make_rough_conductor(a.u, eta, k, texture(props, "specularReflectance", Rgb(1.0f)),
+                                  dist, a.v);
+    }
+    if (type == "plastic" || type == "roughplastic") {
+      MicrofacetType dist = MicrofacetType::Ggx;
+      TexturePtr a = make_constant_texture(Rgb(0.0f));
+      if (type == "roughplastic") {
+        dist = distribution(props, node);
+        a = alpha(props, node);
+      }
+      const bool nonlinear = props.get_boolean("nonlinear", false);
+      const float int_ior = ior(props, "intIOR", 1.49f, node);
+      const float ext_ior = ior(props, "extIOR", 1.000277f, node);
+      TexturePtr diffuse = texture(props, "diffuseReflectance", Rgb(0.5f));
+      TexturePtr specular = texture(props, "specularReflectance", Rgb(1.0f));
+      return make_rough_plastic(a, diffuse, specular, int_ior, ext_ior, nonlinear, dist);
+    }
+    doc_.warn(node, "unsupported BSDF type '" + type + "'; using a diffuse of reflectance 0.5");
+    props.ignore({"specularReflectance", "exponent", "alpha", "alphaU", "alphaV"});
+    for (const char* name : {"reflectance", "diffuseReflectance"})
+      if (props.has(name)) return make_lambertian(texture(props, name, Rgb(0.5f)));
+    return make_lambertian(Rgb(0.5f));
+  }
+
+  const Document& doc_;
+  NamedObjects& named_;
+  int varying_textures_ = 0;
+};
+
+}  // namespace
+
+MaterialDesc read_bsdf(const Document& doc, pugi::xml_node node, NamedObjects& named,
+                       std::vector<std::string>&) {
+  return BsdfReader(doc, named).read(node);
+}
+
+}  // namespace emlt::mitsuba

@@ -1,0 +1,594 @@
+// Mitsuba 0.6 XML scenes: the subset that maps onto this renderer (see scenes/README.md).
+// Everything else is reported as a warning naming the element and its line.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string_view>
+
+#include "emlt/core/error.h"
+#include "emlt/scene/loaders/load_prefetch.h"
+#include "emlt/scene/loaders/loader.h"
+#include "emlt/scene/loaders/obj_loader.h"
+#include "emlt/scene/loaders/ply_loader.h"
+#include "emlt/scene/loaders/serialized_loader.h"
+#include "emlt/scene/materials.h"
+#include "emlt/scene/shape_builders.h"
+#include "src/scene/loaders/loader_common.h"
+#include "src/scene/loaders/mitsuba_parser.h"
+
+namespace emlt {
+
+namespace {
+
+using mitsuba::Document;
+using mitsuba::Properties;
+
+// The shapes a <shape type="shapegroup"> declares, in the group's own space.
+struct ShapeGroup {
+  std::vector<MeshDesc> meshes;
+  std::vector<SphereDesc> spheres;
+};
+
+class MitsubaSceneReader {
+ public:
+  MitsubaSceneReader(const std::string& path, const SceneDefines& defines)
+      : doc_(path, defines, desc_.warnings, desc_.divergences) {
+    desc_.source = path;
+  }
+
+  SceneDescription read() {
+    const pugi::xml_node scene = doc_.scene();
+    for (pugi::xml_node child : scene.children("default"))
+      doc_.add_default(child.attribute("name").as_string(), child.attribute("value").as_string());
+    const LoadPrefetch prefetch = announce_files(scene);
+    // Textures, then BSDFs, first so a <ref> may precede the declaration it names.
+    for (pugi::xml_node child : scene.children("texture"))
+      mitsuba::read_texture(doc_, child, named_);
+    for (pugi::xml_node child : scene.children("bsdf"))
+      mitsuba::read_bsdf(doc_, child, named_, desc_.warnings);
+    // Shape groups too, for the instances that refer to them.
+    for (pugi::xml_node child : scene.children("shape"))
+      if (doc_.attribute(child, "type") == "shapegroup") read_shape_group(child);
+    bool has_sensor = false;
+    for (pugi::xml_node child : scene.children()) {
+      if (child.type() != pugi::node_element) continue;
+      const std::string kind = child.name();
+      if (kind == "default" || kind == "bsdf" || kind == "texture") continue;
+      if (kind == "shape")
+        read_shape(child);
+      else if (kind == "emitter")
+        read_environment(child);
+      else if (kind == "sensor") {
+        if (has_sensor)
+          doc_.warn(child, "only the first <sensor> is used");
+        else
+          read_sensor(child);
+        has_sensor = true;
+      } else if (kind == "integrator")
+        read_integrator(child);
+      else if (kind == "medium" && !referenced(doc_.attribute(child, "id")))
+        // A medium only acts where a shape or sensor names it; exporters leave unused ones.
+        doc_.warn(child,
+                  "<medium> '" + doc_.attribute(child, "id") + "' is used by nothing; ignored",
+                  Document::Warning::Note);
+      else
+        doc_.warn(child, "unsupported element <" + kind + "> ignored");
+    }
+    if (!has_sensor)
+      desc_.warnings.push_back(doc_.path() + ": no <sensor>; using the default camera");
+    return std::move(desc_);
+  }
+
+  // The meshes and images the document names, read ahead (load_prefetch.h). Only what the
+  // file states plainly is announced (no `$name` in a file name, literal booleans); the
+  // rest, and anything this guesses wrong, is read where the loader meets it.
+  LoadPrefetch announce_files(pugi::xml_node scene) const {
+    std::vector<std::string> images;
+    std::vector<LoadPrefetch::Obj> objs;
+    std::vector<LoadPrefetch::MeshFile> meshes;
+    const auto value_of = [](pugi::xml_node node, const char* tag, const char* name) {
+      for (pugi::xml_node child : node.children(tag))
+        if (std::string_view(child.attribute("name").as_string()) == name)
+          return std::optional<std::string>(child.attribute("value").as_string());
+      return std::optional<std::string>();
+    };
+    const auto plain_file = [&](pugi::xml_node node) -> std::optional<std::string> {
+      const auto file = value_of(node, "string", "filename");
+      if (!file || file->empty() || file->find('$') != std::string::npos) return std::nullopt;
+      return loader::resolve_path(doc_.path(), *file);
+    };
+    const auto flag = [&](pugi::xml_node node, const char* name,
+                          bool fallback) -> std::optional<bool> {
+      const auto text = value_of(node, "boolean", name);
+      if (!text) return fallback;
+      if (*text == "true" || *text == "false") return *text == "true";
+      return std::nullopt;
+    };
+    const pugi::xpath_node_set named = scene.select_nodes(
+        "//texture[@type='bitmap'] | //shape[@type='obj'] | //shape[@type='ply'] | "
+        "//shape[@type='serialized']");
+    for (const pugi::xpath_node& found : named) {
+      const pugi::xml_node node = found.node();
+      const auto file = plain_file(node);
+      if (!file) continue;
+      // Regular files only, as the loader reads: a FIFO or a device named as a texture would
+      // block a task (and the loader's end, which waits for the tasks) for ever.
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(*file, ec)) continue;
+      if (std::string_view(node.name()) == "texture") {
+        if (is_stored_image(*file)) images.push_back(*file);
+        continue;
+      }
+      const std::string_view type = node.attribute("type").as_string();
+      if (type == "ply") {
+        meshes.push_back({LoadPrefetch::MeshFile::Format::Ply, *file, 0});
+        continue;
+      }
+      if (type == "serialized") {
+        const std::string index = value_of(node, "integer", "shapeIndex").value_or("0");
+        int shape_index = -1;
+        const auto [end, ec] =
+            std::from_chars(index.data(), index.data() + index.size(), shape_index);
+        if (ec == std::errc() && end == index.data() + index.size() && shape_index >= 0)
+          meshes.push_back({LoadPrefetch::MeshFile::Format::Serialized, *file, shape_index});
+        continue;
+      }
+      const auto face_normals = flag(node, "faceNormals", false),
+                 flip = flag(node, "flipTexCoords", true);
+      if (face_normals && flip) objs.push_back({*file, !*face_normals, *flip});
+    }
+    return LoadPrefetch(images, objs, meshes);
+  }
+
+ private:
+  void read_integrator(pugi::xml_node node) {
+    const std::string type = doc_.attribute(node, "type");
+    Properties props(doc_, node);
+    RenderSettings& s = desc_.defaults;
+    if (type == "path")
+      s.integrator = "pt";
+    else if (type == "direct")
+      s.integrator = "direct";
+    else if (type == "bdpt")
+      s.integrator = "bdpt";
+    else if (type == "mlt")
+      s.integrator = "mlt";
+    else if (type == "ptracer")
+      s.integrator = "ptracer";
+    else  // any unbiased or consistent integrator converges to the same image
+      doc_.warn(node,
+                "integrator type '" + type + "' is not supported; using '" + s.integrator + "'",
+                Document::Warning::Approximated);
+    s.max_depth = props.get_integer("maxDepth", s.max_depth, loader::kMaxDepthRange);
+    s.rr_depth = props.get_integer("rrDepth", s.rr_depth, loader::kRrDepthRange);
+    // Parameters that steer how fast an integrator converges, never what it converges to:
+    // emlt's integrators have their own (command line) controls.
+    std::vector<std::string> tuning;
+    for (const char* name :
+         {"lightImage", "sampleDirect", "luminanceSamples", "twoStage", "directSamples",
+          "separateDirect", "bidirectionalMutation", "lensPerturbation", "multiChainPerturbation",
+          "causticPerturbation", "manifoldPerturbation", "lambda", "emitterSamples", "bsdfSamples",
+          "granularity"})
+      if (props.has(name)) tuning.push_back(name);
+    for (const std::string& name : tuning) props.ignore({name.c_str()});
+    s.hide_emitters = props.get_boolean("hideEmitters", s.hide_emitters);
+    // A switch whose default is what emlt does; switched on, it changes the image and is
+    // reported as unsupported.
+    if (props.get_boolean("strictNormals", false))
+      doc_.warn(node, "'strictNormals' is not supported; rendered as if false");
+    if (!tuning.empty()) {
+      std::string names;
+      for (const std::string& name : tuning) names += (names.empty() ? "'" : ", '") + name + "'";
+      doc_.warn(
+          node,
+          "convergence parameters " + names + " ignored (they change the noise, not the image)",
+          Document::Warning::Note);
+    }
+    for (pugi::xml_node child : props.objects())
+      doc_.warn(child, "unsupported element <" + std::string(child.name()) +
+                           "> inside <integrator> ignored");
+    props.warn_unused();
+  }
+
+  void read_sensor(pugi::xml_node node) {
+    const std::string type = doc_.attribute(node, "type");
+    if (type != "perspective" && type != "thinlens")
+      doc_.fail(node, "sensor type '" + type + "' is not supported (perspective, thinlens)");
+    Properties props(doc_, node);
+    CameraDesc& camera = desc_.camera;
+    camera.to_world = props.get_transform("toWorld");
+    // Mitsuba's pinhole reads no focus distance (scene exporters write one anyway).
+    if (type == "perspective") props.ignore({"focusDistance"});
+    if (props.has("nearClip") || props.has("farClip")) {
+      const float near_clip = props.get_float("nearClip", 1e-2f);
+      const float far_clip = props.get_float("farClip", 1e4f);
+      doc_.warn(node,
+                fmt::format("nearClip {:g} and farClip {:g}", near_clip, far_clip) +
+                    " are not applied: only geometry nearer the camera than nearClip, or "
+                    "farther than farClip, would look different",
+                Document::Warning::Note);
+    }
+    for (pugi::xml_node child : props.objects()) {
+      const std::string kind = child.name();
+      if (kind == "film")
+        read_film(child);
+      else if (kind == "sampler")
+        read_sampler(child);
+      else
+        doc_.warn(child, "unsupported element <" + kind + "> inside <sensor> ignored");
+    }
+
+    const std::string axis = props.get_string("fovAxis", "x");
+    bool diagonal = false;
+    if (const auto parsed = parse_fov_axis(axis))
+      camera.fov_axis = *parsed;
+    else if (axis == "diagonal")
+      diagonal = true;
+    else
+      doc_.fail(node, "unknown fovAxis '" + axis + "'");
+
+    if (props.has("fov")) {
+      camera.fov_degrees = props.get_float("fov", 45.0f, loader::kFovRange);
+      if (props.has("focalLength"))
+        doc_.warn(node, "focalLength ignored because fov is given", Document::Warning::Note);
+      props.ignore({"focalLength"});
+    } else {
+      // Mitsuba's focal length is in 35 mm film units (36 mm wide); 50 mm by default.
+      std::string focal = props.get_string("focalLength", "50mm");
+      if (focal.size() > 2 && focal.substr(focal.size() - 2) == "mm")
+        focal.resize(focal.size() - 2);
+      const pugi::xml_node given = props.node_of("focalLength");
+      const float millimetres = doc_.to_float(given, focal);
+      if (!(millimetres > 0.0f))
+        doc_.fail(given, "'focalLength' " +
+                             loader::refusal("a positive length in millimetres, such as 50mm",
+                                             props.get_string("focalLength", "")));
+      camera.fov_degrees = glm::degrees(2.0f * std::atan(18.0f / millimetres));
+      camera.fov_axis = CameraDesc::FovAxis::X;
+      diagonal = false;
+    }
+    if (diagonal) {
+      // Convert the diagonal field of view to the horizontal one for this image aspect.
+      const float w = float(camera.width), h = float(camera.height);
+      const float tan_half =
+          std::tan(glm::radians(camera.fov_degrees) * 0.5f) * w / std::sqrt(w * w + h * h);
+      camera.fov_degrees = glm::degrees(2.0f * std::atan(tan_half));
+      camera.fov_axis = CameraDesc::FovAxis::X;
+    }
+    if (type == "thinlens") {
+      camera.aperture_radius =
+          props.get_float("apertureRadius", camera.aperture_radius, loader::kNonNegativeRange);
+      camera.focus_distance =
+          props.get_float("focusDistance", camera.focus_distance, loader::kPositiveRange);
+    }
+    props.ignore({"shutterOpen", "shutterClose"});
+    props.warn_unused();
+  }
+
+  void read_film(pugi::xml_node node) {
+    Properties props(doc_, node);
+    desc_.camera.width = props.get_integer("width", 768, loader::kFilmSideRange);
+    desc_.camera.height = props.get_integer("height", 576, loader::kFilmSideRange);
+    // Output encoding only; the renderer chooses its own from the output file name (an
+    // ldrfilm's tone mapping included: emlt writes linear radiance and a PNG preview).
+    props.ignore({"banner", "pixelFormat", "componentFormat", "fileFormat", "attachLog",
+                  "highQualityEdges", "tonemapMethod", "gamma", "exposure", "key", "burn"});
+    if (props.has("filename")) {  // not a Mitsuba film parameter; the output is named by -o
+      props.ignore({"filename"});
+      doc_.warn(node, "film parameter 'filename' ignored, as Mitsuba does (the output is -o)",
+                Document::Warning::Note);
+    }
+    desc_.camera.filter = {PixelFilterDesc::Kind::Gaussian};  // Mitsuba's default
+    for (pugi::xml_node child : props.objects()) {
+      if (std::string(child.name()) == "rfilter")
+        read_filter(child);
+      else
+        doc_.warn(child, "unsupported element " + doc_.describe(child) + " inside <film> ignored");
+    }
+    props.warn_unused();
+  }
+
+  void read_filter(pugi::xml_node node) {
+    const std::string type = doc_.attribute(node, "type");
+    Properties props(doc_, node);
+    PixelFilterDesc& filter = desc_.camera.filter;
+    if (type == "box") {
+      filter.kind = PixelFilterDesc::Kind::Box;
+    } else if (type == "tent") {
+      filter.kind = PixelFilterDesc::Kind::Tent;
+      filter.radius = props.get_float("radius", 1.0f, loader::kFilterRadiusRange);
+    } else if (type == "gaussian") {
+      filter.stddev = props.get_float("stddev", 0.5f, loader::kFilterStddevRange);
+    } else {
+      // Mitchell-Netravali, Catmull-Rom and Lanczos have negative lobes, which neither
+      // filter importance sampling nor non-negative splats can represent.
+      doc_.warn(node,
+                "reconstruction filter " + doc_.describe(node) +
+                    " approximated by Mitsuba's default gaussian (stddev 0.5)",
+                Document::Warning::Approximated);
+      props.ignore({"B", "C", "lobes", "radius"});
+    }
+    props.warn_unused();
+  }
+
+  void read_sampler(pugi::xml_node node) {
+    Properties props(doc_, node);
+    desc_.defaults.spp = props.get_integer("sampleCount", desc_.defaults.spp, loader::kSppRange);
+    props.ignore({"scramble", "dimension", "resolution", "depth"});  // sequence details only
+    props.warn_unused();
+  }
+
+  // Whether any <ref> of the document names `id` ("" never is).
+  bool referenced(const std::string& id) const {
+    if (id.empty()) return true;  // cannot tell; treat as used
+    for (pugi::xpath_node ref : doc_.scene().select_nodes("//ref"))
+      if (doc_.attribute(ref.node(), "id") == id) return true;
+    return false;
+  }
+
+  // Mitsuba's BSDF for a shape that names none: a one-sided diffuse of reflectance 0.5,
+  // or, on an emitter, a black one (a lamp reflects nothing).
+  int default_material(bool emitter) {
+    int& index = emitter ? default_emitter_material_ : default_material_;
+    if (index < 0)
+      index = loader::material_index(
+          desc_, make_lambertian(Rgb(emitter ? 0.0f : 0.5f)),
+          emitter ? "default (black diffuse, emitter)" : "default (diffuse 0.5)");
+    return index;
+  }
+
+  int material_of(pugi::xml_node node) {
+    MaterialDesc material = mitsuba::read_bsdf(doc_, node, named_, desc_.warnings);
+    if (material.name.empty())
+      material.name = doc_.has_attribute(node, "id")
+                          ? doc_.attribute(node, "id")
+                          : "bsdf at line " + std::to_string(doc_.line(node));
+    return loader::material_index(desc_, material);
+  }
+
+  // <shape type="shapegroup" id=...>: its shapes, kept for the instances that refer to it
+  // (a group renders nothing by itself).
+  void read_shape_group(pugi::xml_node node) {
+    if (!doc_.has_attribute(node, "id")) {
+      doc_.warn(node, "shapegroup without an id cannot be instanced; skipped");
+      return;
+    }
+    const std::string id = doc_.attribute(node, "id");
+    ShapeGroup& group = groups_[id];
+    group = {};
+    Properties props(doc_, node);
+    for (pugi::xml_node child : props.objects()) {
+      if (std::string(child.name()) == "shape")
+        read_shape(child, &group);
+      else
+        doc_.warn(child, "unsupported element " + doc_.describe(child) +
+                             " inside <shape type=\"shapegroup\"> ignored");
+    }
+    props.warn_unused();
+  }
+
+  // <shape type="instance">: the referenced group's shapes, copied into world space.
+  void read_instance(pugi::xml_node node, Properties& props) {
+    const Mat4 to_world = props.get_transform("toWorld");
+    const ShapeGroup* group = nullptr;
+    for (pugi::xml_node child : props.objects()) {
+      const std::string kind = child.name();
+      if (kind == "ref" && !group) {
+        const std::string id = doc_.attribute(child, "id");
+        const auto it = groups_.find(id);
+        if (it == groups_.end())
+          doc_.fail(child, "instance refers to '" + id + "', which is not a shapegroup");
+        group = &it->second;
+      } else {
+        doc_.warn(child, "unsupported element " + doc_.describe(child) +
+                             " inside <shape type=\"instance\"> ignored (the group's shapes "
+                             "keep their own)");
+      }
+    }
+    if (!group) doc_.fail(node, "instance needs a <ref id=...> naming a shapegroup");
+    if (!is_finite_matrix(to_world)) doc_.fail(node, "instance toWorld contains NaN or infinity");
+    props.warn_unused();
+    const std::string suffix = " (instance at line " + std::to_string(doc_.line(node)) + ")";
+    for (MeshDesc mesh : group->meshes) {
+      // Mitsuba transforms an instance's normals by the inverse transpose, so the
+      // facing survives a mirroring transform.
+      transform_mesh(mesh, to_world, true);
+      mesh.name += suffix;
+      desc_.meshes.push_back(std::move(mesh));
+    }
+    for (SphereDesc sphere : group->spheres) {
+      loader::transform_sphere(sphere, to_world, doc_.path() + ": " + sphere.name + suffix,
+                               desc_.warnings);
+      sphere.name += suffix;
+      desc_.spheres.push_back(sphere);
+    }
+  }
+
+  // A shape for the scene, or for `group` when it is declared inside a shapegroup.
+  void read_shape(pugi::xml_node node, ShapeGroup* group = nullptr) {
+    const std::string type = doc_.attribute(node, "type");
+    if (type == "shapegroup" || type == "instance") {
+      if (group) doc_.fail(node, "nested instancing is not supported (nor by Mitsuba)");
+      if (type == "shapegroup") return;  // read before the other shapes
+      Properties props(doc_, node);
+      read_instance(node, props);
+      return;
+    }
+    static const char* kSupported[] = {"obj",    "rectangle",  "cube",     "disk",
+                                       "sphere", "serialized", "cylinder", "ply"};
+    if (std::find_if(std::begin(kSupported), std::end(kSupported),
+                     [&](const char* t) { return type == t; }) == std::end(kSupported)) {
+      doc_.warn(node, "unsupported shape type '" + type + "' " + doc_.describe(node) + " skipped");
+      desc_.skipped_shapes.push_back(doc_.describe(node) + " at line " +
+                                     std::to_string(doc_.line(node)));
+      return;
+    }
+    Properties props(doc_, node);
+    const std::string name = type + " at line " + std::to_string(doc_.line(node));
+    const Mat4 to_world = props.get_transform("toWorld");
+    int material = -1;
+    Rgb emission(0.0f);
+    // <ref name="bsdf" id=...>: a named reference is a parameter, not an object.
+    for (const std::string& ref : props.names_of_kind("ref")) {
+      props.ignore({ref.c_str()});
+      for (pugi::xml_node child : node.children("ref")) {
+        if (child.attribute("name").as_string() != ref) continue;
+        if (ref == "interior" || ref == "exterior")
+          doc_.warn(child, "participating medium '" + doc_.attribute(child, "id") + "' (" + ref +
+                               ") is not supported; the shape's inside is a vacuum");
+        else
+          material = material_of(child);
+      }
+    }
+    for (pugi::xml_node child : props.objects()) {
+      const std::string kind = child.name();
+      if (kind == "bsdf" || kind == "ref") {
+        if (material >= 0) doc_.warn(child, "shape has several BSDFs; the last one is used");
+        material = material_of(child);
+      } else if (kind == "emitter" && doc_.attribute(child, "type") == "area") {
+        if (group)
+          doc_.fail(child, "an emitter inside a shapegroup is not supported (nor by Mitsuba)");
+        Properties emitter(doc_, child);
+        emission = emitter.get_color("radiance", Rgb(1.0f));
+        emitter.ignore({"samplingWeight"});
+        emitter.warn_unused();
+      } else {
+        doc_.warn(child, "unsupported element " + doc_.describe(child) + " inside <shape> ignored");
+      }
+    }
+    if (material < 0) material = default_material(!is_black(emission));
+    const bool flip = props.get_boolean("flipNormals", false);
+
+    if (type == "sphere") {
+      SphereDesc sphere;
+      sphere.name = name;
+      sphere.center = props.get_point("center", Vec3(0.0f));
+      sphere.radius = props.get_float("radius", 1.0f, loader::kPositiveRange);
+      loader::transform_sphere(sphere, to_world, doc_.path() + ": " + name, desc_.warnings);
+      sphere.material = material;
+      sphere.emission = emission;
+      sphere.flip_normals = flip;
+      props.warn_unused();
+      (group ? group->spheres : desc_.spheres).push_back(sphere);
+      return;
+    }
+    MeshDesc mesh;
+    if (type == "obj") {
+      if (!props.has("filename")) doc_.fail(node, "<shape type=\"obj\"> needs a 'filename'");
+      const std::string file = loader::resolve_path(doc_.path(), props.get_string("filename", ""));
+      // Mitsuba uses the file's normals (or computes smooth ones) unless faceNormals is set.
+      const bool face_normals = props.get_boolean("faceNormals", false);
+      // Mitsuba flips OBJ texture coordinates by default (v = 0 at the image's top).
+      const bool flip_uv = props.get_boolean("flipTexCoords", true);
+      std::optional<ObjInFileSpace> prefetched = LoadPrefetch::obj(file, !face_normals, flip_uv);
+      mesh = prefetched ? place_obj_mesh(std::move(*prefetched), to_world, &desc_.warnings)
+                        : load_obj_mesh(file, to_world, !face_normals, &desc_.warnings, flip_uv);
+      loader::drop_non_finite_triangles(desc_, mesh, file);
+    } else if (type == "rectangle") {
+      mesh = make_rectangle_mesh(to_world);
+    } else if (type == "serialized") {
+      if (!props.has("filename")) doc_.fail(node, "<shape type=\"serialized\"> needs a 'filename'");
+      const std::string file = loader::resolve_path(doc_.path(), props.get_string("filename", ""));
+      const int index = props.get_integer("shapeIndex", 0, loader::kShapeIndexRange);
+      std::optional<MeshInFileSpace> prefetched =
+          LoadPrefetch::mesh({LoadPrefetch::MeshFile::Format::Serialized, file, index});
+      mesh = prefetched ? place_serialized_mesh(std::move(prefetched->mesh), to_world)
+                        : load_serialized_mesh(file, index, to_world);
+      loader::drop_non_finite_triangles(desc_, mesh, file);
+      read_mesh_normal_options(node, props, mesh, flip);
+    } else if (type == "ply") {
+      if (!props.has("filename")) doc_.fail(node, "<shape type=\"ply\"> needs a 'filename'");
+      const std::string file = loader::resolve_path(doc_.path(), props.get_string("filename", ""));
+      std::optional<MeshInFileSpace> prefetched =
+          LoadPrefetch::mesh({LoadPrefetch::MeshFile::Format::Ply, file, 0});
+      mesh = prefetched ? place_ply_mesh(std::move(*prefetched), to_world, &desc_.warnings)
+                        : load_ply_mesh(file, to_world, &desc_.warnings);
+      loader::drop_non_finite_triangles(desc_, mesh, file);
+      read_mesh_normal_options(node, props, mesh, flip);
+      props.ignore({"srgb"});  // how vertex colours are read; they are not used
+    } else if (type == "cylinder") {
+      const Vec3 p0 = props.get_point("p0", Vec3(0.0f));
+      const Vec3 p1 = props.get_point("p1", Vec3(0.0f, 0.0f, 1.0f));
+      const float radius = props.get_float("radius", 1.0f, loader::kPositiveRange);
+      if (!(glm::length(p1 - p0) > 0.0f) || !std::isfinite(glm::length(p1 - p0)))
+        doc_.fail(node, "cylinder p0 and p1 must be distinct finite points");
+      mesh = make_cylinder_mesh(p0, p1, radius, to_world);
+    } else if (type == "cube") {
+      mesh = make_cube_mesh(to_world);
+    } else {
+      mesh = make_disk_mesh(to_world);
+    }
+    // The file meshes applied flipNormals with their normal options above.
+    if (flip && type != "serialized" && type != "ply") flip_mesh_normals(mesh);
+    const bool from_file = type == "obj" || type == "serialized" || type == "ply";
+    mesh.name = from_file ? mesh.name + " (line " + std::to_string(doc_.line(node)) + ")" : name;
+    mesh.material = material;
+    mesh.emission = emission;
+    props.warn_unused();
+    if (mesh.indices.empty()) {
+      doc_.warn(node, "shape " + mesh.name + " has no triangles; skipped");
+      return;
+    }
+    (group ? group->meshes : desc_.meshes).push_back(std::move(mesh));
+  }
+
+  // faceNormals, maxSmoothAngle and flipNormals of a mesh read from a file, as Mitsuba's
+  // TriMesh applies them (after the transform).
+  void read_mesh_normal_options(pugi::xml_node node, Properties& props, MeshDesc& mesh, bool flip) {
+    const bool face_normals = props.get_boolean("faceNormals", false);
+    if (props.has("maxSmoothAngle")) {
+      if (face_normals)
+        doc_.fail(node, "'maxSmoothAngle' and 'faceNormals' cannot be given together");
+      split_vertices_by_angle(mesh, props.get_float("maxSmoothAngle", 0.0f));
+    }
+    apply_mesh_normal_options(mesh, face_normals, flip);
+  }
+
+  void read_environment(pugi::xml_node node) {
+    const std::string type = doc_.attribute(node, "type");
+    if (type != "envmap" && type != "constant") {
+      doc_.warn(node,
+                "unsupported emitter type '" + type + "' " + doc_.describe(node) + " ignored");
+      return;
+    }
+    if (desc_.environment.kind != EnvironmentDesc::Kind::None) {
+      doc_.warn(node, "only one environment emitter is supported; this one is ignored");
+      return;
+    }
+    Properties props(doc_, node);
+    props.ignore({"samplingWeight", "cache"});
+    EnvironmentDesc& env = desc_.environment;
+    if (type == "constant") {
+      env.kind = EnvironmentDesc::Kind::Constant;
+      env.radiance = props.get_color("radiance", Rgb(1.0f));
+    } else {
+      if (!props.has("filename")) doc_.fail(node, "<emitter type=\"envmap\"> needs a 'filename'");
+      env.scale = props.get_float("scale", 1.0f, loader::kNonNegativeRange);
+      env.to_world = props.get_transform("toWorld");
+      loader::load_environment_map(
+          env, doc_.path(), loader::resolve_path(doc_.path(), props.get_string("filename", "")));
+    }
+    for (pugi::xml_node child : props.objects())
+      doc_.warn(child, "unsupported element " + doc_.describe(child) + " inside <emitter> ignored");
+    props.warn_unused();
+  }
+
+  SceneDescription desc_;  // before doc_, which appends to its warnings
+  Document doc_;
+  mitsuba::NamedObjects named_;
+  std::map<std::string, ShapeGroup> groups_;  // shapegroups by id
+  int default_material_ = -1, default_emitter_material_ = -1;
+};
+
+}  // namespace
+
+SceneDescription load_mitsuba_scene(const std::string& path, const SceneDefines& defines) {
+  return MitsubaSceneReader(path, defines).read();
+}
+
+}  // namespace emlt

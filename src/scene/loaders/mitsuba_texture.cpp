@@ -1,0 +1,134 @@
+// Mitsuba 0.6 <texture> elements: bitmap, checkerboard, scale, and references to
+// textures declared with an id.
+#include <fmt/core.h>
+
+#include <filesystem>
+
+#include "emlt/core/error.h"
+#include "src/scene/loaders/loader_common.h"
+#include "src/scene/loaders/mitsuba_parser.h"
+
+namespace emlt::mitsuba {
+
+namespace {
+
+UvTransform uv_transform(Properties& props) {
+  const float uniform = props.get_float("uvscale", 1.0f);
+  UvTransform t;
+  t.scale = Vec2(props.get_float("uscale", uniform), props.get_float("vscale", uniform));
+  t.offset = Vec2(props.get_float("uoffset", 0.0f), props.get_float("voffset", 0.0f));
+  return t;
+}
+
+// Mitsuba's wrapMode sets both axes; wrapModeU and wrapModeV override it per axis.
+TextureWrap wrap_modes(const Document& doc, pugi::xml_node node, Properties& props) {
+  const std::string both = props.get_string("wrapMode", "repeat");
+  const auto mode = [&](const std::string& name) {
+    const std::string value = props.get_string(name, both);
+    if (value == "repeat") return WrapMode::Repeat;
+    if (value == "mirror") return WrapMode::Mirror;
+    if (value == "clamp") return WrapMode::Clamp;
+    if (value == "zero" || value == "black") return WrapMode::Zero;
+    if (value == "one" || value == "white") return WrapMode::One;
+    doc.fail(node, "unknown wrap mode '" + value +
+                       "' (expected repeat, mirror, clamp, zero/black or one/white)");
+  };
+  const WrapMode u = mode("wrapModeU");
+  return TextureWrap(u, mode("wrapModeV"));
+}
+
+TexturePtr read_bitmap(const Document& doc, pugi::xml_node node, Properties& props) {
+  if (!props.has("filename")) doc.fail(node, "<texture type=\"bitmap\"> needs a 'filename'");
+  const std::string file = loader::resolve_path(doc.path(), props.get_string("filename", ""));
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec))
+    doc.fail(node, "texture image '" + file + "' not found");
+  // Mitsuba's `gamma` replaces the file's own curve (an 8-bit file's sRGB, a PNG's gAMA,
+  // a float file's linear): -1 is sRGB, any positive value g the curve v^g. 0, Mitsuba's
+  // default, leaves the file's.
+  std::optional<float> gamma;
+  if (props.has("gamma")) {
+    const float value = props.get_float("gamma", 0.0f);
+    if (value == kSrgbGamma || value > 0.0f)
+      gamma = value;
+    else if (value != 0.0f)
+      doc.fail(node, fmt::format("bitmap gamma {}", value) +
+                         " is not a curve (expected -1 for sRGB or a positive exponent)");
+  }
+  // Filtering quality only: bilinear lookups averaged over many samples per pixel.
+  props.ignore({"filterType", "maxAnisotropy", "cache"});
+  const TextureWrap wrap = wrap_modes(doc, node, props);
+  const UvTransform transform = uv_transform(props);
+  std::string channel;
+  if (props.has("channel")) {
+    channel = props.get_string("channel", "");
+    if (!is_stored_image(file)) {
+      doc.warn(node, "bitmap 'channel' of a float image is not supported; using the RGB channels",
+               Document::Warning::Approximated);
+      channel.clear();
+    }
+  }
+  try {
+    return load_bitmap_texture(file, gamma, transform, wrap, channel);
+  } catch (const Error& e) {
+    doc.fail(node, e.what());
+  }
+}
+
+TexturePtr nested_texture(const Document& doc, pugi::xml_node node, Properties& props,
+                          NamedObjects& named) {
+  TexturePtr inner;
+  for (const std::string& name : props.names_of_kind("texture"))
+    if (!inner) inner = props.get_texture(name, Rgb(0.0f), named);
+  for (pugi::xml_node child : props.objects()) {
+    const std::string kind = child.name();
+    if ((kind == "texture" || kind == "ref") && !inner)
+      inner = read_texture(doc, child, named);
+    else
+      doc.warn(child,
+               "unsupported element <" + kind + "> inside " + doc.describe(node) + " ignored");
+  }
+  if (!inner) doc.fail(node, doc.describe(node) + " needs a nested <texture>");
+  return inner;
+}
+
+}  // namespace
+
+TexturePtr read_texture(const Document& doc, pugi::xml_node node, NamedObjects& named) {
+  if (std::string(node.name()) == "ref") {
+    const std::string id = doc.attribute(node, "id");
+    auto it = named.textures.find(id);
+    if (it == named.textures.end()) doc.fail(node, "unknown texture id '" + id + "'");
+    return it->second;
+  }
+  const std::string type = doc.attribute(node, "type");
+  Properties props(doc, node);
+  TexturePtr texture;
+  if (type == "bitmap") {
+    texture = read_bitmap(doc, node, props);
+  } else if (type == "checkerboard") {
+    const Rgb color0 = props.get_color("color0", Rgb(0.4f));
+    const Rgb color1 = props.get_color("color1", Rgb(0.2f));
+    texture = make_checkerboard_texture(color0, color1, uv_transform(props));
+  } else if (type == "scale") {
+    const Rgb factor = props.get_color("scale", Rgb(1.0f));
+    texture = make_scale_texture(nested_texture(doc, node, props, named), factor);
+  } else {
+    doc.warn(node, "unsupported texture type '" + type + "'; using a constant 0.5");
+    texture = make_constant_texture(Rgb(0.5f));
+    if (doc.has_attribute(node, "id")) named.textures[doc.attribute(node, "id")] = texture;
+    return texture;  // its parameters mean nothing here; one warning is enough
+  }
+  props.warn_unused();
+  if (doc.has_attribute(node, "id")) named.textures[doc.attribute(node, "id")] = texture;
+  return texture;
+}
+
+TexturePtr Properties::get_texture(const std::string& name, const Rgb& fallback,
+                                   NamedObjects& named) {
+  const std::string kind = kind_of(name);
+  if (kind != "texture" && kind != "ref") return make_constant_texture(get_color(name, fallback));
+  return read_texture(doc_, take(name, {"texture", "ref"}), named);
+}
+
+}  // namespace emlt::mitsuba
