@@ -8,6 +8,8 @@
 #include "emlt/core/cluster.h"
 #include "emlt/core/error.h"
 #include "emlt/core/state_io.h"
+#include "emlt/integrators/registry.h"
+#include "emlt/settings/render_option.h"
 
 namespace emlt::cli {
 
@@ -36,40 +38,9 @@ CheckpointHeader CheckpointHeader::describe(const SceneDescription& desc,
   add("mpirun -n", number(cluster::size()));  // each rank's share depends on the count
   add("--width", number(desc.camera.width));
   add("--height", number(desc.camera.height));
-  add("--seed", number(s.seed));
-  add("--max-depth", number(s.max_depth));
-  add("--rr-depth", number(s.rr_depth));
-  add("--mis", to_string(s.mis));
-  add("--direct-samples", number(s.direct_samples));
-  add("--direct-sampler", s.direct_point_set == DirectPointSet::Fibonacci ? "fibonacci" : "independent");
-  add("--chains", s.chains > 0 ? number(s.chains) : "(from the budget)");
-  // Only the path-space MLT family grows its pool (mlt_integrator.cpp).
-  const bool grows = s.bootstrap_grows &&
-                     (s.integrator == "mlt" || s.integrator == "gamlt" || s.integrator == "emlt");
-  add("--bootstrap", number(s.bootstrap_samples) + (grows ? " (grown as needed)" : ""));
-  add("--bootstrap-seed", s.bootstrap_seed ? number(*s.bootstrap_seed) : "(--seed)");
-  add("--mutations", s.mutations.empty() ? "(the integrator's own)" : s.mutations);
-  add("--direct", s.direct_separate ? "separate" : "mlt");
-  add("--mlt-splat", s.mlt_expected_values ? "expected" : "state");
-  add("--gamlt-cone", s.gamlt_field_cone ? "field" : "exact");
-  add("--gamlt-acceptance", s.gamlt_delayed_acceptance ? "delayed" : "full");
-  add("--direct-spp", s.direct_spp > 0 ? number(s.direct_spp) : "(from the budget)");
-  add("--ensemble-size", number(s.ensemble_size));
-  add("--ensemble-neighbours", number(s.ensemble_neighbours));
-  add("--ensemble-iterations", number(s.ensemble_iterations));
-  add("--ensemble-alpha", number(s.ensemble_alpha));
-  add("--ensemble-similarity-length", number(s.ensemble_similarity_length));
-  add("--ensemble-aniso-fallback", s.ensemble_plane_fallback ? "plane" : "vmf");
-  add("--ensemble-aniso-scale", number(s.ensemble_aniso_scale));
-  add("--ensemble-aniso-multiscale", number(s.ensemble_aniso_smallest_scale));
-  add("--ensemble-aniso-covariance", s.ensemble_aniso_weighted ? "weighted" : "printed");
-  add("--ensemble-guides", s.ensemble_nearby_guides ? "nearby" : "counter");
-  add("--ensemble-alpha-from", s.ensemble_alpha_from_ensemble ? "ensemble" : "guides");
-  add("--pss-tracer", s.pss_bdpt ? "bdpt" : "pt");
-  add("--large-step", number(s.large_step_probability));
-  add("--pss-sigma", number(s.pss_sigma));
-  add("--bdpt-strategies", s.bdpt_strategies_dir.empty() ? "(none)" : "(a folder)");
-  add("--aniso-map", s.aniso_map_path.empty() ? "(none)" : "(a file)");
+  // Every declared option whose value is part of what the render is (render_option.h).
+  for (const RenderOption& option : render_options())
+    if (option.recorded) add(option.flag.c_str(), option.recorded(s));
   std::string joined;
   for (const std::string& d : defines) joined += (joined.empty() ? "" : " ") + d;
   add("-D", joined.empty() ? "(none)" : joined);

@@ -4,18 +4,14 @@
 #include <string>
 #include <vector>
 
-#include "emlt/settings/settings.h"
-
 namespace emlt::cli {
 
 struct RenderOptions {
   std::string scene, output;
-  RenderSettings settings;
-  std::string mis = "power", direct_point_set = "independent", direct_mode = "separate",
-              aniso_fallback = "vmf", ensemble_guides = "counter", ensemble_alpha_from = "guides",
-              ensemble_aniso_covariance = "printed", mlt_splat = "expected", gamlt_cone = "exact",
-              gamlt_acceptance = "full";
-  std::string pss_tracer = "pt";
+  std::string integrator;
+  int width = 0, height = 0;
+  // The text given to each declared render option (render_options()), by flag.
+  std::map<std::string, std::string> option_text;
   std::vector<std::string> defines;
   std::string reference, log;
   // --checkpoint FILE, written every checkpoint_interval seconds and on a stop signal;

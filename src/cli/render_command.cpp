@@ -28,6 +28,7 @@
 #include "emlt/run/snapshot.h"
 #include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/visible_emitters.h"
+#include "emlt/settings/render_option.h"
 
 namespace emlt::cli {
 
@@ -60,151 +61,41 @@ std::map<std::string, std::string> parse_defines(const std::vector<std::string>&
   return result;
 }
 
+// A validator that refuses what the option does not take, in its own words.
+CLI::Validator validator_for(const OptionValues& values) {
+  switch (values.kind) {
+    case OptionValues::Kind::Whole: {
+      const auto whole = [](double v) {
+        return v >= 9.2e18 ? INT64_MAX : v <= -9.2e18 ? INT64_MIN : int64_t(v);
+      };
+      return whole_number(whole(values.low), whole(values.high), values.takes);
+    }
+    case OptionValues::Kind::Real:
+      return real_number(values.low, values.low_open, values.high, values.takes);
+    case OptionValues::Kind::Word:
+      return CLI::IsMember(values.words);
+    case OptionValues::Kind::Text:
+      break;
+  }
+  return CLI::Validator();
+}
+
 void add_render_options(CLI::App& command, RenderOptions& o) {
-  RenderSettings& s = o.settings;
   command.add_option("scene", o.scene, "Scene file (.json or Mitsuba .xml)")->required();
   command.add_option("-o,--output", o.output, "Output image (.exr, .pfm, .png, .hdr)");
   std::string integrators;
   for (const std::string& name : integrator_names())
     integrators += (integrators.empty() ? "" : " | ") + name;
-  command.add_option("--integrator", s.integrator, integrators);
-  command.add_option("--spp", s.spp, "Samples per pixel")
-      ->check(whole_number(1, kMaxSpp, "a whole number from 1 to 2^24 (about 16.8 million)"));
-  command.add_option("--time", s.time_limit_s, "Time budget in seconds (renders until spent)")
-      ->check(real_number(0.0, true, kMaxTimeSeconds,
-                          "a positive number of seconds, at most 30 days"));
-  command.add_option("--seed", s.seed, "Random seed (same seed, same image)")
-      ->check(whole_number(0, INT64_MAX, "a whole number from 0 to 2^63 - 1"));
-  command.add_option("--threads", s.threads, "Worker threads (0 = all cores)")
-      ->check(whole_number(0, kMaxThreads, "1..1024, or 0 for all cores"));
-  command.add_option("--width", s.width, "Image width in pixels")
+  command.add_option("--integrator", o.integrator, integrators);
+  command.add_option("--width", o.width, "Image width in pixels")
       ->check(whole_number(1, 16384, "a whole number of pixels from 1 to 16384"));
-  command.add_option("--height", s.height, "Image height in pixels")
+  command.add_option("--height", o.height, "Image height in pixels")
       ->check(whole_number(1, 16384, "a whole number of pixels from 1 to 16384"));
-  command.add_option("--max-depth", s.max_depth, "Longest path in segments (-1 = unlimited)")
-      ->check(whole_number(-1, 100000, "a whole number from 0 to 100000, or -1 for unlimited"));
-  command
-      .add_option("--rr-depth", s.rr_depth,
-                  "Segments before Russian roulette starts (bidirectional subpaths: one fewer, as "
-                  "in Mitsuba)")
-      ->check(whole_number(1, 100000, "a whole number from 1 to 100000"));
-  command.add_option("--mis", o.mis, "MIS heuristic")->check(CLI::IsMember({"balance", "power"}));
-  command.add_option("--direct-samples", s.direct_samples,
-                     "Light and BSDF samples per direct-lighting estimate")
-      ->check(whole_number(1, 1 << 16, "a whole number from 1 to 65536"));
-  command.add_option("--direct-sampler", o.direct_point_set,
-                     "Point set for direct lighting: independent | fibonacci")
-      ->check(CLI::IsMember({"independent", "fibonacci"}));
-  command.add_option("--bdpt-strategies", s.bdpt_strategies_dir,
-                     "bdpt: also write each strategy's MIS-weighted image (s<s>_t<t>.exr) here");
-  command.add_option("--mpp", s.mutations_per_pixel, "mlt: mutations per pixel")
-      ->check(real_number(0.0, true, kMaxSpp,
-                          "a positive number, at most 2^24 (about 16.8 million)"));
-  command.add_option("--chains", s.chains, "mlt: independent chains (0 = from the budget)")
-      ->check(whole_number(0, 1 << 20,
-                           "1 to 2^20 (about a million), or 0 to choose from the budget"));
-  command
-      .add_option("--bootstrap", s.bootstrap_samples,
-                  "mlt family: BDPT samples for b and the chains' seeds (default: 100000; for "
-                  "mlt, gamlt and emlt then grown while the pool is worth fewer than two "
-                  "candidates a chain)")
-      ->check(whole_number(1, kMaxBootstrapSamples,
-                           "a whole number from 1 to 2^24 (about 16.8 million)"));
-  command.add_option("--bootstrap-seed", s.bootstrap_seed,
-                     "mlt family: seed of the bootstrap and the chains' start paths, kept while "
-                     "--seed varies the chains (default: --seed)")
-      ->check(whole_number(0, INT64_MAX, "a whole number from 0 to 2^63 - 1"));
-  command.add_option("--mutations", s.mutations,
-                     "mlt/gamlt/emlt: strategy mix, e.g. bidir=3,lens=2, or a preset: mlt, gamlt, emlt, "
-                     "emlt-ani, emlt-lin (default: the integrator's own)");
-  command.add_option("--ensemble-size", s.ensemble_size,
-                     "emlt: paths in each ensemble, |X| = |Y| (0 = 16384, fewer on small images)")
-      ->check(whole_number(0, 1 << 17, "1 to 131072, or 0 for the default"));
-  command.add_option("--ensemble-neighbours", s.ensemble_neighbours,
-                     "emlt: guide paths of one step (M, default 8)")
-      ->check(whole_number(1, 64, "a whole number from 1 to 64"));
-  command.add_option("--ensemble-iterations", s.ensemble_iterations,
-                     "emlt: steps per path between swaps (0 = W*H / (|X|+|Y|))")
-      ->check(whole_number(0, 1 << 20,
-                           "1 to 2^20 (about a million), or 0 for the image's pixels per path"));
-  command.add_option("--ensemble-alpha", s.ensemble_alpha,
-                     "emlt: fixed stretch scale alpha of the linear kernels (0 = adaptive, paper 3.4)")
-      ->check(real_number(0.0, false, 100.0, "a number from 0 (adaptive) to 100"));
-  command
-      .add_option("--ensemble-similarity-length", s.ensemble_similarity_length,
-                  "emlt: length (scene units) dividing distances in the path similarity (1 = "
-                  "the paper's literal form; 0 = the scene's bounding radius / sqrt(3), which "
-                  "is 1 on the paper's Cornell box)")
-      ->check(real_number(0.0, false, HUGE_VAL, "a positive length, or 0 for the scene's own"));
-  command.add_option("--ensemble-aniso-fallback", o.aniso_fallback,
-                     "emlt: the anisotropic kernel's fallback when a fit is unusable: the paper's "
-                     "vMF about the previous vertex's direction, or an isotropic Gaussian on the "
-                     "tangent plane")
-      ->check(CLI::IsMember({"vmf", "plane"}));
-  command
-      .add_option("--gamlt-cone", o.gamlt_cone,
-                  "gamlt (the ga-* strategies): the occluder-free cones that set their step "
-                  "ranges, by the exact hierarchy walk (exact) or a cheap conservative bound "
-                  "from a clearance field (field: narrower cones)")
-      ->check(CLI::IsMember({"exact", "field"}));
-  command
-      .add_option("--gamlt-acceptance", o.gamlt_acceptance,
-                  "gamlt (the ga-* strategies): Metropolis-Hastings in one stage (full), or in "
-                  "two (delayed: the ranges at the proposal, which need its cones, only for "
-                  "proposals that pass a first stage without them; lower acceptance)")
-      ->check(CLI::IsMember({"full", "delayed"}));
-  command
-      .add_option("--mlt-splat", o.mlt_splat,
-                  "mlt/gamlt/emlt: what a step adds to the image: the proposal and the current "
-                  "path weighted by the acceptance probability (expected), or the state after "
-                  "the step (state)")
-      ->check(CLI::IsMember({"expected", "state"}));
-  command
-      .add_option("--ensemble-aniso-covariance", o.ensemble_aniso_covariance,
-                  "emlt: the anisotropic path perturbation's covariance: the paper's eq. 11 as "
-                  "printed, or the reliability-weighted covariance times 0.05")
-      ->check(CLI::IsMember({"printed", "weighted"}));
-  command
-      .add_option("--ensemble-aniso-scale", s.ensemble_aniso_scale,
-                  "emlt: factor on the anisotropic path perturbation's fitted covariances "
-                  "(0 = the form's own: 1 printed, 0.05 weighted)")
-      ->check(real_number(0.0, false, 100.0, "a number from 0 (the default) to 100"));
-  command
-      .add_option("--ensemble-aniso-multiscale", s.ensemble_aniso_smallest_scale,
-                  "emlt: the anisotropic path perturbation's Gaussians as scale mixtures over "
-                  "[S, 1] of their fitted covariance's size, log-uniform (1 = the paper's single "
-                  "Gaussian)")
-      ->check(real_number(1e-4, false, 1.0, "a number from 0.0001 to 1"));
-  command
-      .add_option("--ensemble-guides", o.ensemble_guides,
-                  "emlt: how a step's guides are chosen: by a counter over its path type's list "
-                  "(the paper's 3.1.1), or the M paths of the type nearest the current path's "
-                  "image point")
-      ->check(CLI::IsMember({"counter", "nearby"}));
-  command
-      .add_option("--ensemble-alpha-from", o.ensemble_alpha_from,
-                  "emlt: what the adaptive alpha (paper 3.4) is computed from: the image points "
-                  "of the step's guides, or of the whole complementary ensemble")
-      ->check(CLI::IsMember({"guides", "ensemble"}));
-  command.add_option("--aniso-map", s.aniso_map_path,
-                     "mlt/gamlt/emlt: write the predominant image-plane direction of the proposals "
-                     "per pixel to this PNG (red horizontal, green vertical, yellow isotropic)");
-  command.add_option("--direct", o.direct_mode,
-                     "mlt: direct light rendered separately or by the chains")
-      ->check(CLI::IsMember({"separate", "mlt"}));
-  command.add_option("--direct-spp", s.direct_spp,
-                     "mlt: samples of the separate direct image (default: the mutations per pixel)")
-      ->check(whole_number(1, 1 << 20, "a whole number from 1 to 2^20 (about a million)"));
-  command.add_option("--pss-tracer", o.pss_tracer,
-                     "pssmlt: the sampler the primary samples drive: pt | bdpt")
-      ->check(CLI::IsMember({"pt", "bdpt"}));
-  command.add_option("--large-step", s.large_step_probability,
-                     "pssmlt/mmlt: probability of a large step (default 0.3)")
-      ->check(real_number(0.0, false, 1.0, "a probability from 0 to 1"));
-  command.add_option("--pss-sigma", s.pss_sigma,
-                     "pssmlt/mmlt: largest small-step perturbation of a coordinate (default 1/64)")
-      ->check(real_number(0.0, true, 0.5, "a number above 0, at most 0.5"));
-  command.add_option("--stats", s.stats_path, "mlt: write statistics as JSON to this file");
+  // Every option an integrator or the run loop declares.
+  for (const RenderOption& option : render_options()) {
+    CLI::Option* added = command.add_option(option.flag, o.option_text[option.flag], option.help);
+    if (option.values.kind != OptionValues::Kind::Text) added->check(validator_for(option.values));
+  }
   command.add_option("--reference", o.reference, "Reference image for error metrics");
   command.add_option("--log", o.log,
                      "Convergence log (CSV) at power-of-two samples/mutations per pixel; needs --reference");
@@ -234,62 +125,16 @@ int run_render(const CLI::App& command, RenderOptions& o) {
 
   // Scene file defaults first, then whatever the command line set explicitly.
   RenderSettings settings = desc.defaults;
-  const RenderSettings& cli = o.settings;
   const auto given = [&](const char* name) { return command.count(name) > 0; };
-  if (given("--integrator")) settings.integrator = cli.integrator;
-  if (given("--spp")) settings.spp = cli.spp;
-  if (given("--time")) {
-    settings.time_limit_s = cli.time_limit_s;
-    if (!given("--spp")) settings.spp = 0;  // the time budget alone decides
-  }
-  if (given("--seed")) settings.seed = cli.seed;
-  if (given("--threads")) settings.threads = cli.threads;
-  if (given("--max-depth")) settings.max_depth = cli.max_depth;
-  if (given("--rr-depth")) settings.rr_depth = cli.rr_depth;
-  if (given("--direct-samples")) settings.direct_samples = cli.direct_samples;
-  if (given("--mpp")) settings.mutations_per_pixel = cli.mutations_per_pixel;
+  if (given("--integrator")) settings.integrator = o.integrator;
+  for (const RenderOption& option : render_options())
+    if (command.count(option.flag) > 0) option.set(settings, o.option_text.at(option.flag));
+  // A time budget alone decides how much is rendered, unless a sample count caps it.
+  if (given("--time") && !given("--spp")) settings.spp = 0;
   if (given("--time") && !given("--mpp")) settings.mutations_per_pixel = 0.0;
-  if (given("--chains")) settings.chains = cli.chains;
-  if (given("--bootstrap")) {
-    settings.bootstrap_samples = cli.bootstrap_samples;
-    settings.bootstrap_grows = false;
-  }
-  if (given("--bootstrap-seed")) settings.bootstrap_seed = cli.bootstrap_seed;
-  if (given("--mutations")) settings.mutations = cli.mutations;
-  if (given("--direct")) settings.direct_separate = o.direct_mode == "separate";
-  if (given("--direct-spp")) settings.direct_spp = cli.direct_spp;
-  if (given("--stats")) settings.stats_path = cli.stats_path;
-  if (given("--pss-tracer")) settings.pss_bdpt = o.pss_tracer == "bdpt";
-  if (given("--large-step")) settings.large_step_probability = cli.large_step_probability;
-  if (given("--pss-sigma")) settings.pss_sigma = cli.pss_sigma;
-  if (given("--ensemble-size")) settings.ensemble_size = cli.ensemble_size;
-  if (given("--ensemble-neighbours")) settings.ensemble_neighbours = cli.ensemble_neighbours;
-  if (given("--ensemble-iterations")) settings.ensemble_iterations = cli.ensemble_iterations;
-  if (given("--aniso-map")) settings.aniso_map_path = cli.aniso_map_path;
-  if (given("--ensemble-alpha")) settings.ensemble_alpha = cli.ensemble_alpha;
-  if (given("--ensemble-similarity-length"))
-    settings.ensemble_similarity_length = cli.ensemble_similarity_length;
-  if (given("--ensemble-aniso-fallback"))
-    settings.ensemble_plane_fallback = o.aniso_fallback == "plane";
-  if (given("--ensemble-aniso-scale")) settings.ensemble_aniso_scale = cli.ensemble_aniso_scale;
-  if (given("--ensemble-aniso-multiscale"))
-    settings.ensemble_aniso_smallest_scale = cli.ensemble_aniso_smallest_scale;
-  if (given("--mlt-splat")) settings.mlt_expected_values = o.mlt_splat == "expected";
-  if (given("--gamlt-cone")) settings.gamlt_field_cone = o.gamlt_cone == "field";
-  if (given("--gamlt-acceptance"))
-    settings.gamlt_delayed_acceptance = o.gamlt_acceptance == "delayed";
-  if (given("--ensemble-aniso-covariance"))
-    settings.ensemble_aniso_weighted = o.ensemble_aniso_covariance == "weighted";
-  if (given("--ensemble-guides")) settings.ensemble_nearby_guides = o.ensemble_guides == "nearby";
-  if (given("--ensemble-alpha-from"))
-    settings.ensemble_alpha_from_ensemble = o.ensemble_alpha_from == "ensemble";
-  if (given("--bdpt-strategies")) settings.bdpt_strategies_dir = cli.bdpt_strategies_dir;
-  settings.mis = o.mis == "balance" ? MisHeuristic::Balance : MisHeuristic::Power;
-  settings.direct_point_set =
-      o.direct_point_set == "fibonacci" ? DirectPointSet::Fibonacci : DirectPointSet::Independent;
   settings.progress = !o.quiet;
-  if (given("--width")) desc.camera.width = cli.width;
-  if (given("--height")) desc.camera.height = cli.height;
+  if (given("--width")) desc.camera.width = o.width;
+  if (given("--height")) desc.camera.height = o.height;
 
   if (o.output.empty()) o.output = std::filesystem::path(o.scene).stem().string() + ".exr";
   check_output_path(o.output);

@@ -207,4 +207,18 @@ RenderResult BidirectionalPathTracer::render(const Scene& scene, const RenderSet
   return result;
 }
 
+const std::vector<RenderOption>& bdpt_options() {
+  static const std::vector<RenderOption> options = [] {
+    RenderOption strategies =
+        path_option("--bdpt-strategies", &RenderSettings::bdpt_strategies_dir,
+                    "bdpt: also write each strategy's MIS-weighted image (s<s>_t<t>.exr) here");
+    // Whether there were strategy images to continue, not where they go.
+    strategies.recorded = [](const RenderSettings& s) {
+      return std::string(s.bdpt_strategies_dir.empty() ? "(none)" : "(a folder)");
+    };
+    return std::vector<RenderOption>{strategies};
+  }();
+  return options;
+}
+
 }  // namespace emlt

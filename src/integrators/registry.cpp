@@ -4,9 +4,13 @@
 #include "emlt/integrators/bdpt.h"
 #include "emlt/integrators/direct_integrator.h"
 #include "emlt/integrators/mlt/mlt_integrator.h"
+#include "emlt/integrators/mlt/mlt_options.h"
 #include "emlt/integrators/path_tracer.h"
 #include "emlt/integrators/pss/pss_integrator.h"
+#include "emlt/integrators/pss/pss_options.h"
 #include "emlt/run/integrator.h"
+#include "emlt/run/run_options.h"
+#include "emlt/sampling/sampling_options.h"
 
 namespace emlt {
 
@@ -56,7 +60,28 @@ const Registration kIntegrators[] = {
      }},
 };
 
+// Each part's options, in the order the command line lists them: the run loop's and path
+// sampling's (every integrator), bdpt's, the path-space MLT family's with its gamlt and
+// emlt groups (the ga-* and emlt-* strategies read theirs in any mix), and pssmlt/mmlt's.
+using OptionGroup = const std::vector<RenderOption>& (*)();
+const OptionGroup kOptionGroups[] = {run_options,   sampling_options, bdpt_options, mlt_options,
+                                     gamlt_options, ensemble_options, pss_options};
+
 }  // namespace
+
+const std::vector<RenderOption>& render_options() {
+  static const std::vector<RenderOption> options = [] {
+    std::vector<RenderOption> all;
+    for (const OptionGroup group : kOptionGroups)
+      for (const RenderOption& option : group()) {
+        bool seen = false;
+        for (const RenderOption& o : all) seen = seen || o.flag == option.flag;
+        if (!seen) all.push_back(option);
+      }
+    return all;
+  }();
+  return options;
+}
 
 std::vector<std::string> integrator_names() {
   std::vector<std::string> names;

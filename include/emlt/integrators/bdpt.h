@@ -7,7 +7,10 @@
 // or power heuristic from the densities the vertices store. Russian roulette ends both
 // walks. With RenderSettings::bdpt_strategies_dir set, the MIS-weighted contribution of
 // each strategy with at most 5 segments is also written there as s<s>_t<t>.exr.
+#include <vector>
+
 #include "emlt/run/integrator.h"
+#include "emlt/settings/render_option.h"
 
 namespace emlt {
 
@@ -37,5 +40,8 @@ class BidirectionalPathTracer final : public Integrator {
  private:
   BdptOptions options_;
 };
+
+// BDPT's own options (render_option.h): --bdpt-strategies.
+const std::vector<RenderOption>& bdpt_options();
 
 }  // namespace emlt

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "emlt/run/integrator.h"
+#include "emlt/settings/render_option.h"
 
 namespace emlt {
 
@@ -13,5 +14,8 @@ namespace emlt {
 std::unique_ptr<Integrator> make_integrator(const std::string& name);
 // The names, in the order the command line lists them.
 std::vector<std::string> integrator_names();
+// Every option the integrators and the run loop declare (render_option.h), each flag once,
+// in the order the command line lists them.
+const std::vector<RenderOption>& render_options();
 
 }  // namespace emlt

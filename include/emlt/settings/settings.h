@@ -1,5 +1,7 @@
 #pragma once
-// Every knob of a render, parsed in one place (CLI and scene defaults) and read-only after.
+// Every knob of a render, read-only once the render starts. The options that set them are
+// declared by the parts that read them (render_option.h: the flag, its values, its checkpoint
+// record, its Mitsuba parameter), and the command line and checkpoints derive from those.
 #include <cstdint>
 #include <optional>
 #include <string>

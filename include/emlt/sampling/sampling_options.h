@@ -1,0 +1,12 @@
+#pragma once
+// The options of path sampling shared by every integrator: path length, Russian roulette,
+// MIS and the direct-light estimate (render_option.h).
+#include <vector>
+
+#include "emlt/settings/render_option.h"
+
+namespace emlt {
+
+const std::vector<RenderOption>& sampling_options();
+
+}  // namespace emlt

@@ -1,0 +1,138 @@
+// The render options as the integrators and the run loop declare them (render_option.h):
+// each flag once, refusals in the option's own words, every value that changes a render
+// recorded in the checkpoint's identity, and each Mitsuba parameter a declaration names
+// meaning in a scene file what the flag means on the command line.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "emlt/core/error.h"
+#include "emlt/integrators/registry.h"
+#include "emlt/scene/loaders/loader.h"
+#include "emlt/settings/render_option.h"
+#include "support/test_support.h"
+
+using namespace emlt;
+
+namespace {
+
+// Two different values the option takes (its range's ends, or its first two words).
+std::pair<std::string, std::string> two_values(const RenderOption& option) {
+  const OptionValues& v = option.values;
+  switch (v.kind) {
+    case OptionValues::Kind::Whole: {
+      const auto low = int64_t(v.low), high = v.high >= 9.2e18 ? INT64_MAX : int64_t(v.high);
+      return {std::to_string(low), std::to_string(high)};
+    }
+    case OptionValues::Kind::Real: {
+      const double low = v.low_open ? v.low + (std::min(v.high, 1.0) - v.low) / 2 : v.low;
+      return {recorded_number(low), recorded_number(std::min(v.high, 1e6))};
+    }
+    case OptionValues::Kind::Word:
+      return {v.words.at(0), v.words.at(1)};
+    case OptionValues::Kind::Text:
+      break;
+  }
+  return {"", "other"};  // a file option records whether it is given, not where it points
+}
+
+}  // namespace
+
+TEST(RenderOptions, EachFlagIsDeclaredOnceWithHelpAndAWayToSetIt) {
+  std::set<std::string> flags;
+  for (const RenderOption& option : render_options()) {
+    EXPECT_TRUE(flags.insert(option.flag).second) << option.flag;
+    EXPECT_EQ(option.flag.rfind("--", 0), 0u) << option.flag;
+    EXPECT_FALSE(option.help.empty()) << option.flag;
+    EXPECT_TRUE(bool(option.assign)) << option.flag;
+  }
+  // The integrators' own knobs are among them, not only the run loop's.
+  for (const char* flag : {"--spp", "--max-depth", "--bdpt-strategies", "--mpp", "--gamlt-cone",
+                           "--ensemble-alpha", "--pss-sigma"})
+    EXPECT_TRUE(flags.count(flag)) << flag;
+}
+
+TEST(RenderOptions, ValuesOutsideTheRangeAreRefusedInTheOptionsOwnWords) {
+  RenderSettings s;
+  const auto find = [](const std::string& flag) -> const RenderOption& {
+    for (const RenderOption& o : render_options())
+      if (o.flag == flag) return o;
+    throw Error("no option " + flag);
+  };
+  EXPECT_EQ(test::error_of([&] { find("--spp").set(s, "0"); }),
+            "--spp must be a whole number from 1 to 2^24 (about 16.8 million) (got 0)");
+  EXPECT_EQ(test::error_of([&] { find("--pss-sigma").set(s, "0"); }),
+            "--pss-sigma must be a number above 0, at most 0.5 (got 0)");
+  EXPECT_EQ(test::error_of([&] { find("--ensemble-guides").set(s, "random"); }),
+            "--ensemble-guides must be counter or nearby (got random)");
+  EXPECT_NE(test::error_of([&] { find("--seed").set(s, "9223372036854775808"); }), "");
+  find("--ensemble-guides").set(s, "nearby");
+  EXPECT_TRUE(s.ensemble_nearby_guides);
+  find("--bootstrap").set(s, "5000");
+  EXPECT_EQ(s.bootstrap_samples, 5000);
+  EXPECT_FALSE(s.bootstrap_grows);  // a pool of the size given is kept
+  find("--seed").set(s, "9223372036854775807");
+  EXPECT_EQ(s.seed, 9223372036854775807ull);
+}
+
+// A checkpoint resumed with another value of an option that changes the render must be
+// refused: every recorded option's record tells its values apart.
+TEST(RenderOptions, EveryRecordedOptionTellsItsValuesApart) {
+  int recorded = 0;
+  for (const RenderOption& option : render_options()) {
+    if (!option.recorded) continue;
+    ++recorded;
+    const auto [a, b] = two_values(option);
+    RenderSettings sa, sb;
+    sa.integrator = sb.integrator = "mlt";
+    option.set(sa, a);
+    option.set(sb, b);
+    EXPECT_NE(option.recorded(sa), option.recorded(sb)) << option.flag << " " << a << " / " << b;
+  }
+  EXPECT_GE(recorded, 25);
+  // The budget and the threads are not part of a render's identity: a resume may grow the
+  // budget, and the image is the same at any thread count.
+  for (const RenderOption& option : render_options()) {
+    if (option.flag == "--spp" || option.flag == "--mpp" || option.flag == "--time" ||
+        option.flag == "--threads") {
+      EXPECT_FALSE(bool(option.recorded)) << option.flag;
+    }
+  }
+}
+
+// What a declaration names as its Mitsuba parameter, the Mitsuba loader reads into the same
+// setting as the flag.
+TEST(RenderOptions, MitsubaParametersMeanWhatTheirFlagsMean) {
+  const auto dir = test::scratch_dir("render-options-mitsuba");
+  int named = 0;
+  for (const RenderOption& option : render_options()) {
+    if (option.mitsuba.empty()) continue;
+    ++named;
+    const std::string value = option.values.kind == OptionValues::Kind::Whole
+                                  ? std::to_string(int64_t(option.values.low) + 3)
+                                  : "0.5";
+    const bool sampler = option.mitsuba == "sampleCount";
+    const std::string parameter =
+        "<integer name=\"" + option.mitsuba + "\" value=\"" + value + "\"/>";
+    const std::string xml = test::write_file(
+        dir, option.mitsuba + ".xml",
+        "<scene version=\"0.6.0\"><integrator type=\"path\">" +
+            (sampler ? std::string() : parameter) +
+            "</integrator><sensor type=\"perspective\"><sampler type=\"independent\">" +
+            (sampler ? parameter : std::string()) +
+            "</sampler><film type=\"hdrfilm\"><integer name=\"width\" value=\"4\"/>"
+            "<integer name=\"height\" value=\"4\"/></film></sensor>"
+            "<emitter type=\"constant\"/></scene>");
+    const SceneDescription desc = load_scene_description(xml);
+    RenderSettings by_flag;
+    option.set(by_flag, value);
+    if (option.recorded) {
+      EXPECT_EQ(option.recorded(desc.defaults), option.recorded(by_flag)) << option.mitsuba;
+    } else if (option.flag == "--spp") {
+      EXPECT_EQ(desc.defaults.spp, by_flag.spp);
+    } else {
+      ADD_FAILURE() << option.flag << ": no way to compare";
+    }
+  }
+  EXPECT_EQ(named, 3);  // sampleCount, maxDepth, rrDepth
+}
