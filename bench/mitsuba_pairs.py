@@ -71,7 +71,7 @@ def main():
         for scene in scenes:
             path = scene.path if os.path.isabs(scene.path) else os.path.join(suite.ROOT, scene.path)
             if scene.name == "env-terrain":  # its meshes are generated on first use
-                subprocess.run([sys.executable, os.path.join(suite.ROOT, "scripts", "make_terrain.py")],
+                subprocess.run([sys.executable, "-m", "tools.scenes.make_terrain"],
                                cwd=suite.ROOT, check=True, stdout=subprocess.DEVNULL)
             for integrator in args.integrators.split(","):
                 count = args.work_scale * {"pt": scene.pt_spp, "bdpt": scene.bdpt_spp,

@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """CTest 'ablation_scripts': runs the tiny ablation (scripts/experiments/ci-tiny.json) and checks it.
 
-    EMLT_BINARY=build/emlt /usr/bin/python3 tests/scripts/test_ablation.py
-    /usr/bin/python3 tests/scripts/test_ablation.py --emlt build/emlt
+    PYTHONPATH=. EMLT_BINARY=build/emlt /usr/bin/python3 tests/scripts/test_ablation.py   (from the root)
+    PYTHONPATH=. /usr/bin/python3 tests/scripts/test_ablation.py --emlt build/emlt
 
 Checks that every output exists, that results.csv and table.md equal `emlt compare --json`
 on the saved images (recomputed here, and the MSE once more with numpy), that a second
@@ -22,7 +22,7 @@ import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from script_env import PYTHON, ROOT, SCRIPTS, take_emlt_argument  # noqa: E402
-from emlt_images import mse as numpy_mse, read_pfm  # noqa: E402
+from tools.images import mse as numpy_mse, read_pfm  # noqa: E402  (PYTHONPATH: the root)
 
 SCRIPT = os.path.join(SCRIPTS, "ablation.py")
 CONFIG = os.path.join(SCRIPTS, "experiments", "ci-tiny.json")
