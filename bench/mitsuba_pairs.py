@@ -28,8 +28,7 @@ import sys
 import tempfile
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import suite  # noqa: E402  (the suite's scenes, work and Mitsuba scene copies)
+import suite  # bench/suite.py, beside this script: the suite's scenes, work and Mitsuba scene copies
 
 
 def wall(cmd, env=None):

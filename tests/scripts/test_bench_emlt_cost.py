@@ -12,11 +12,9 @@ import os
 import re
 import shutil
 import subprocess
-import sys
 import unittest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from script_env import PYTHON, ROOT, SCRIPTS, take_emlt_argument  # noqa: E402
+from script_env import PYTHON, ROOT, take_emlt_argument
 
 SCRIPT = os.path.join(ROOT, "bench", "emlt_cost.py")
 SCENE = os.path.join(ROOT, "scenes", "cornell-box", "scene.json")
