@@ -24,8 +24,7 @@ import subprocess
 import sys
 import tempfile
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import suite  # noqa: E402  (the scenes and Mitsuba's copy of a scene file)
+import suite  # bench/suite.py, beside this script: the scenes and Mitsuba's copy of a scene file
 
 ROOT = suite.ROOT
 

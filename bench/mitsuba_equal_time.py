@@ -31,8 +31,7 @@ import sys
 import time
 import xml.etree.ElementTree as ET
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import suite  # noqa: E402  (mitsuba_variant)
+import suite  # bench/suite.py, beside this script: mitsuba_variant
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EMLT = os.path.join(ROOT, "build", "emlt")

@@ -28,8 +28,7 @@ import sys
 import tempfile
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import suite  # noqa: E402  (the suite's scenes, work and Mitsuba scene copies)
+import suite  # bench/suite.py, beside this script: the suite's scenes, work and Mitsuba scene copies
 
 
 def wall(cmd, env=None):
@@ -71,7 +70,7 @@ def main():
         for scene in scenes:
             path = scene.path if os.path.isabs(scene.path) else os.path.join(suite.ROOT, scene.path)
             if scene.name == "env-terrain":  # its meshes are generated on first use
-                subprocess.run([sys.executable, os.path.join(suite.ROOT, "scripts", "make_terrain.py")],
+                subprocess.run([sys.executable, "-m", "tools.scenes.make_terrain"],
                                cwd=suite.ROOT, check=True, stdout=subprocess.DEVNULL)
             for integrator in args.integrators.split(","):
                 count = args.work_scale * {"pt": scene.pt_spp, "bdpt": scene.bdpt_spp,

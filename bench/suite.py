@@ -544,7 +544,7 @@ def main():
     if any(s.name == "env-terrain" for s in scenes) and not os.path.exists(
             os.path.join(ROOT, "scenes", "env-terrain", "cache", "rocks.ply")):
         python = "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable
-        subprocess.run([python, os.path.join(ROOT, "scripts", "make_terrain.py")], check=True)
+        subprocess.run([python, "-m", "tools.scenes.make_terrain"], cwd=ROOT, check=True)
 
     suite = Suite(args)
     figures = []

@@ -26,8 +26,7 @@ import subprocess
 import sys
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import suite  # noqa: E402  (the suite's scenes and its process runner)
+import suite  # bench/suite.py, beside this script: the suite's scenes and its process runner
 
 
 # About a second of interpreted integer work that stays in the core's own caches; it prints

@@ -29,8 +29,7 @@ import subprocess
 import sys
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import pss_equal_time  # noqa: E402  (compare)
+import pss_equal_time  # bench/pss_equal_time.py, beside this script: compare
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCENE = os.path.join(ROOT, "scenes", "cornell-box", "scene.json")

@@ -36,8 +36,11 @@ import tempfile
 import threading
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ablation_config import REPO_ROOT, ConfigError, load_config  # noqa: E402
+from ablation_config import REPO_ROOT, ConfigError, load_config
+
+# The image helpers are tools.images, in the repository's Python package at the root; run as
+# scripts/ablation.py, Python puts this folder on the path (for ablation_config), not the root.
+sys.path.insert(0, REPO_ROOT)
 
 PROG = "ablation"
 RESULT_FIELDS = ["scene", "method", "seed", "budget_kind", "budget", "per_pixel", "seconds", "mse", "relmse",
@@ -158,7 +161,7 @@ def ensure_reference(config, scene, emlt, cache_dir, out_dir):
     the same direct image is subtracted (exactly); another integrator's image has a direct
     image of "direct_spp" samples subtracted.  Returns (path, key, noise floor or None).
     """
-    from emlt_images import read_pfm, write_pfm
+    from tools.images import read_pfm, write_pfm
     import numpy as np
     ref = config.reference
     key = reference_key(config, scene)
@@ -216,7 +219,7 @@ def seed_references(config, emlt, references, out_dir):
     """Indirect-only experiments: per (scene, seed) the reference each run is measured against,
     the indirect reference plus that seed's exact direct image, so that the engine's own log
     and `emlt compare` see only the chains' error.  Returns {(scene, seed): (path, direct path)}."""
-    from emlt_images import read_pfm, write_pfm
+    from tools.images import read_pfm, write_pfm
     import numpy as np
     out = {}
     for scene in config.scenes:
@@ -435,7 +438,7 @@ def chains_variance(config, runs, references):
     averaged over pixels and channels like `emlt compare`'s MSE (scripts/chain_variance.py's
     figure divided by 3, since it sums the channels).  The chains are unbiased, so this is their
     MSE without any reference; it needs two seeds or more."""
-    from emlt_images import read_pfm
+    from tools.images import read_pfm
     import numpy as np
     groups = {}
     for run in runs:

@@ -10,7 +10,7 @@ import os
 import numpy as np
 
 from ablation_config import PER_PIXEL, SECONDS, fmt_number
-from emlt_images import crop, read_pfm, tonemap
+from tools.images import crop, read_pfm, tonemap
 
 METRICS = [("mse", "MSE"), ("mse_net", "MSE minus the reference's own noise"), ("relmse", "relMSE"),
            ("mse_no_emitter", "MSE without visible emitters"), ("seconds", "Render time (s)")]

@@ -34,8 +34,10 @@ import tempfile
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from emlt_images import read_pfm  # noqa: E402
+# The image helpers are tools.images, in the repository's Python package at the root; run as
+# scripts/chain_variance.py, Python puts this folder on the path, not the root.
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from tools.images import read_pfm  # noqa: E402
 
 LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 

@@ -15,8 +15,10 @@ import tempfile
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from emlt_images import read_pfm  # noqa: E402  (shared with ablation.py)
+# The image helpers are tools.images, in the repository's Python package at the root; run as
+# scripts/convergence.py, Python puts this folder on the path, not the root.
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from tools.images import read_pfm  # noqa: E402  (shared with ablation.py)
 
 
 # Integrators whose per-pixel budget is mutations (--mpp) rather than samples (--spp).

@@ -2,8 +2,9 @@
 """The Mitsuba 0.6 conformance check: renders scenes of tests/conformance/suite.json with
 emlt and compares them with Mitsuba's own images in tests/conformance/references/.
 
-    tests/conformance/check.py [--emlt build/emlt] [--scene NAME ...] [--integrator pt ...]
-                               [--table docs/conformance.md] [--json FILE]
+    PYTHONPATH=. tests/conformance/check.py [--emlt build/emlt] [--scene NAME ...]
+        [--integrator pt ...] [--table docs/conformance.md] [--json FILE]
+    (from the repository root: it reads images with tools.images; CTest sets PYTHONPATH)
 
 For each scene and integrator emlt renders the scene twice (seeds 1 and 2). Two numbers
 decide:
@@ -33,8 +34,13 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
-sys.path.insert(0, os.path.join(ROOT, "scripts"))
-from emlt_images import read_pfm  # noqa: E402
+try:
+    from tools.images import read_pfm  # the package at the repository root, on PYTHONPATH
+except ModuleNotFoundError as error:  # run by hand without it: say how, not a traceback
+    print(f"check.py: {error}: run it with the repository root on PYTHONPATH "
+          f"(CTest sets it; by hand: PYTHONPATH={os.path.relpath(ROOT)} {sys.argv[0]} ...)",
+          file=sys.stderr)
+    sys.exit(2)  # a usage error, as the docstring counts them
 
 MEAN_TOLERANCE = 0.01
 ERROR_RATIO_LIMIT = 2.0
@@ -89,7 +95,7 @@ def check_scene(emlt, entry, integrator, threads, workdir):
     reference_path = os.path.join(HERE, "references", name + ".pfm")
     if not os.path.exists(reference_path):
         raise FileNotFoundError(f"{name}: no reference image {os.path.relpath(reference_path, ROOT)}; "
-                                "run scripts/conformance/render_references.sh with MITSUBA= set")
+                                "run tools/conformance/render_references.sh with MITSUBA= set")
     reference = read_pfm(reference_path)
     budget = entry.get("spp", {}).get(integrator, DEFAULT_SPP[integrator])
     images, warnings = [], []

@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """CTest 'ablation_scripts': runs the tiny ablation (scripts/experiments/ci-tiny.json) and checks it.
 
-    EMLT_BINARY=build/emlt /usr/bin/python3 tests/scripts/test_ablation.py
-    /usr/bin/python3 tests/scripts/test_ablation.py --emlt build/emlt
+    PYTHONPATH=. EMLT_BINARY=build/emlt /usr/bin/python3 tests/scripts/test_ablation.py   (from the root)
+    PYTHONPATH=. /usr/bin/python3 tests/scripts/test_ablation.py --emlt build/emlt
 
 Checks that every output exists, that results.csv and table.md equal `emlt compare --json`
 on the saved images (recomputed here, and the MSE once more with numpy), that a second
@@ -16,13 +16,11 @@ import os
 import re
 import shutil
 import subprocess
-import sys
 import tempfile
 import unittest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from script_env import PYTHON, ROOT, SCRIPTS, take_emlt_argument  # noqa: E402
-from emlt_images import mse as numpy_mse, read_pfm  # noqa: E402
+from script_env import PYTHON, ROOT, SCRIPTS, load_program, take_emlt_argument
+from tools.images import mse as numpy_mse, read_pfm
 
 SCRIPT = os.path.join(SCRIPTS, "ablation.py")
 CONFIG = os.path.join(SCRIPTS, "experiments", "ci-tiny.json")
@@ -295,7 +293,8 @@ class ScenesDirTest(unittest.TestCase):
         return path
 
     def test_paths_resolve_in_the_repository_first_then_under_dir(self):
-        from ablation_config import ConfigError, load_config
+        ablation_config = load_program("scripts/ablation_config.py")
+        ConfigError, load_config = ablation_config.ConfigError, ablation_config.load_config
         self.assertFalse(os.path.exists(os.path.join(ROOT, self.MISSING)))
         found = self.add_scene("emlt-test-not-in-repo")
         bitterli = self.add_scene("emlt-test-download")  # Bitterli's download folder X for scenes/bitterli-X

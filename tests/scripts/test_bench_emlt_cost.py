@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""CTest 'bench_emlt_cost_script': scripts/bench_emlt_cost.py on a 16x16 Cornell box.
+"""CTest 'bench_emlt_cost_script': bench/emlt_cost.py on a 16x16 Cornell box.
 
     /usr/bin/python3 tests/scripts/test_bench_emlt_cost.py --emlt build/emlt
 
@@ -12,13 +12,11 @@ import os
 import re
 import shutil
 import subprocess
-import sys
 import unittest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from script_env import PYTHON, ROOT, SCRIPTS, take_emlt_argument  # noqa: E402
+from script_env import PYTHON, ROOT, take_emlt_argument
 
-SCRIPT = os.path.join(SCRIPTS, "bench_emlt_cost.py")
+SCRIPT = os.path.join(ROOT, "bench", "emlt_cost.py")
 SCENE = os.path.join(ROOT, "scenes", "cornell-box", "scene.json")
 EMLT = take_emlt_argument()
 TINY = ["--size", "16", "--scene", SCENE, "--repeats", "1", "--mpp-low", "1", "--mpp-high", "2",

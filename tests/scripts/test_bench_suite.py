@@ -13,9 +13,9 @@ import sys
 import tempfile
 import unittest
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.join(ROOT, "bench"))
-import suite  # noqa: E402
+from script_env import ROOT, load_program
+
+suite = load_program("bench/suite.py")
 
 BUILD = os.path.join(ROOT, "build")
 if "--build" in sys.argv:

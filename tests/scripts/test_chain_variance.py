@@ -12,15 +12,16 @@ those), and that bad arguments and engine errors fail with one line.
 import json
 import os
 import subprocess
-import sys
 import tempfile
 import unittest
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from script_env import PYTHON, ROOT, SCRIPTS, take_emlt_argument  # noqa: E402
-from chain_variance import LUMINANCE, ideal_variance_per_mutation, read_image  # noqa: E402
+from script_env import PYTHON, ROOT, SCRIPTS, load_program, take_emlt_argument
+
+chain_variance = load_program("scripts/chain_variance.py")
+LUMINANCE, ideal_variance_per_mutation, read_image = (
+    chain_variance.LUMINANCE, chain_variance.ideal_variance_per_mutation, chain_variance.read_image)
 
 SCRIPT = os.path.join(SCRIPTS, "chain_variance.py")
 SCENE = os.path.join(ROOT, "scenes", "cornell-box", "scene.json")

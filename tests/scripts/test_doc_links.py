@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """CTest 'doc_links': every relative link in the repository's Markdown files (README.md,
-docs/, bench/, scripts/, scenes/, tests/) names a file that exists, and every link to a
+docs/, bench/, scripts/, tools/, scenes/, tests/) names a file that exists, and every link to a
 heading (FILE.md#anchor, or #anchor within the page) names a heading that exists, with
 GitHub's rule for turning a heading into an anchor. Links to web addresses are not checked.
 

@@ -374,7 +374,7 @@ TEST(ImageIo, SrgbEncodingOfManyValuesMatchesEachValueAlone) {
 }
 
 // JPEG texels are libjpeg's default decode, which is what Mitsuba 0.6 reads JPEG textures
-// with: bit for bit the texels djpeg wrote beside the files (scripts/conformance/
+// with: bit for bit the texels djpeg wrote beside the files (tools/conformance/
 // make_scenes.py). stb_image's decoder, used before, differs from it by 1 or 2 levels in
 // 259 of grid.jpg's 3072 bytes and 12 of grid-grey.jpg's (its own IDCT and upsampling).
 TEST(ImageIo, JpegTexelsAreLibjpegsDefaultDecode) {

@@ -474,7 +474,7 @@ TEST(ShippedScenes, LoadAndBuildWithoutWarnings) {
       Scene::build(load_scene_description(test::source_path("scenes/env-sky/scene.json")));
   ASSERT_NE(sky->environment(), nullptr);
   EXPECT_EQ(sky->stats().area_lights, 0u);
-  // scripts/make_sky.py and the renderer agree on the lat-long mapping: the sun sits in
+  // tools/scenes/make_sky.py and the renderer agree on the lat-long mapping: the sun sits in
   // the script's SUN_DIRECTION, ~1e4 times brighter than the sky.
   const Vec3 sun = glm::normalize(Vec3(-0.45f, 0.6f, -0.65f));
   const float sun_radiance = luminance(sky->environment()->radiance(sun));

@@ -79,9 +79,11 @@ def main():
     net = {(s, m): values(s, m, "mse_net") for s in scenes for m in methods}
     seconds = {(s, m): values(s, m, "seconds") for s in scenes for m in methods}
     chains = {(r["scene"], r["method"]): float(r["chains_variance"]) for r in chains_rows}
-    sys.path.insert(0, os.path.join(ROOT, "scripts"))
+    # chain_variance.py sits in scripts/ and the image helpers in the package tools/ at the root:
+    # neither folder is on the path of a script run from scripts/experiments/paper_setting/.
+    sys.path[:0] = [ROOT, os.path.join(ROOT, "scripts")]
     from chain_variance import ideal_variance_per_mutation
-    from emlt_images import read_pfm
+    from tools.images import read_pfm
     mpp = float(rows[0]["budget"])
     ideal = {s: ideal_variance_per_mutation(read_pfm(os.path.join(args.out, "references", f"{s}.pfm"))
                                             .reshape(-1, 3).astype(np.float64)) / mpp / 3 for s in scenes}

@@ -13,7 +13,7 @@
 // is uniform (a square root substitution removes the GGX tail's singularity), then
 // tabulated in sqrt(mu). Agrees with Mitsuba's tables (data/microfacet/*.dat there) to
 // 4e-5 (GGX) and 1.6e-4 (Beckmann) from outside; see
-// scripts/conformance/rough_transmittance_check.py.
+// tools/conformance/rough_transmittance_check.py.
 #include <utility>
 #include <vector>
 

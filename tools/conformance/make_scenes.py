@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """Writes the Mitsuba 0.6 conformance suite: tests/conformance/scenes/*.xml, their assets
 and tests/conformance/suite.json (the manifest the check reads).
 
@@ -6,15 +5,16 @@ Every scene is small (64x64 unless the camera is the subject) and isolates one c
 of Mitsuba 0.6 in a simple room of our own making: an open box (floor, ceiling, back wall,
 a red and a green side wall) lit by a small area light under the ceiling, with the
 subject in the middle. Reference images are rendered by Mitsuba itself
-(scripts/conformance/render_references.sh) and compared with emlt's by
+(tools/conformance/render_references.sh) and compared with emlt's by
 tests/conformance/check.py.
 
 Standard library only, except for the JPEG textures, which are encoded by cjpeg and
 decoded by djpeg (Debian's libjpeg-turbo-progs: libjpeg's defaults, which Mitsuba reads
 JPEG with); their decoded texels go beside them as .ppm for tests/unit/image_io_test.cpp.
 Deterministic: run it again and nothing changes.
-    python3 scripts/conformance/make_scenes.py
+    python3 -m tools.conformance.make_scenes        (from the repository root)
 """
+import argparse
 import json
 import math
 import os
@@ -24,14 +24,12 @@ import subprocess
 import sys
 import zlib
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(os.path.dirname(HERE))
+from tools import ROOT
+from tools.scenes.make_textured_room import write_png  # 8-bit RGB PNG, standard library
+
 SUITE = os.path.join(ROOT, "tests", "conformance")
 SCENES = os.path.join(SUITE, "scenes")
 ASSETS = os.path.join(SCENES, "assets")
-
-sys.path.insert(0, os.path.dirname(HERE))
-from make_textured_room import write_png  # noqa: E402  (8-bit RGB PNG, standard library)
 
 # ---------------------------------------------------------------------------------------
 # Assets
@@ -340,7 +338,7 @@ def integrator(kind="path", max_depth=6, rr_depth=None, hide_emitters=False):
 def scene(subject, light=None, walls=True, cam=None, integ=None):
     light = ROOM_LIGHT % DEFAULT_RADIANCE if light is None else light
     return ('<?xml version="1.0" encoding="utf-8"?>\n<!-- emlt conformance suite; written by '
-            'scripts/conformance/make_scenes.py -->\n<scene version="0.6.0">\n'
+            'tools/conformance/make_scenes.py -->\n<scene version="0.6.0">\n'
             '  <default name="spp" value="64"/>\n' + (integ or integrator()) +
             (cam or sensor()) + room(walls) + light + subject + "</scene>\n")
 
@@ -687,6 +685,9 @@ def build():
 
 
 def main():
+    # No options: the suite always goes to tests/conformance/; --help says so without writing.
+    argparse.ArgumentParser(description=__doc__,
+                            formatter_class=argparse.RawDescriptionHelpFormatter).parse_args()
     write_assets()
     os.makedirs(SCENES, exist_ok=True)
     manifest = []

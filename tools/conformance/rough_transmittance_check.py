@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """Checks emlt's rough-coating transmittance (src/scene/materials/rough_transmittance.cpp)
 against the tables Mitsuba 0.6 ships for its `roughplastic` (data/microfacet/*.dat).
 
@@ -10,8 +9,8 @@ eta^(1/4) coordinates):
 
     T(mu) = integral of (1 - F(w.m)) G1(w, m) G1(w_t, m) D(m) max(0, w.m) / mu dm
 
-    python3 scripts/conformance/rough_transmittance_check.py MITSUBA_SOURCE_DIR
-    python3 scripts/conformance/rough_transmittance_check.py --git-dir MITSUBA.git
+    python3 -m tools.conformance.rough_transmittance_check MITSUBA_SOURCE_DIR
+    python3 -m tools.conformance.rough_transmittance_check --git-dir MITSUBA.git
 
 Prints the largest differences per distribution (eta 1.5 and 1.33, alpha 0.01 to 1, mu
 0.02 to 1). Measured: directional values within 4e-5 (GGX) and 1.6e-4 (Beckmann) of the

@@ -1,4 +1,4 @@
-"""Image helpers shared by emlt's Python scripts (numpy only).
+"""Image helpers shared by tools/, scripts/ and the tests (numpy only).
 
 PFM is the format the scripts read: it is what ``emlt render -o X.pfm`` writes, raw
 little- or big-endian float32 with the bottom row first.  Tone mapping here is the one

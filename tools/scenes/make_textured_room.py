@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """Writes the assets of scenes/textured-room/: textures and a lathe-turned "teapot".
 
 Standard library only (zlib + struct), deterministic, output well under 1 MB:
@@ -8,15 +7,17 @@ Standard library only (zlib + struct), deterministic, output well under 1 MB:
   teapot.obj    a body of revolution with a spout-free lid knob, with vt (u around the
                 axis, v along the profile) and smooth normals
 
-Run from anywhere:  python3 scripts/make_textured_room.py
+From the repository root:  python3 -m tools.scenes.make_textured_room
 """
+import argparse
 import math
 import os
 import struct
 import zlib
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-OUT = os.path.join(HERE, "..", "scenes", "textured-room")
+from tools import ROOT
+
+OUT = os.path.join(ROOT, "scenes", "textured-room")
 
 
 def write_png(path, width, height, pixels):
@@ -92,7 +93,7 @@ def teapot(path, segments=48):
     lengths = [0.0]
     for (r0, h0), (r1, h1) in zip(profile, profile[1:]):
         lengths.append(lengths[-1] + math.hypot(r1 - r0, h1 - h0))
-    lines = ["# lathe-turned teapot body written by scripts/make_textured_room.py"]
+    lines = ["# lathe-turned teapot body written by tools/scenes/make_textured_room.py"]
     for i, (r, h) in enumerate(profile):
         for s in range(segments + 1):
             phi = 2 * math.pi * s / segments
@@ -113,6 +114,9 @@ def teapot(path, segments=48):
 
 
 def main():
+    # No options: the assets always go to scenes/textured-room/; --help says so without writing.
+    argparse.ArgumentParser(description=__doc__,
+                            formatter_class=argparse.RawDescriptionHelpFormatter).parse_args()
     os.makedirs(OUT, exist_ok=True)
     write_png(os.path.join(OUT, "bricks.png"), 64, 64, bricks())
     write_png(os.path.join(OUT, "planks.png"), 64, 64, planks())

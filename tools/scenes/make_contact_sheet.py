@@ -1,4 +1,3 @@
-#!/usr/bin/python3
 """Renders the shipped JSON scenes with the path tracer and tiles them into one image,
 each titled with its folder name (default docs/scenes.png).
 
@@ -6,9 +5,9 @@ Needs a built `emlt` and matplotlib (numpy). Scenes whose folder has no scene.js
 skipped with a note. Every scene is rendered at its own default size, so aspect ratios are
 kept; the renderer's PNG preview (linear -> sRGB, clamped) is what is shown.
 
-    scripts/make_contact_sheet.py --emlt build/emlt                 # 128 spp, docs/scenes.png
-    scripts/make_contact_sheet.py --emlt build/emlt --spp 64 --threads 2 -o /tmp/sheet.png
-    scripts/make_contact_sheet.py --emlt build/emlt kitchen bedroom  # only these
+    python3 -m tools.scenes.make_contact_sheet --emlt build/emlt          # 128 spp, docs/scenes.png
+    python3 -m tools.scenes.make_contact_sheet --emlt build/emlt --spp 64 --threads 2 -o /tmp/sheet.png
+    python3 -m tools.scenes.make_contact_sheet --emlt build/emlt kitchen bedroom  # only these
 """
 import argparse
 import os
@@ -23,8 +22,8 @@ matplotlib.use("Agg")
 import matplotlib.image as mpimg  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.normpath(os.path.join(HERE, ".."))
+from tools import ROOT
+
 DEFAULT_SCENES = ["cornell-box", "env-sky", "door-ajar", "caustic-pool", "staircase", "bedroom", "kitchen",
                   "classroom", "breakfast-room", "sponza-like"]
 

@@ -1,8 +1,8 @@
-#!/usr/bin/env python3
 """Renders public Mitsuba 0.6 scenes found in a folder with emlt, and with Mitsuba itself
 when MITSUBA= names its binary, and prints a table of image means.
 
-    MITSUBA=/path/to/dist/mitsuba scripts/conformance/check_public.sh FOLDER
+    MITSUBA=/path/to/dist/mitsuba tools/conformance/check_public.sh FOLDER
+    MITSUBA=/path/to/dist/mitsuba python3 -m tools.conformance.check_public FOLDER   (from the root)
         [--emlt build/emlt] [--scale 0.25] [--spp 256] [--only NAME ...] [--threads N]
 
 emlt renders each scene file as it is (no edits): `emlt info` gives its verdict, and
@@ -27,10 +27,8 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(os.path.dirname(HERE))
-sys.path.insert(0, os.path.dirname(HERE))
-from emlt_images import read_pfm  # noqa: E402
+from tools import ROOT
+from tools.images import read_pfm
 
 
 def scene_facts(path):

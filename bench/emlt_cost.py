@@ -35,10 +35,10 @@ Per strategy it also prints instructions per proposal (inclusive of everything t
 proposal does, tracing included).
 
 Usage:
-  scripts/bench_emlt_cost.py                         # Cornell box and door ajar, 256x256
-  scripts/bench_emlt_cost.py --no-cpu                # callgrind only
-  scripts/bench_emlt_cost.py --structure --no-callgrind   # driver against kernels, CPU time
-  scripts/bench_emlt_cost.py --method emlt-ani="--integrator emlt --mutations emlt-ani"
+  bench/emlt_cost.py                         # Cornell box and door ajar, 256x256
+  bench/emlt_cost.py --no-cpu                # callgrind only
+  bench/emlt_cost.py --structure --no-callgrind   # driver against kernels, CPU time
+  bench/emlt_cost.py --method emlt-ani="--integrator emlt --mutations emlt-ani"
 """
 import argparse
 import collections

@@ -1,4 +1,3 @@
-#!/usr/bin/python3
 """Writes the lat-long sky used by scenes/env-sky: a blue gradient sky, a dim ground and a
 small sun ~1e4 times brighter than the sky, as a Radiance .hdr (RGBE) file.
 
@@ -7,13 +6,15 @@ v = theta / pi with theta measured from +y (row 0 is straight up), and the direc
 texel is (sin theta sin phi, cos theta, -sin theta cos phi).
 
 Deterministic: the same arguments always give the same bytes.
-    scripts/make_sky.py                     # writes scenes/env-sky/sky.hdr (256 x 128)
-    scripts/make_sky.py -o other.hdr --width 512
+    python3 -m tools.scenes.make_sky                  # writes scenes/env-sky/sky.hdr (256 x 128)
+    python3 -m tools.scenes.make_sky -o other.hdr --width 512
 """
 import argparse
 import os
 
 import numpy as np
+
+from tools import ROOT
 
 SUN_DIRECTION = np.array([-0.45, 0.6, -0.65])   # towards the sun: up, front-left of the camera
 SUN_ANGULAR_RADIUS_DEG = 2.5                     # enlarged so the disk covers a few texels
@@ -69,9 +70,8 @@ def write_hdr(path, rgb):
 
 
 def main():
-    here = os.path.dirname(os.path.abspath(__file__))
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("-o", "--output", default=os.path.join(here, "..", "scenes", "env-sky", "sky.hdr"))
+    parser.add_argument("-o", "--output", default=os.path.join(ROOT, "scenes", "env-sky", "sky.hdr"))
     parser.add_argument("--width", type=int, default=256)
     parser.add_argument("--height", type=int, default=None, help="default: width / 2")
     args = parser.parse_args()

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Renders the conformance suite's reference images with Mitsuba 0.6 itself.
-#   MITSUBA=/path/to/dist/mitsuba scripts/conformance/render_references.sh [NAME...]
+#   MITSUBA=/path/to/dist/mitsuba tools/conformance/render_references.sh [NAME...]
 # Each scene of tests/conformance/suite.json (or only the NAMEs given) is rendered to
 # tests/conformance/references/NAME.pfm, and the exact command is written beside it as
 # NAME.cmd. Mitsuba 0.6 builds with ../shared/tools/build-mitsuba.sh (RGB mode, single

@@ -1,4 +1,3 @@
-#!/usr/bin/python3
 """Writes the meshes of scenes/env-terrain/ (about 1.03 million triangles, 30 MB) into
 scenes/env-terrain/cache/, which git ignores: the performance suite (bench/run.sh) runs
 this when the files are missing, so the repository holds only this script.
@@ -9,15 +8,16 @@ this when the files are missing, so the repository holds only this script.
 
 Deterministic (sums of sines, no random numbers); binary little-endian PLY with vertex
 normals, read by emlt and by Mitsuba 0.6 alike. numpy only.
-  python3 scripts/make_terrain.py [--out DIR]
+  python3 -m tools.scenes.make_terrain [--out DIR]      (from the repository root)
 """
 import argparse
 import os
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-DEFAULT_OUT = os.path.join(HERE, "..", "scenes", "env-terrain", "cache")
+from tools import ROOT
+
+DEFAULT_OUT = os.path.join(ROOT, "scenes", "env-terrain", "cache")
 
 
 def write_ply(path, positions, normals, triangles):

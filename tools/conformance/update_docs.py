@@ -1,7 +1,6 @@
-#!/usr/bin/env python3
 """Regenerates the conformance figures in the docs from a run of the suite.
 
-    scripts/conformance/update_docs.py [--emlt build/emlt]
+    python3 -m tools.conformance.update_docs [--emlt build/emlt]      (from the repository root)
 
 Runs tests/conformance/check.py over every scene, writes the full per-scene table to
 docs/conformance.md and the summary by group of conventions into README.md between its
@@ -13,8 +12,8 @@ import subprocess
 import sys
 import tempfile
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(os.path.dirname(HERE))
+from tools import ROOT
+
 BEGIN, END = "<!-- conformance:begin -->", "<!-- conformance:end -->"
 
 
@@ -24,9 +23,13 @@ def main():
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as work:
         table, summary = os.path.join(work, "table.md"), os.path.join(work, "summary.md")
+        # check.py imports tools.images: it runs with the repository root on its PYTHONPATH,
+        # as CTest runs it.
+        env = dict(os.environ, PYTHONPATH=os.pathsep.join(
+            p for p in (ROOT, os.environ.get("PYTHONPATH")) if p))
         run = subprocess.run([sys.executable, os.path.join(ROOT, "tests", "conformance", "check.py"),
                               "--emlt", args.emlt, "--table", table, "--summary", summary],
-                             capture_output=True, text=True)
+                             capture_output=True, text=True, env=env)
         if not os.path.exists(table):
             print(run.stdout + run.stderr, file=sys.stderr)
             return 1
@@ -35,7 +38,7 @@ def main():
                                 capture_output=True, text=True).stdout.strip()
         with open(os.path.join(ROOT, "docs", "conformance.md"), "w") as f:
             f.write("# Conformance with Mitsuba 0.6, scene by scene\n\n"
-                    "Written by `scripts/conformance/update_docs.py` (engine at commit "
+                    "Written by `python3 -m tools.conformance.update_docs` (engine at commit "
                     f"{commit}): every scene of `tests/conformance/`, rendered by emlt with each "
                     "integrator it lists (two seeds) and compared with Mitsuba 0.6's own image. "
                     "*Mean / Mitsuba's* is per colour channel (within 1 % passes); *error / noise* "

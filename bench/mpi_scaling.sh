@@ -2,7 +2,7 @@
 # Strong scaling of MPI on this machine: the same render as 1 rank x 2 threads
 # and as 2 ranks x 1 thread (mpirun), for each integrator. Efficiency = time(1 x 2) /
 # time(2 x 1): 1.0 when splitting the work over processes costs nothing beyond threads.
-#   scripts/bench_mpi_scaling.sh [SIZE [INTEGRATOR...]]
+#   bench/mpi_scaling.sh [SIZE [INTEGRATOR...]]
 #   (default: a 256 x 256 Cornell box; pt bdpt mlt emlt, about 70 s in all on 2 idle cores;
 #   pssmlt and mmlt on request)
 # Prints a Markdown table (docs/scaling.md quotes it); "render s" is what emlt reports (the
@@ -36,7 +36,7 @@ for integrator in "${integrators[@]}"; do
     bdpt) flag=--spp budget=64 ;;
     mlt | gamlt) flag=--mpp budget=256 ;;
     emlt | pssmlt | mmlt) flag=--mpp budget=128 ;;
-    *) echo "bench_mpi_scaling: unknown integrator $integrator" >&2; exit 1 ;;
+    *) echo "mpi_scaling: unknown integrator $integrator" >&2; exit 1 ;;
   esac
   args=(render scenes/cornell-box/scene.json --integrator "$integrator" "$flag" "$budget"
         --width "$size" --height "$size" -q)
