@@ -2,6 +2,7 @@
 
 #include "cli/commands.h"
 #include "cli/fidelity.h"
+#include "emlt/run/scene_settings.h"
 #include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/scene.h"
 
@@ -26,8 +27,8 @@ int run_info(const InfoOptions& options) {
   fmt::print("materials    {}\n", d.materials.size());
   for (const auto& m : d.materials)
     fmt::print("  {:<20} {}\n", m.name, m.bsdf ? m.bsdf->name() : std::string("(none)"));
-  fmt::print("integrator   {} (max depth {}, {} spp)\n", d.defaults.integrator,
-             d.defaults.max_depth, d.defaults.spp);
+  const RenderSettings s = settings_for(d.render);  // the file's, else the engine's defaults
+  fmt::print("integrator   {} (max depth {}, {} spp)\n", s.integrator, s.max_depth, s.spp);
   fmt::print("warnings     {}\n", scene->warnings().size());
   for (const auto& w : scene->warnings()) fmt::print("  {}\n", w);
   // Last, so that it is the line a user sees first: is this the scene the file means?

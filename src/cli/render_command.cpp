@@ -25,6 +25,7 @@
 #include "emlt/run/convergence_log.h"
 #include "emlt/run/integrator.h"
 #include "emlt/run/render_control.h"
+#include "emlt/run/scene_settings.h"
 #include "emlt/run/snapshot.h"
 #include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/visible_emitters.h"
@@ -123,8 +124,8 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   SceneDescription desc = load_scene_description(o.scene, parse_defines(o.defines));
   refuse_divergences_if_strict(desc, o.strict);
 
-  // Scene file defaults first, then whatever the command line set explicitly.
-  RenderSettings settings = desc.defaults;
+  // The engine's defaults, then what the scene file says, then what the command line says.
+  RenderSettings settings = settings_for(desc.render);
   const auto given = [&](const char* name) { return command.count(name) > 0; };
   if (given("--integrator")) settings.integrator = o.integrator;
   for (const RenderOption& option : render_options())

@@ -14,6 +14,7 @@
 #include "emlt/run/integrator.h"
 #include "emlt/run/progress.h"
 #include "emlt/run/render_control.h"
+#include "emlt/run/scene_settings.h"
 #include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/scene.h"
 
@@ -71,7 +72,7 @@ class CheckpointFixture {
         load_scene_description(EMLT_SOURCE_DIR "/scenes/cornell-box/scene.json");
     desc.camera.width = 4;
     desc.camera.height = 4;
-    defaults_ = desc.defaults;
+    defaults_ = settings_for(desc.render);
     scene_ = Scene::build(std::move(desc));
   }
 

@@ -22,7 +22,7 @@ RenderResult render(const std::string& integrator, const Scene& scene, int spp, 
   s.spp = spp;
   s.seed = seed;
   s.progress = false;
-  s.max_depth = scene.description().defaults.max_depth;
+  s.max_depth = scene.description().render.max_depth.value_or(-1);
   ProgressReporter progress(false);
   return make_integrator(integrator)->render(scene, s, progress);
 }

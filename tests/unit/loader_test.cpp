@@ -9,6 +9,7 @@
 #include "emlt/core/error.h"
 #include "emlt/integrators/registry.h"
 #include "emlt/run/integrator.h"
+#include "emlt/run/scene_settings.h"
 #include "emlt/scene/loaders/obj_loader.h"
 #include "emlt/scene/scene.h"
 #include "support/test_support.h"
@@ -72,9 +73,9 @@ TEST(CornellBox, JsonAndXmlDescribeTheSameScene) {
   EXPECT_TRUE(xml_desc.warnings.empty()) << xml_desc.warnings.front();
   EXPECT_EQ(json_desc.camera.width, 256);
   EXPECT_EQ(xml_desc.camera.width, 256);
-  EXPECT_EQ(json_desc.defaults.spp, xml_desc.defaults.spp);
-  EXPECT_EQ(json_desc.defaults.integrator, xml_desc.defaults.integrator);
-  EXPECT_EQ(json_desc.defaults.max_depth, xml_desc.defaults.max_depth);
+  EXPECT_EQ(json_desc.render.spp, xml_desc.render.spp);
+  EXPECT_EQ(json_desc.render.integrator, xml_desc.render.integrator);
+  EXPECT_EQ(json_desc.render.max_depth, xml_desc.render.max_depth);
 
   const auto json_scene = Scene::build(json_desc);
   const auto xml_scene = Scene::build(xml_desc);
@@ -150,7 +151,7 @@ TEST(Loader, DefinesOverrideDefaultsInXmlAndJson) {
     const SceneDescription desc = load_scene_description(test::source_path(file), defines);
     EXPECT_EQ(desc.camera.width, 64) << file;
     EXPECT_EQ(desc.camera.height, 48) << file;
-    EXPECT_EQ(desc.defaults.spp, 4) << file;
+    EXPECT_EQ(desc.render.spp, 4) << file;
   }
   const auto dir = test::scratch_dir("defines");
   const std::string json =
@@ -178,13 +179,14 @@ TEST(Loader, HideEmittersIsASetting) {
   const auto dir = test::scratch_dir("hide-emitters");
   const SceneDescription xml = load_scene_description(write_file(dir, "hide.xml", small_xml(R"(
   <integrator type="path"><boolean name="hideEmitters" value="true"/></integrator>)")));
-  EXPECT_TRUE(xml.defaults.hide_emitters);
+  EXPECT_EQ(xml.render.hide_emitters, true);
   EXPECT_TRUE(xml.warnings.empty());
-  EXPECT_FALSE(
-      load_scene_description(write_file(dir, "show.xml", small_xml(""))).defaults.hide_emitters);
+  EXPECT_FALSE(load_scene_description(write_file(dir, "show.xml", small_xml("")))
+                   .render.hide_emitters.value_or(false));
   std::string json = small_json("", "");
   json.insert(1, R"("integrator": {"type": "pt", "hide_emitters": true}, )");
-  EXPECT_TRUE(load_scene_description(write_file(dir, "hide.json", json)).defaults.hide_emitters);
+  EXPECT_TRUE(load_scene_description(write_file(dir, "hide.json", json))
+                  .render.hide_emitters.value_or(false));
 }
 
 TEST(Loader, BadInputGivesOneLineErrorNamingFileAndProblem) {
@@ -351,10 +353,10 @@ TEST(Loader, XmlParticleTracer) {
   <shape type="sphere"/>
 </scene>)");
   const SceneDescription desc = load_scene_description(xml);
-  EXPECT_EQ(desc.defaults.integrator, "ptracer");
-  EXPECT_EQ(desc.defaults.max_depth, 6);
-  EXPECT_EQ(desc.defaults.rr_depth, 3);
-  EXPECT_NE(make_integrator(desc.defaults.integrator), nullptr);
+  EXPECT_EQ(desc.render.integrator, "ptracer");
+  EXPECT_EQ(desc.render.max_depth, 6);
+  EXPECT_EQ(desc.render.rr_depth, 3);
+  EXPECT_NE(make_integrator(desc.render.integrator), nullptr);
 }
 
 TEST(Loader, XmlSensorFilmSamplerAndIntegrator) {
@@ -373,9 +375,9 @@ TEST(Loader, XmlSensorFilmSamplerAndIntegrator) {
   <shape type="sphere"><bsdf type="dielectric"><string name="intIOR" value="water"/></bsdf></shape>
 </scene>)");
   const SceneDescription desc = load_scene_description(xml);
-  EXPECT_EQ(desc.defaults.integrator, "bdpt");
-  EXPECT_EQ(desc.defaults.max_depth, 7);
-  EXPECT_EQ(desc.defaults.spp, 64);
+  EXPECT_EQ(desc.render.integrator, "bdpt");
+  EXPECT_EQ(desc.render.max_depth, 7);
+  EXPECT_EQ(desc.render.spp, 64);
   EXPECT_EQ(desc.camera.width, 40);
   EXPECT_EQ(desc.camera.height, 20);
   EXPECT_FLOAT_EQ(desc.camera.fov_degrees, 30.0f);
@@ -522,7 +524,7 @@ TEST(Loader, MitsubaSettingsThatChangeNoImageKeepTheVerdictExact) {
               "value=\"false\"/></integrator>\n");
   const SceneDescription exact = load_scene_description(write_file(dir, "exact.xml", xml));
   EXPECT_EQ(exact.verdict(), "exact");
-  EXPECT_EQ(exact.defaults.integrator, "mlt");
+  EXPECT_EQ(exact.render.integrator, "mlt");
   EXPECT_TRUE(any_contains(exact.warnings, "nearClip 0.1 and farClip 100 are not applied"));
   // Switched on, strictNormals changes the image: unsupported.
   xml.replace(xml.find("name=\"strictNormals\" value=\"false\""),
@@ -591,4 +593,27 @@ TEST(Loader, ParametersMitsubaItselfIgnoresKeepTheVerdictExact) {
               "type=\"roughconductor\"><float name=\"wobble\" value=\"1\"/");
   EXPECT_EQ(load_scene_description(write_file(dir, "rough.xml", xml)).verdict(),
             "unsupported: 1 item");
+}
+
+// A scene description holds what the file says about rendering and nothing more: a file
+// that names no integrator and no sample count leaves them to the engine and the command line.
+TEST(Loader, TheDescriptionCarriesOnlyWhatTheFileSaysAboutRendering) {
+  const auto dir = test::scratch_dir("render-request");
+  const SceneDescription silent =
+      load_scene_description(write_file(dir, "silent.xml", small_xml("")));
+  EXPECT_TRUE(silent.render.integrator.empty());
+  EXPECT_FALSE(silent.render.spp || silent.render.max_depth || silent.render.rr_depth ||
+               silent.render.hide_emitters);
+  const RenderSettings engine;
+  const RenderSettings s = settings_for(silent.render);
+  EXPECT_EQ(s.integrator, engine.integrator);
+  EXPECT_EQ(s.spp, engine.spp);
+  EXPECT_EQ(s.max_depth, engine.max_depth);
+  const SceneDescription said = load_scene_description(write_file(dir, "said.xml", small_xml(R"(
+  <integrator type="bdpt"><integer name="maxDepth" value="4"/></integrator>)")));
+  EXPECT_EQ(said.render.integrator, "bdpt");
+  EXPECT_EQ(said.render.max_depth, 4);
+  EXPECT_FALSE(said.render.rr_depth);  // not said: the engine's
+  EXPECT_EQ(settings_for(said.render).rr_depth, engine.rr_depth);
+  EXPECT_EQ(settings_for(said.render).max_depth, 4);
 }

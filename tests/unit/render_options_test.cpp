@@ -8,6 +8,7 @@
 
 #include "emlt/core/error.h"
 #include "emlt/integrators/registry.h"
+#include "emlt/run/scene_settings.h"
 #include "emlt/scene/loaders/loader.h"
 #include "emlt/settings/render_option.h"
 #include "support/test_support.h"
@@ -127,9 +128,10 @@ TEST(RenderOptions, MitsubaParametersMeanWhatTheirFlagsMean) {
     RenderSettings by_flag;
     option.set(by_flag, value);
     if (option.recorded) {
-      EXPECT_EQ(option.recorded(desc.defaults), option.recorded(by_flag)) << option.mitsuba;
+      EXPECT_EQ(option.recorded(settings_for(desc.render)), option.recorded(by_flag))
+          << option.mitsuba;
     } else if (option.flag == "--spp") {
-      EXPECT_EQ(desc.defaults.spp, by_flag.spp);
+      EXPECT_EQ(desc.render.spp, by_flag.spp);
     } else {
       ADD_FAILURE() << option.flag << ": no way to compare";
     }

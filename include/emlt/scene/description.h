@@ -12,7 +12,6 @@
 #include "emlt/image/image.h"
 #include "emlt/scene/bsdf.h"
 #include "emlt/scene/texture.h"
-#include "emlt/settings/settings.h"
 
 namespace emlt {
 
@@ -96,6 +95,15 @@ struct Divergence {
   std::string message;  // the warning's text, "<file>: line N: ..."
 };
 
+// What a scene file says about how to render it (Mitsuba's <integrator> and <sampler>, the
+// JSON file's "integrator"), nothing more: each entry empty where the file says nothing, so
+// the engine's own defaults and the command line fill the rest (the render command).
+struct SceneRenderRequest {
+  std::string integrator;  // emlt's name for the file's integrator
+  std::optional<int> spp, max_depth, rr_depth;
+  std::optional<bool> hide_emitters;
+};
+
 struct SceneDescription {
   std::string source;  // file it came from
   std::vector<MaterialDesc> materials;
@@ -103,7 +111,7 @@ struct SceneDescription {
   std::vector<SphereDesc> spheres;
   EnvironmentDesc environment;
   CameraDesc camera;
-  RenderSettings defaults;  // integrator, spp, max depth ... from the file
+  SceneRenderRequest render;
   std::vector<std::string> warnings;
   std::vector<Divergence> divergences;  // each also in warnings
   // Shapes a loader could not read ("<shape type=\"heightfield\"> at line 12"), named in

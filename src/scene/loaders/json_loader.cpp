@@ -371,12 +371,15 @@ class JsonSceneReader {
 
   void read_integrator(const json& i) {
     check_keys(i, "integrator", {"type", "max_depth", "rr_depth", "spp", "hide_emitters"});
-    RenderSettings& s = desc_.defaults;
-    if (i.contains("type")) s.integrator = string(i["type"], "integrator.type");
-    s.max_depth = integer(i, "max_depth", "integrator", s.max_depth, loader::kMaxDepthRange);
-    s.rr_depth = integer(i, "rr_depth", "integrator", s.rr_depth, loader::kRrDepthRange);
-    s.spp = integer(i, "spp", "integrator", s.spp, loader::kSppRange);
-    s.hide_emitters = boolean(i, "hide_emitters", "integrator", s.hide_emitters);
+    SceneRenderRequest& r = desc_.render;
+    if (i.contains("type")) r.integrator = string(i["type"], "integrator.type");
+    if (i.contains("max_depth"))
+      r.max_depth = integer(i, "max_depth", "integrator", -1, loader::kMaxDepthRange);
+    if (i.contains("rr_depth"))
+      r.rr_depth = integer(i, "rr_depth", "integrator", 5, loader::kRrDepthRange);
+    if (i.contains("spp")) r.spp = integer(i, "spp", "integrator", 1, loader::kSppRange);
+    if (i.contains("hide_emitters"))
+      r.hide_emitters = boolean(i, "hide_emitters", "integrator", false);
   }
 
   void conductor_ior(const json& m, const std::string& where, Rgb* eta, Rgb* k) const {

@@ -18,6 +18,7 @@
 #include "emlt/scene/loaders/serialized_loader.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/shape_builders.h"
+#include "emlt/settings/settings.h"
 #include "src/scene/loaders/loader_common.h"
 #include "src/scene/loaders/mitsuba_parser.h"
 
@@ -149,23 +150,25 @@ class MitsubaSceneReader {
   void read_integrator(pugi::xml_node node) {
     const std::string type = doc_.attribute(node, "type");
     Properties props(doc_, node);
-    RenderSettings& s = desc_.defaults;
+    SceneRenderRequest& r = desc_.render;
     if (type == "path")
-      s.integrator = "pt";
+      r.integrator = "pt";
     else if (type == "direct")
-      s.integrator = "direct";
+      r.integrator = "direct";
     else if (type == "bdpt")
-      s.integrator = "bdpt";
+      r.integrator = "bdpt";
     else if (type == "mlt")
-      s.integrator = "mlt";
+      r.integrator = "mlt";
     else if (type == "ptracer")
-      s.integrator = "ptracer";
+      r.integrator = "ptracer";
     else  // any unbiased or consistent integrator converges to the same image
       doc_.warn(node,
-                "integrator type '" + type + "' is not supported; using '" + s.integrator + "'",
+                "integrator type '" + type + "' is not supported; using '" +
+                    (r.integrator.empty() ? RenderSettings().integrator : r.integrator) + "'",
                 Document::Warning::Approximated);
-    s.max_depth = props.get_integer("maxDepth", s.max_depth, loader::kMaxDepthRange);
-    s.rr_depth = props.get_integer("rrDepth", s.rr_depth, loader::kRrDepthRange);
+    if (props.has("maxDepth"))
+      r.max_depth = props.get_integer("maxDepth", -1, loader::kMaxDepthRange);
+    if (props.has("rrDepth")) r.rr_depth = props.get_integer("rrDepth", 5, loader::kRrDepthRange);
     // Parameters that steer how fast an integrator converges, never what it converges to:
     // emlt's integrators have their own (command line) controls.
     std::vector<std::string> tuning;
@@ -176,7 +179,7 @@ class MitsubaSceneReader {
           "granularity"})
       if (props.has(name)) tuning.push_back(name);
     for (const std::string& name : tuning) props.ignore({name.c_str()});
-    s.hide_emitters = props.get_boolean("hideEmitters", s.hide_emitters);
+    if (props.has("hideEmitters")) r.hide_emitters = props.get_boolean("hideEmitters", false);
     // A switch whose default is what emlt does; switched on, it changes the image and is
     // reported as unsupported.
     if (props.get_boolean("strictNormals", false))
@@ -318,7 +321,8 @@ class MitsubaSceneReader {
 
   void read_sampler(pugi::xml_node node) {
     Properties props(doc_, node);
-    desc_.defaults.spp = props.get_integer("sampleCount", desc_.defaults.spp, loader::kSppRange);
+    if (props.has("sampleCount"))
+      desc_.render.spp = props.get_integer("sampleCount", 1, loader::kSppRange);
     props.ignore({"scramble", "dimension", "resolution", "depth"});  // sequence details only
     props.warn_unused();
   }
