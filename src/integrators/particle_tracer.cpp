@@ -2,17 +2,21 @@
 // Each path starts on a light, chosen by power, and walks in importance mode; every vertex,
 // the light's own point included, is connected to the camera through a sampled lens point
 // and splatted on the film where it lands. This is BDPT's t = 1 strategy alone and
-// unweighted, on the same path layer (random_walk.h, connection.h): it renders what a
-// connection to the camera can see, so light reaching the camera only through a specular
-// bounce (a light seen in a mirror or through glass) stays black, as in Mitsuba.
+// unweighted, on the same path layer (random_walk.h, connection.h), but for a non-box
+// filter's pixels at the image's edge, which Mitsuba's ptracer does not renormalise (see
+// sample()). It renders what a connection to the camera can see, so light reaching the
+// camera only through a specular bounce (a light seen in a mirror or through glass) stays
+// black, as in Mitsuba.
 //
 // Mitsuba's parameters: maxDepth is --max-depth (segments: 1 shows the lights only), rrDepth
 // the scene's rr_depth (roulette from that many light-subpath segments, as BDPT's light
 // side); granularity, the light paths of one work unit, only schedules work, which the pass
-// runner's tiles do here. The budget is --spp light paths per pixel, Mitsuba's sampleCount
-// of paths per pixel: light path k of pixel i draws from the stream (seed, i, k), a key
-// that gives the pass runner its order (the same bits at any thread or rank count, and
-// resumed) and says nothing about where the path lands.
+// runner's tiles do here. Mitsuba's ptracer reads no hideEmitters (it draws the lights seen
+// directly), and bruteForce is reported as unsupported (both in the loader). The budget is
+// --spp light paths per pixel, Mitsuba's sampleCount of paths per pixel: light path k of
+// pixel i draws from the stream (seed, i, k), a key that gives the pass runner its order
+// (the same bits at any thread or rank count, and resumed) and says nothing about where the
+// path lands.
 #include <optional>
 
 #include "emlt/path/connection.h"
@@ -51,9 +55,11 @@ class ParticleTracerStep final : public PixelSampleStep {
       Rgb value =
           y.throughput * connect_vertices(scene_, y_previous, y, *lens, nullptr) * lens->throughput;
       if (is_black(value) || !out.invalid.keep(value)) continue;
-      scene_.camera().filter().splat(lens->raster, [&](uint32_t target, float weight) {
-        out.splats.add(target, value * weight);
-      });
+      // Mitsuba's ptracer image is its splats alone, each through the whole filter: near
+      // the image's edge the part of a footprint off the image is lost, not renormalised.
+      scene_.camera().filter().splat_unrenormalised(
+          lens->raster,
+          [&](uint32_t target, float weight) { out.splats.add(target, value * weight); });
     }
   }
 
