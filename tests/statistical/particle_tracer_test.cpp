@@ -13,6 +13,7 @@
 #include "emlt/integrators/registry.h"
 #include "emlt/run/integrator.h"
 #include "emlt/scene/loaders/loader.h"
+#include "emlt/scene/materials.h"
 #include "emlt/scene/scene.h"
 #include "support/image_checks.h"
 #include "support/test_scenes.h"
@@ -132,6 +133,33 @@ TEST(ParticleTracer, GaussianFilterDarkensTheBorderAsMitsubasDoes) {
   EXPECT_NEAR(interior, exact, 0.01 * exact);
   EXPECT_NEAR(edge, exact * fraction, 0.015 * exact);
   EXPECT_NEAR(corner, exact * fraction * fraction, 0.03 * exact);
+}
+
+// Mitsuba's ptracer draws the environment seen directly. With a constant sky filling the
+// view (the only geometry, a dark quad, behind the camera), every pixel is the sky's
+// radiance, through a pinhole and through a thin lens.
+TEST(ParticleTracer, DrawsTheSkySeenDirectly) {
+  for (const float aperture : {0.0f, 0.2f}) {
+    SceneDescription d;
+    d.source = "sky";
+    const int black = test::add_material(d, make_lambertian(Rgb(0.0f)));
+    test::add_quad(d, {-1, -1, 3}, {1, -1, 3}, {1, 1, 3}, {-1, 1, 3}, black);
+    d.environment.kind = EnvironmentDesc::Kind::Constant;
+    d.environment.radiance = Rgb(0.5f, 1.0f, 2.0f);
+    d.camera = test::camera_at(Vec3(0.0f), Vec3(0.0f, 0.0f, -1.0f), 16);
+    d.camera.aperture_radius = aperture;
+    d.camera.focus_distance = 4.0f;
+    const auto scene = Scene::build(std::move(d));
+    RenderSettings s;
+    s.spp = 256;
+    const Image image = particle_trace(*scene, s).image;
+    double sum[3] = {0.0, 0.0, 0.0};
+    for (const Rgb& p : image.pixels)
+      for (int c = 0; c < 3; ++c) sum[c] += p[c] / double(image.pixels.size());
+    EXPECT_NEAR(sum[0], 0.5, 0.01) << "aperture " << aperture;
+    EXPECT_NEAR(sum[1], 1.0, 0.02) << "aperture " << aperture;
+    EXPECT_NEAR(sum[2], 2.0, 0.04) << "aperture " << aperture;
+  }
 }
 
 struct Reference {
