@@ -53,6 +53,7 @@ PixelFilter::PixelFilter(const PixelFilterDesc& desc, int width, int height)
     }
     return inv;
   };
+  inv_total_ = float(1.0 / cumulative_.back());
   inv_norm_x_ = inverse_norms(width);
   inv_norm_y_ = inverse_norms(height);
 }

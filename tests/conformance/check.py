@@ -44,7 +44,7 @@ except ModuleNotFoundError as error:  # run by hand without it: say how, not a t
 
 MEAN_TOLERANCE = 0.01
 ERROR_RATIO_LIMIT = 2.0
-DEFAULT_SPP = {"pt": 64, "bdpt": 32, "mlt": 64, "direct": 64}
+DEFAULT_SPP = {"pt": 64, "bdpt": 32, "mlt": 64, "direct": 64, "ptracer": 64}
 
 
 def load_suite():
@@ -139,7 +139,11 @@ def write_summary(results, path):
     """One row per group of conventions (the scene names' first word): for the README."""
     groups = {}
     for r in results:
-        groups.setdefault(CATEGORIES.get(r["scene"].split("-")[0], r["scene"]), []).append(r)
+        # The particle tracer's scenes (NAME-ptracer, checked against Mitsuba's ptracer
+        # image) form their own group whatever convention they share with NAME.
+        group = ("particle tracer" if r["scene"].endswith("-ptracer")
+                 else CATEGORIES.get(r["scene"].split("-")[0], r["scene"]))
+        groups.setdefault(group, []).append(r)
     lines = ["| conventions | scenes | renders | worst mean ratio | worst error / noise | verdict |",
              "|---|---|---|---|---|---|"]
     for name, rows in groups.items():

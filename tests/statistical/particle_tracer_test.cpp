@@ -4,6 +4,8 @@
 // shown to be tight enough to catch the bugs they are meant for.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include "emlt/integrators/bdpt.h"
@@ -11,6 +13,7 @@
 #include "emlt/integrators/registry.h"
 #include "emlt/run/integrator.h"
 #include "emlt/scene/loaders/loader.h"
+#include "emlt/scene/materials.h"
 #include "emlt/scene/scene.h"
 #include "support/image_checks.h"
 #include "support/test_scenes.h"
@@ -86,6 +89,77 @@ TEST(ParticleTracer, MatchesTheClosedBoxExactly) {
   // Injected bug: the last bounce dropped (a depth off by one).
   s.max_depth = 2;
   EXPECT_GT(std::abs(mean(particle_trace(*scene, s).image) - exact), 0.05 * exact);
+}
+
+// Mitsuba's particle tracer splats through the whole reconstruction filter and never
+// divides by a weight, so a Gaussian filter's border pixels keep only the part of their
+// footprint inside the image: in the closed box, L times that fraction per axis. (Its path
+// tracer, like emlt's camera-side integrators, renormalises: L everywhere.)
+TEST(ParticleTracer, GaussianFilterDarkensTheBorderAsMitsubasDoes) {
+  const Rgb albedo(0.5f);
+  const int size = 24;
+  SceneDescription d = test::emissive_box_description(albedo, 1.0f, size);
+  d.camera.filter.kind = PixelFilterDesc::Kind::Gaussian;  // stddev 0.5, radius 2
+  const auto scene = Scene::build(std::move(d));
+  RenderSettings s;
+  s.spp = 256;
+  s.max_depth = 3;
+  const double exact = test::emissive_box_radiance(albedo, 1.0f, 3).y;
+  const Image image = particle_trace(*scene, s).image;
+  // The fraction of Mitsuba's tabulated profile (31 steps over the radius 2, each the value
+  // at its inner end) inside the image for a pixel centred half a pixel from the edge.
+  double total = 0.0, inside = 0.0;
+  for (int i = 0; i < 31; ++i) {
+    const double t = 2.0 * i / 31.0, value = std::exp(-2.0 * t * t) - std::exp(-8.0);
+    total += 2.0 * value;
+    inside += value + value * std::clamp(0.5 * 31.0 / 2.0 - i, 0.0, 1.0);
+  }
+  const double fraction = inside / total;  // 0.84
+  double interior = 0.0, edge = 0.0, corner = 0.0;
+  int interior_count = 0, edge_count = 0;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const double v = image.pixels[size_t(y * size + x)].y;
+      const bool border_x = x == 0 || x == size - 1, border_y = y == 0 || y == size - 1;
+      if (border_x && border_y)
+        corner += v / 4.0;
+      else if (border_x || border_y)
+        edge += v, ++edge_count;
+      else if (x >= 2 && y >= 2 && x < size - 2 && y < size - 2)
+        interior += v, ++interior_count;
+    }
+  interior /= interior_count;
+  edge /= edge_count;
+  EXPECT_NEAR(interior, exact, 0.01 * exact);
+  EXPECT_NEAR(edge, exact * fraction, 0.015 * exact);
+  EXPECT_NEAR(corner, exact * fraction * fraction, 0.03 * exact);
+}
+
+// Mitsuba's ptracer draws the environment seen directly. With a constant sky filling the
+// view (the only geometry, a dark quad, behind the camera), every pixel is the sky's
+// radiance, through a pinhole and through a thin lens.
+TEST(ParticleTracer, DrawsTheSkySeenDirectly) {
+  for (const float aperture : {0.0f, 0.2f}) {
+    SceneDescription d;
+    d.source = "sky";
+    const int black = test::add_material(d, make_lambertian(Rgb(0.0f)));
+    test::add_quad(d, {-1, -1, 3}, {1, -1, 3}, {1, 1, 3}, {-1, 1, 3}, black);
+    d.environment.kind = EnvironmentDesc::Kind::Constant;
+    d.environment.radiance = Rgb(0.5f, 1.0f, 2.0f);
+    d.camera = test::camera_at(Vec3(0.0f), Vec3(0.0f, 0.0f, -1.0f), 16);
+    d.camera.aperture_radius = aperture;
+    d.camera.focus_distance = 4.0f;
+    const auto scene = Scene::build(std::move(d));
+    RenderSettings s;
+    s.spp = 256;
+    const Image image = particle_trace(*scene, s).image;
+    double sum[3] = {0.0, 0.0, 0.0};
+    for (const Rgb& p : image.pixels)
+      for (int c = 0; c < 3; ++c) sum[c] += p[c] / double(image.pixels.size());
+    EXPECT_NEAR(sum[0], 0.5, 0.01) << "aperture " << aperture;
+    EXPECT_NEAR(sum[1], 1.0, 0.02) << "aperture " << aperture;
+    EXPECT_NEAR(sum[2], 2.0, 0.04) << "aperture " << aperture;
+  }
 }
 
 struct Reference {

@@ -30,6 +30,10 @@ CameraDesc camera_at(Vec3 eye, Vec3 target, int size, Vec3 up) {
 }
 
 std::unique_ptr<Scene> emissive_box(const Rgb& albedo, float le, int image_size) {
+  return Scene::build(emissive_box_description(albedo, le, image_size));
+}
+
+SceneDescription emissive_box_description(const Rgb& albedo, float le, int image_size) {
   SceneDescription d;
   d.source = "emissive-box";
   const int m = add_material(d, make_lambertian(albedo));
@@ -44,7 +48,7 @@ std::unique_ptr<Scene> emissive_box(const Rgb& albedo, float le, int image_size)
   add_quad(d, p[4], p[5], p[1], p[0], m, e);  // y = -1
   add_quad(d, p[3], p[2], p[6], p[7], m, e);  // y = +1
   d.camera = camera_at(Vec3(0.1f, 0.2f, -0.5f), Vec3(0.3f, -0.2f, 1.0f), image_size);
-  return Scene::build(std::move(d));
+  return d;
 }
 
 Rgb emissive_box_radiance(const Rgb& albedo, float le, int max_segments) {

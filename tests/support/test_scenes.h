@@ -16,6 +16,7 @@ CameraDesc camera_at(Vec3 eye, Vec3 target, int size, Vec3 up = Vec3(0, 1, 0));
 // inwards. Radiance is the same everywhere: per channel, paths of k segments carry
 // le * albedo^(k-1), so with at most K segments L = le * sum_{k<K} albedo^k.
 std::unique_ptr<Scene> emissive_box(const Rgb& albedo, float le, int image_size = 16);
+SceneDescription emissive_box_description(const Rgb& albedo, float le, int image_size = 16);
 Rgb emissive_box_radiance(const Rgb& albedo, float le, int max_segments);
 
 // The multi-chain perturbation's shortest path, L D S D E: a floor (faces +y), a

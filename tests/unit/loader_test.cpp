@@ -359,6 +359,39 @@ TEST(Loader, XmlParticleTracer) {
   EXPECT_NE(make_integrator(desc.render.integrator), nullptr);
 }
 
+// Mitsuba's ptracer reads no hideEmitters and draws the lights seen directly, so the flag is
+// noted and dropped; bruteForce, an image emlt does not render, is a divergence (said before
+// the render, refused by --strict), but only when switched on.
+TEST(Loader, XmlParticleTracerHideEmittersAndBruteForce) {
+  const auto dir = test::scratch_dir("ptracer-flags");
+  const auto scene = [&](const std::string& name, const std::string& flags) {
+    return load_scene_description(write_file(dir, name, R"(<scene version="0.6.0">
+  <integrator type="ptracer">)" + flags + R"(</integrator>
+  <sensor type="perspective"><film type="hdrfilm"><integer name="width" value="8"/>
+    <integer name="height" value="8"/></film></sensor>
+  <shape type="sphere"><emitter type="area"><spectrum name="radiance" value="1"/></emitter></shape>
+</scene>)"));
+  };
+  const SceneDescription hidden = scene("hide.xml", R"(<boolean name="hideEmitters" value="true"/>
+    <boolean name="bruteForce" value="false"/>)");
+  EXPECT_FALSE(hidden.render.hide_emitters.has_value());
+  EXPECT_TRUE(
+      any_contains(hidden.warnings, "'hideEmitters' is not a parameter of Mitsuba's ptracer"));
+  EXPECT_TRUE(hidden.divergences.empty()) << hidden.divergences.front().message;
+  const SceneDescription brute = scene("brute.xml", R"(<boolean name="bruteForce" value="true"/>)");
+  ASSERT_EQ(brute.divergences.size(), 1u);
+  EXPECT_NE(brute.divergences.front().message.find("'bruteForce' is not supported"),
+            std::string::npos);
+  // The path tracer still reads the flag.
+  EXPECT_TRUE(load_scene_description(write_file(dir, "path.xml", R"(<scene version="0.6.0">
+  <integrator type="path"><boolean name="hideEmitters" value="true"/></integrator>
+  <sensor type="perspective"><film type="hdrfilm"><integer name="width" value="8"/>
+    <integer name="height" value="8"/></film></sensor>
+  <shape type="sphere"/>
+</scene>)"))
+                  .render.hide_emitters.value_or(false));
+}
+
 TEST(Loader, XmlSensorFilmSamplerAndIntegrator) {
   const auto dir = test::scratch_dir("sensor");
   const std::string xml = write_file(dir, "scene.xml", R"(<scene version="0.6.0">

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
@@ -81,6 +82,54 @@ TEST(PixelFilter, EveryFootprintIntegratesToOneInsideTheImage) {
       EXPECT_NEAR(integral / (steps * steps), 1.0, 1e-4) << describe(desc) << " pixel " << x << "," << y;
     }
   }
+}
+
+// Mitsuba's particle tracer splats through the whole filter: a footprint integrates over the
+// image to the part of it that lies inside (the tabulated profile's, as Mitsuba's table),
+// one for a pixel the footprint does not overhang, and the box is the plain splat.
+TEST(PixelFilter, UnrenormalisedFootprintsKeepOnlyThePartInsideTheImage) {
+  const int width = 7, height = 5, steps = 62;  // every step of the profile on the grid
+  const PixelFilter filter(gaussian(), width, height);
+  // The fraction of the 1D profile (31 steps of 2/31 over the radius 2, each at its inner
+  // end) inside the image for a pixel centred 0.5 or 1.5 from the edge.
+  const auto inside = [](double from_edge) {
+    const double step = 2.0 / 31.0;
+    double total = 0.0, within = 0.0;
+    for (int i = 0; i < 31; ++i) {
+      const double value = std::exp(-2.0 * (i * step) * (i * step)) - std::exp(-8.0);
+      total += 2.0 * value * step;
+      within += value * step + value * std::clamp(from_edge - i * step, 0.0, step);
+    }
+    return within / total;
+  };
+  for (const auto& [x, y] :
+       std::vector<std::pair<int, int>>{{0, 0}, {6, 2}, {3, 0}, {1, 4}, {3, 2}}) {
+    const uint32_t target = uint32_t(y * width + x);
+    double integral = 0.0;
+    for (int j = 0; j < height * steps; ++j)
+      for (int i = 0; i < width * steps; ++i)
+        filter.splat_unrenormalised(Vec2((float(i) + 0.5f) / steps, (float(j) + 0.5f) / steps),
+                                    [&](uint32_t pixel, float w) {
+                                      if (pixel == target) integral += w;
+                                    });
+    const auto fraction = [&](int c, int size) { return inside(std::min(c, size - 1 - c) + 0.5); };
+    const double expected = fraction(x, width) * fraction(y, height);
+    EXPECT_NEAR(integral / (steps * steps), expected, 1e-4) << "pixel " << x << "," << y;
+    if (x == 0 && y == 0) {
+      EXPECT_LT(expected, 0.75);  // the corner loses more than a quarter
+    }
+    if (x == 3 && y == 2) {
+      EXPECT_NEAR(expected, 1.0, 2e-3);
+    }
+  }
+  const PixelFilter box(PixelFilterDesc{}, width, height);
+  int visits = 0;
+  box.splat_unrenormalised(Vec2(0.2f, 4.9f), [&](uint32_t pixel, float w) {
+    EXPECT_EQ(pixel, 4u * 7u);
+    EXPECT_EQ(w, 1.0f);
+    ++visits;
+  });
+  EXPECT_EQ(visits, 1);
 }
 
 TEST(PixelFilter, SamplesOfAPixelAreDistributedAsItsSplatWeights) {

@@ -179,7 +179,26 @@ class MitsubaSceneReader {
           "granularity"})
       if (props.has(name)) tuning.push_back(name);
     for (const std::string& name : tuning) props.ignore({name.c_str()});
-    if (props.has("hideEmitters")) r.hide_emitters = props.get_boolean("hideEmitters", false);
+    if (type == "ptracer") {
+      // Mitsuba's particle tracer does not read hideEmitters (only its camera-side
+      // integrators do): it draws the lights seen directly whatever the flag says.
+      if (props.has("hideEmitters")) {
+        props.ignore({"hideEmitters"});
+        doc_.warn(node,
+                  "'hideEmitters' is not a parameter of Mitsuba's ptracer, which draws the "
+                  "lights seen directly; ignored, as Mitsuba does",
+                  Document::Warning::Note);
+      }
+      // Brute force only lets particles reach the camera by hitting its aperture (never, for
+      // a pinhole: Mitsuba's image is black): an estimator emlt does not have.
+      if (props.get_boolean("bruteForce", false))
+        doc_.warn(node,
+                  "'bruteForce' is not supported: every light vertex is connected to the "
+                  "camera instead (Mitsuba's brute-force mode counts only the particles "
+                  "that hit the camera's aperture: a perspective camera's image is black)");
+    }
+    if (type != "ptracer" && props.has("hideEmitters"))
+      r.hide_emitters = props.get_boolean("hideEmitters", false);
     // A switch whose default is what emlt does; switched on, it changes the image and is
     // reported as unsupported.
     if (props.get_boolean("strictNormals", false))
