@@ -88,7 +88,17 @@ inline constexpr double kFieldLeastStep = 0.25;
 inline constexpr int kFieldMaxLowerings = 16;
 inline constexpr int kFieldMaxSamples = 64;
 
-enum class ConeMethod { Exact, Field };
+enum class ConeMethod { Exact, Field, Cells };  // Cells: cone_cells.h
+
+// The walk's own result for two surface (or camera) ends: t = tan α* where tan_min < t <
+// tan_max, the exact cone, whatever the limits (the walk finds the same minimum from any
+// starting cone); t ≤ tan_min where α* ≤ alpha_min, and t = tan_max where α* reaches alpha_max
+// (tan_max is the tangent of alpha_max, or of just under π/2 for wider limits).
+struct ConeTan {
+  double t, tan_min, tan_max;
+};
+ConeTan estimate_cone_tan(const Scene& scene, const PathVertex& apex, const PathVertex& other,
+                          double alpha_min, double alpha_max);
 
 // The exact estimate itself (no cache). An environment vertex at either end gives alpha_max.
 double estimate_cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other,
@@ -99,8 +109,9 @@ double estimate_cone_half_angle(const Scene& scene, const PathVertex& apex, cons
 double field_cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other,
                              double alpha_min, double alpha_max);
 
-// Either, through the per-thread cache.
+// Any of them, through the per-thread cache of exact keys (cell_fraction: for Cells, f).
 double cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other,
-                       double alpha_min, double alpha_max, ConeMethod method = ConeMethod::Exact);
+                       double alpha_min, double alpha_max, ConeMethod method = ConeMethod::Exact,
+                       double cell_fraction = 0.0);
 
 }  // namespace emlt::geometry_aware

@@ -51,7 +51,9 @@ CheckpointHeader CheckpointHeader::describe(const SceneDescription& desc,
   add("--mutations", s.mutations.empty() ? "(the integrator's own)" : s.mutations);
   add("--direct", s.direct_separate ? "separate" : "mlt");
   add("--mlt-splat", s.mlt_expected_values ? "expected" : "state");
-  add("--gamlt-cone", s.gamlt_field_cone ? "field" : "exact");
+  add("--gamlt-cone", s.gamlt_field_cone         ? "field"
+                      : s.gamlt_cone_cells > 0.0 ? "cells (" + number(s.gamlt_cone_cells) + ")"
+                                                 : "exact");
   add("--gamlt-acceptance", s.gamlt_delayed_acceptance ? "delayed" : "full");
   add("--direct-spp", s.direct_spp > 0 ? number(s.direct_spp) : "(from the budget)");
   add("--ensemble-size", number(s.ensemble_size));

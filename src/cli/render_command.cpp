@@ -141,9 +141,16 @@ void add_render_options(CLI::App& command, RenderOptions& o) {
   command
       .add_option("--gamlt-cone", o.gamlt_cone,
                   "gamlt (the ga-* strategies): the occluder-free cones that set their step "
-                  "ranges, by the exact hierarchy walk (exact) or a cheap conservative bound "
-                  "from a clearance field (field: narrower cones)")
-      ->check(CLI::IsMember({"exact", "field"}));
+                  "ranges, by the exact hierarchy walk (exact), a cheap conservative bound "
+                  "from a clearance field (field: narrower cones), or the exact walk memoised "
+                  "for quantised segments (cells: the cone of the segment between the "
+                  "endpoints' cell centres, shared by nearby states)")
+      ->check(CLI::IsMember({"exact", "field", "cells"}));
+  command
+      .add_option("--gamlt-cone-cell", s.gamlt_cone_cells,
+                  "gamlt with --gamlt-cone cells: the cells' size as a fraction of the "
+                  "segment's length")
+      ->check(real_number(0.0, true, 1.0, "a number above 0, at most 1"));
   command
       .add_option("--gamlt-acceptance", o.gamlt_acceptance,
                   "gamlt (the ga-* strategies): Metropolis-Hastings in one stage (full), or in "
@@ -272,7 +279,14 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   if (given("--ensemble-aniso-multiscale"))
     settings.ensemble_aniso_smallest_scale = cli.ensemble_aniso_smallest_scale;
   if (given("--mlt-splat")) settings.mlt_expected_values = o.mlt_splat == "expected";
-  if (given("--gamlt-cone")) settings.gamlt_field_cone = o.gamlt_cone == "field";
+  if (given("--gamlt-cone")) {
+    settings.gamlt_field_cone = o.gamlt_cone == "field";
+    settings.gamlt_cone_cells = o.gamlt_cone != "cells"      ? 0.0
+                                : given("--gamlt-cone-cell") ? cli.gamlt_cone_cells
+                                                             : RenderSettings::kGamltConeCell;
+  } else if (given("--gamlt-cone-cell") && settings.gamlt_cone_cells > 0.0) {
+    settings.gamlt_cone_cells = cli.gamlt_cone_cells;
+  }
   if (given("--gamlt-acceptance"))
     settings.gamlt_delayed_acceptance = o.gamlt_acceptance == "delayed";
   if (given("--ensemble-aniso-covariance"))
