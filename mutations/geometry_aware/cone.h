@@ -74,6 +74,11 @@
 // angle is never certified) and its error, up to 1.7 cells, is of the order of the thin
 // cones' radii; faster than the exact walk on the large scenes only because of those floors,
 // slower on the small ones. Hence a flag, not the default.
+//
+// The memoised cones (ConeMethod::Cells, `--gamlt-cone cells`, cone_cells.h) keep the exact
+// walk but run it for a quantised segment, the key of a per-thread table shared by nearby
+// states; estimate_cone_tan gives them the walk's own result, which tells an exact cone from
+// one at a bound.
 #include "emlt/path/path.h"
 
 namespace emlt::geometry_aware {
