@@ -7,6 +7,8 @@
 #include <cstring>
 #include <limits>
 
+#include "mutations/geometry_aware/cone_cells.h"
+
 #if defined(__SSE__)
 #include <xmmintrin.h>
 #endif
@@ -442,12 +444,11 @@ bool same(const Vec3& a, const Vec3& b) {
 
 }  // namespace
 
-double estimate_cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other,
-                                double alpha_min, double alpha_max) {
-  if (apex.is_environment() || other.is_environment()) return alpha_max;
+ConeTan estimate_cone_tan(const Scene& scene, const PathVertex& apex, const PathVertex& other,
+                          double alpha_min, double alpha_max) {
   const double length = glm::length(DVec3(other.position) - DVec3(apex.position));
-  if (!(length > 0.0)) return alpha_min;
-  const double tan_alpha_min = std::tan(alpha_min);
+  const double tan_alpha_min = std::tan(alpha_min), tan_alpha_max = tan_of_limit(alpha_max);
+  if (!(length > 0.0)) return {tan_alpha_min, tan_alpha_min, tan_alpha_max};
   // The triangle that limited this thread's last cone from the same apex, as the walk's first
   // candidate: a perturbation keeps one end of the segment it moves (the lens and caustic
   // moves' fixed vertex, the lens point), so y's cone is often limited by the surface that
@@ -464,9 +465,16 @@ double estimate_cone_half_angle(const Scene& scene, const PathVertex& apex, cons
     hint = {&scene, apex.position, kNoTriangle};
   const double t =
       walk_span(scene, apex, other, length, 1e-9 * length, length * (1.0 - kConeEndMargin),
-                tan_of_limit(alpha_max), tan_alpha_min, &hint.triangle);
-  if (!(t > tan_alpha_min)) return alpha_min;
-  return std::clamp(std::atan(t), alpha_min, alpha_max);
+                tan_alpha_max, tan_alpha_min, &hint.triangle);
+  return {t, tan_alpha_min, tan_alpha_max};
+}
+
+double estimate_cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other,
+                                double alpha_min, double alpha_max) {
+  if (apex.is_environment() || other.is_environment()) return alpha_max;
+  const ConeTan cone = estimate_cone_tan(scene, apex, other, alpha_min, alpha_max);
+  if (!(cone.t > cone.tan_min)) return alpha_min;
+  return std::clamp(std::atan(cone.t), alpha_min, alpha_max);
 }
 
 double field_cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other,
@@ -501,7 +509,7 @@ struct CacheEntry {
   const Scene* scene = nullptr;
   ConeMethod method = ConeMethod::Exact;
   Vec3 apex{0.0f}, other{0.0f};
-  double alpha_min = 0.0, alpha_max = 0.0, alpha = 0.0;
+  double alpha_min = 0.0, alpha_max = 0.0, cell_fraction = 0.0, alpha = 0.0;
 };
 
 // Recent results of this thread: a chain's step needs the cones of x (proposed, and cached,
@@ -517,17 +525,24 @@ struct ConeCache {
 }  // namespace
 
 double cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other,
-                       double alpha_min, double alpha_max, ConeMethod method) {
+                       double alpha_min, double alpha_max, ConeMethod method,
+                       double cell_fraction) {
   if (apex.is_environment() || other.is_environment()) return alpha_max;
   thread_local ConeCache cache;
   CacheEntry& e = cache.entries[slot_of(apex.position, other.position, alpha_min, alpha_max)];
   if (e.scene == &scene && e.method == method && e.alpha_min == alpha_min &&
-      e.alpha_max == alpha_max && same(e.apex, apex.position) && same(e.other, other.position))
+      e.alpha_max == alpha_max && e.cell_fraction == cell_fraction && same(e.apex, apex.position) &&
+      same(e.other, other.position))
     return e.alpha;
-  const double alpha = method == ConeMethod::Field
-                           ? field_cone_half_angle(scene, apex, other, alpha_min, alpha_max)
-                           : estimate_cone_half_angle(scene, apex, other, alpha_min, alpha_max);
-  e = {&scene, method, apex.position, other.position, alpha_min, alpha_max, alpha};
+  // The cell cones have their own table of quantised keys behind this one (which spares
+  // computing a key for the cones of the chain's current state).
+  const double alpha =
+      method == ConeMethod::Field ? field_cone_half_angle(scene, apex, other, alpha_min, alpha_max)
+      : method == ConeMethod::Cells
+          ? cell_cone_half_angle(scene, apex, other, alpha_min, alpha_max, cell_fraction)
+          : estimate_cone_half_angle(scene, apex, other, alpha_min, alpha_max);
+  // (The cell cones may have used this slot meanwhile, for an exact cone they fell back on.)
+  e = {&scene, method, apex.position, other.position, alpha_min, alpha_max, cell_fraction, alpha};
   return alpha;
 }
 

@@ -74,6 +74,11 @@
 // angle is never certified) and its error, up to 1.7 cells, is of the order of the thin
 // cones' radii; faster than the exact walk on the large scenes only because of those floors,
 // slower on the small ones. Hence a flag, not the default.
+//
+// The memoised cones (ConeMethod::Cells, `--gamlt-cone cells`, cone_cells.h) keep the exact
+// walk but run it for a quantised segment, the key of a per-thread table shared by nearby
+// states; estimate_cone_tan gives them the walk's own result, which tells an exact cone from
+// one at a bound.
 #include "emlt/path/path.h"
 
 namespace emlt::geometry_aware {
@@ -88,7 +93,17 @@ inline constexpr double kFieldLeastStep = 0.25;
 inline constexpr int kFieldMaxLowerings = 16;
 inline constexpr int kFieldMaxSamples = 64;
 
-enum class ConeMethod { Exact, Field };
+enum class ConeMethod { Exact, Field, Cells };  // Cells: cone_cells.h
+
+// The walk's own result for two surface (or camera) ends: t = tan α* where tan_min < t <
+// tan_max, the exact cone, whatever the limits (the walk finds the same minimum from any
+// starting cone); t ≤ tan_min where α* ≤ alpha_min, and t = tan_max where α* reaches alpha_max
+// (tan_max is the tangent of alpha_max, or of just under π/2 for wider limits).
+struct ConeTan {
+  double t, tan_min, tan_max;
+};
+ConeTan estimate_cone_tan(const Scene& scene, const PathVertex& apex, const PathVertex& other,
+                          double alpha_min, double alpha_max);
 
 // The exact estimate itself (no cache). An environment vertex at either end gives alpha_max.
 double estimate_cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other,
@@ -99,8 +114,9 @@ double estimate_cone_half_angle(const Scene& scene, const PathVertex& apex, cons
 double field_cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other,
                              double alpha_min, double alpha_max);
 
-// Either, through the per-thread cache.
+// Any of them, through the per-thread cache of exact keys (cell_fraction: for Cells, f).
 double cone_half_angle(const Scene& scene, const PathVertex& apex, const PathVertex& other,
-                       double alpha_min, double alpha_max, ConeMethod method = ConeMethod::Exact);
+                       double alpha_min, double alpha_max, ConeMethod method = ConeMethod::Exact,
+                       double cell_fraction = 0.0);
 
 }  // namespace emlt::geometry_aware

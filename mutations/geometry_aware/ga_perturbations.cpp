@@ -25,9 +25,12 @@ double cone(const MutationContext& ctx, const PathVertex& apex, const PathVertex
             double floor, double saturation) {
   const double alpha_max = std::clamp(saturation * (1.0 + 1e-9), kAlphaMin, kAlphaMax);
   const double alpha_min = std::clamp(floor * (1.0 - 1e-9), kAlphaMin, alpha_max);
-  return geometry_aware::cone_half_angle(
-      ctx.scene, apex, other, alpha_min, alpha_max,
-      ctx.field_cone ? geometry_aware::ConeMethod::Field : geometry_aware::ConeMethod::Exact);
+  using geometry_aware::ConeMethod;
+  const ConeMethod method = ctx.field_cone                 ? ConeMethod::Field
+                            : ctx.cone_cell_fraction > 0.0 ? ConeMethod::Cells
+                                                           : ConeMethod::Exact;
+  return geometry_aware::cone_half_angle(ctx.scene, apex, other, alpha_min, alpha_max, method,
+                                         ctx.cone_cell_fraction);
 }
 
 double distance(const PathVertex& a, const PathVertex& b) {

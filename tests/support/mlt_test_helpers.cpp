@@ -70,6 +70,7 @@ Image mlt_image(const Scene& scene, const std::string& mix, double mpp, MltStati
                 GamltVariant variant) {
   RenderSettings s = base_settings();
   s.gamlt_field_cone = variant.field_cone;
+  s.gamlt_cone_cells = variant.cone_cells;
   s.gamlt_delayed_acceptance = variant.delayed_acceptance;
   s.mutations = mix;
   s.mutations_per_pixel = mpp;

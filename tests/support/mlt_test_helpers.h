@@ -27,6 +27,7 @@ Image bdpt_reference(const Scene& scene, int spp);
 // and delayed acceptance (RenderSettings::gamlt_delayed_acceptance).
 struct GamltVariant {
   bool field_cone = false;
+  double cone_cells = 0.0;  // RenderSettings::gamlt_cone_cells
   bool delayed_acceptance = false;
 };
 // MLT with `mix` (64 chains, 50k bootstrap samples, 256-spp direct image).

@@ -33,6 +33,9 @@ struct MutationContext {
   // The geometry-aware perturbations' occluder-free cones by the cheap conservative bound
   // instead of the exact hierarchy walk (mutations/geometry_aware/cone.h; --gamlt-cone).
   bool field_cone = false;
+  // > 0: the cones memoised by quantised segments, cells of this fraction of the segment's
+  // length (mutations/geometry_aware/cone_cells.h; --gamlt-cone cells, --gamlt-cone-cell).
+  double cone_cell_fraction = 0.0;
   // The caller asks Mutation::deferred_log_ratio for what a proposal marked `deferred` leaves
   // out (the MLT driver under delayed acceptance, --gamlt-acceptance delayed); without it
   // every proposal carries its whole ratio.

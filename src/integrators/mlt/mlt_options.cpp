@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <string>
 
 namespace emlt {
 
@@ -97,17 +98,48 @@ const std::vector<RenderOption>& mlt_options() {
 }
 
 const std::vector<RenderOption>& gamlt_options() {
-  static const std::vector<RenderOption> options = {
-      switch_option("--gamlt-cone", &RenderSettings::gamlt_field_cone, "exact", "field",
-                    "gamlt (the ga-* strategies): the occluder-free cones that set their step "
-                    "ranges, by the exact hierarchy walk (exact) or a cheap conservative bound "
-                    "from a clearance field (field: narrower cones)"),
-      switch_option("--gamlt-acceptance", &RenderSettings::gamlt_delayed_acceptance, "full",
-                    "delayed",
-                    "gamlt (the ga-* strategies): Metropolis-Hastings in one stage (full), or in "
-                    "two (delayed: the ranges at the proposal, which need its cones, only for "
-                    "proposals that pass a first stage without them; lower acceptance)"),
-  };
+  static const std::vector<RenderOption> options = [] {
+    std::vector<RenderOption> o;
+    RenderOption cone;
+    cone.flag = "--gamlt-cone";
+    cone.help =
+        "gamlt (the ga-* strategies): the occluder-free cones that set their step ranges, by the "
+        "exact hierarchy walk (exact), a cheap conservative bound from a clearance field (field: "
+        "narrower cones), or the exact walk memoised for quantised segments (cells: the cone of "
+        "the segment between the endpoints' cell centres, shared by nearby states)";
+    cone.values = {OptionValues::Kind::Word, 0, 0, false, {"exact", "field", "cells"},
+                   "exact, field or cells"};
+    cone.assign = [](RenderSettings& s, const std::string& text) {
+      s.gamlt_field_cone = text == "field";
+      // Cells keep a size --gamlt-cone-cell gave; otherwise they take their own.
+      s.gamlt_cone_cells = text != "cells"            ? 0.0
+                           : s.gamlt_cone_cells > 0.0 ? s.gamlt_cone_cells
+                                                      : RenderSettings::kGamltConeCell;
+    };
+    cone.recorded = [](const RenderSettings& s) {
+      return s.gamlt_field_cone         ? std::string("field")
+             : s.gamlt_cone_cells > 0.0 ? "cells (" + recorded_number(s.gamlt_cone_cells) + ")"
+                                        : std::string("exact");
+    };
+    o.push_back(cone);
+    // The size is part of --gamlt-cone's record; alone (without cells) it changes nothing.
+    RenderOption cell = real_option("--gamlt-cone-cell", &RenderSettings::gamlt_cone_cells, 0.0,
+                                    true, 1.0, "a number above 0, at most 1",
+                                    "gamlt with --gamlt-cone cells: the cells' size as a fraction "
+                                    "of the segment's length (default 1/4)");
+    cell.assign = [](RenderSettings& s, const std::string& text) {
+      if (s.gamlt_field_cone || s.gamlt_cone_cells == 0.0) return;
+      s.gamlt_cone_cells = std::stod(text);
+    };
+    cell.recorded = nullptr;
+    o.push_back(cell);
+    o.push_back(switch_option(
+        "--gamlt-acceptance", &RenderSettings::gamlt_delayed_acceptance, "full", "delayed",
+        "gamlt (the ga-* strategies): Metropolis-Hastings in one stage (full), or in two "
+        "(delayed: the ranges at the proposal, which need its cones, only for proposals that "
+        "pass a first stage without them; lower acceptance)"));
+    return o;
+  }();
   return options;
 }
 
