@@ -149,6 +149,9 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   }
   if (settings.integrator == "emlt" && given("--chains"))
     std::fprintf(stderr, "emlt: warning: --chains is ignored; the chains are the two ensembles (--ensemble-size)\n");
+  if (given("--gamlt-cone-cell") && settings.gamlt_cone_cells == 0.0)
+    std::fprintf(stderr,
+                 "emlt: warning: --gamlt-cone-cell is ignored without --gamlt-cone cells\n");
   if (!settings.stats_path.empty()) {
     const auto parent = std::filesystem::path(settings.stats_path).parent_path();
     if (!parent.empty() && !std::filesystem::is_directory(parent))
