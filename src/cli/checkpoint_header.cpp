@@ -86,8 +86,16 @@ CheckpointHeader CheckpointHeader::decode(const std::string& data, const std::st
 void CheckpointHeader::check_matches(const CheckpointHeader& now, const std::string& path) const {
   for (const auto& [flag, value] : now.settings) {
     std::string saved = "(not recorded)";
+    bool recorded = false;
     for (const auto& [f, v] : settings)
-      if (f == flag) saved = v;
+      if (f == flag) saved = v, recorded = true;
+    // An option a checkpoint does not record was declared after it was written, by a
+    // version whose renders all had the option's default: such a checkpoint resumes when
+    // this run keeps the default.
+    if (!recorded)
+      for (const RenderOption& option : render_options())
+        if (option.flag == flag && option.recorded && option.recorded(RenderSettings()) == value)
+          saved = value;
     if (saved != value)
       throw file_error(path, "checkpoint was made with " + flag + " " + saved + ", this run has " +
                                  value);

@@ -2,17 +2,14 @@
 
 #include <cstdint>
 
+#include "emlt/settings/scene_options.h"
+
 namespace emlt {
 
 const std::vector<RenderOption>& run_options() {
   static const std::vector<RenderOption> options = [] {
     std::vector<RenderOption> o;
-    // The budget may grow on a resume, so the checkpoint does not record it.
-    o.push_back(whole_option("--spp", &RenderSettings::spp, 1, kMaxSpp,
-                             "a whole number from 1 to 2^24 (about 16.8 million)",
-                             "Samples per pixel"));
-    o.back().recorded = nullptr;
-    o.back().mitsuba = "sampleCount";  // of the scene's <sampler>
+    o.push_back(scene_file_option("--spp").option);
     o.push_back(real_option("--time", &RenderSettings::time_limit_s, 0.0, true, kMaxTimeSeconds,
                             "a positive number of seconds, at most 30 days",
                             "Time budget in seconds (renders until spent)"));

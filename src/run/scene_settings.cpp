@@ -1,14 +1,13 @@
 #include "emlt/run/scene_settings.h"
 
+#include "emlt/settings/scene_options.h"
+
 namespace emlt {
 
 RenderSettings settings_for(const SceneRenderRequest& request) {
   RenderSettings settings;
   if (!request.integrator.empty()) settings.integrator = request.integrator;
-  if (request.spp) settings.spp = *request.spp;
-  if (request.max_depth) settings.max_depth = *request.max_depth;
-  if (request.rr_depth) settings.rr_depth = *request.rr_depth;
-  if (request.hide_emitters) settings.hide_emitters = *request.hide_emitters;
+  for (const auto& [flag, text] : request.options) scene_file_option(flag).option.set(settings, text);
   return settings;
 }
 

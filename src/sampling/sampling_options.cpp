@@ -1,19 +1,14 @@
 #include "emlt/sampling/sampling_options.h"
 
+#include "emlt/settings/scene_options.h"
+
 namespace emlt {
 
 const std::vector<RenderOption>& sampling_options() {
   static const std::vector<RenderOption> options = [] {
     std::vector<RenderOption> o;
-    o.push_back(whole_option("--max-depth", &RenderSettings::max_depth, -1, 100000,
-                             "a whole number from 0 to 100000, or -1 for unlimited",
-                             "Longest path in segments (-1 = unlimited)"));
-    o.back().mitsuba = "maxDepth";
-    o.push_back(whole_option("--rr-depth", &RenderSettings::rr_depth, 1, 100000,
-                             "a whole number from 1 to 100000",
-                             "Segments before Russian roulette starts (bidirectional subpaths: "
-                             "one fewer, as in Mitsuba)"));
-    o.back().mitsuba = "rrDepth";
+    for (const char* flag : {"--max-depth", "--rr-depth", "--hide-emitters"})
+      o.push_back(scene_file_option(flag).option);
     RenderOption mis;
     mis.flag = "--mis";
     mis.help = "MIS heuristic";

@@ -28,6 +28,21 @@ Mat4 look_at_matrix(const Vec3& origin, const Vec3& target, const Vec3& up) {
 
 namespace emlt {
 
+std::optional<std::string> SceneRenderRequest::said(std::string_view flag) const {
+  for (const auto& [f, text] : options)
+    if (f == flag) return text;
+  return std::nullopt;
+}
+
+void SceneRenderRequest::set(const std::string& flag, std::string text) {
+  for (auto& [f, t] : options)
+    if (f == flag) {
+      t = std::move(text);
+      return;
+    }
+  options.emplace_back(flag, std::move(text));
+}
+
 std::string SceneDescription::verdict() const {
   size_t approximated = 0, unsupported = 0;
   for (const Divergence& d : divergences)

@@ -1,13 +1,16 @@
 #pragma once
 // The valid range of every numeric scene parameter that has one, with the words that state
 // it, shared by the JSON and Mitsuba XML loaders (internal to src/scene). Where the command
-// line sets the same quantity (--width, --height, --spp, --max-depth, --rr-depth in
-// src/cli/render_command.cpp) the bounds and the words are the flag's, so a value is
-// accepted or refused alike wherever it comes from. A refusal states the range in words
-// and never prints a raw limit (an unbounded float's would be 3.40282e+38).
+// line sets the same quantity the bounds and the words are the flag's: --width and --height
+// (src/cli/render_command.cpp) state these ranges, and the options a scene file shares with
+// the command line (--spp, --max-depth, ...) are read through their own declarations
+// (settings/scene_options.h, whole_range below). A value is accepted or refused alike
+// wherever it comes from. A refusal states the range in words and never prints a raw limit
+// (an unbounded float's would be 3.40282e+38).
 #include <limits>
 #include <string>
 
+#include "emlt/settings/render_option.h"
 #include "emlt/settings/settings.h"
 
 namespace emlt::loader {
@@ -40,14 +43,11 @@ inline std::string refusal(const char* words, const std::string& given) {
 // integrators keep several. Scene::build applies the same bound to descriptions that no
 // loader produced.
 inline constexpr IntegerRange kFilmSideRange{1, 16384, "a whole number of pixels from 1 to 16384"};
-inline constexpr IntegerRange kSppRange{1, kMaxSpp,
-                                        "a whole number from 1 to 2^24 (about 16.8 million)"};
-// Path lengths in segments. Mitsuba accepts any maxDepth and rrDepth >= 1 (and refuses a
-// maxDepth of 0, which emlt renders as black, like the flag); past 100000 segments no
-// path survives Russian roulette in any scene, and a longer bound only hides a typo.
-inline constexpr IntegerRange kMaxDepthRange{
-    -1, 100000, "a whole number from 0 to 100000, or -1 for unlimited"};
-inline constexpr IntegerRange kRrDepthRange{1, 100000, "a whole number from 1 to 100000"};
+// A whole-number option's range, in its own words (the declaration outlives the range).
+inline IntegerRange whole_range(const OptionValues& values) {
+  return {int(values.low), int(values.high), values.takes.c_str()};
+}
+
 // The index of a mesh in a Mitsuba .serialized file; the file's own count bounds it above
 // (checked when the file is read, which names the count).
 inline constexpr IntegerRange kShapeIndexRange{0, std::numeric_limits<int>::max(),

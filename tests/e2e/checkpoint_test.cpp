@@ -351,6 +351,35 @@ TEST(Checkpoint, BadCheckpointsAreRefusedByNameWithNothingWritten) {
   EXPECT_TRUE(read_bytes(out) == output);
 }
 
+// A checkpoint written before an option was declared does not record it; it was made with
+// the option's default, so it resumes (to the bits of an uninterrupted render) when the run
+// keeps the default and is refused when it does not. The committed checkpoint predates
+// --hide-emitters.
+TEST(Checkpoint, AnOlderCheckpointResumesWithTheDefaultOfAnOptionAddedSince) {
+  const fs::path dir = test::scratch_dir("older_checkpoint");
+  const std::string data = test::source_path("tests/e2e/data/older-checkpoint");
+  const std::string scene = data + "/scene.xml", checkpoint = data + "/pt.ckpt";
+  const fs::path resumed = dir / "resumed.exr", whole = dir / "whole.exr";
+  const auto run = [&](const std::string& args, std::string* text) {
+    return test::run_command(test::emlt_binary() + " render " + scene + " -q " + args, text);
+  };
+  std::string text;
+  ASSERT_EQ(0, run("-o " + whole.string(), &text)) << text;
+  // Written elsewhere: a resume saves to the checkpoint it read unless told otherwise.
+  const std::string save = " --checkpoint " + (dir / "saved.ckpt").string();
+  ASSERT_EQ(0, run("-o " + resumed.string() + " --resume " + checkpoint + save, &text)) << text;
+  EXPECT_TRUE(read_bytes(resumed) == read_bytes(whole));
+  const fs::path refused = dir / "refused.exr";
+  EXPECT_NE(0, run("-o " + refused.string() + " --resume " + checkpoint + save +
+                       " --hide-emitters true",
+                   &text));
+  EXPECT_NE(text.find("pt.ckpt: checkpoint was made with --hide-emitters (not recorded), this "
+                      "run has true"),
+            std::string::npos)
+      << text;
+  EXPECT_FALSE(fs::exists(refused));
+}
+
 // Primary-sample-space checkpoints: one made by pssmlt (path tracer) is refused by a run of
 // another integrator or sampler or step setting, and a damaged state (behind a valid
 // checksum) by the state's own checks; each with one line naming the file.

@@ -114,6 +114,42 @@ TEST(Cli, JsonAndMitsubaCornellBoxesRenderTheSameImage) {
   EXPECT_GT(red_left_b, 0.0);
 }
 
+// What a scene file says about rendering, the command line overrides: a Mitsuba scene that
+// hides its lights shows them with --hide-emitters false, and one that shows them hides them
+// with --hide-emitters true (the camera sees nothing but a light, so hidden is black).
+TEST(Cli, TheCommandLineOverridesWhatTheSceneFileSets) {
+  const fs::path dir = test::scratch_dir("cli-overrides");
+  const auto scene = [&](const std::string& name, const std::string& hide) {
+    const fs::path path = dir / name;
+    write_file(path, R"(<scene version="0.6.0">
+  <integrator type="path"><boolean name="hideEmitters" value=")" + hide + R"("/></integrator>
+  <sensor type="perspective"><transform name="toWorld"><lookat origin="0,0,4" target="0,0,0" up="0,1,0"/></transform>
+    <sampler type="independent"><integer name="sampleCount" value="2"/></sampler>
+    <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>
+  <shape type="rectangle"><transform name="toWorld"><scale value="4"/></transform>
+    <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+</scene>)");
+    return path.string();
+  };
+  const auto brightness = [&](const std::string& file, const std::string& flags) {
+    const fs::path out = dir / "o.exr";
+    std::string text;
+    EXPECT_EQ(0, test::run_command(emlt_cmd("render " + file + " -o " + out.string() + " " + flags),
+                                   &text))
+        << text;
+    const Image image = read_image(out.string());
+    double sum = 0;
+    for (const Rgb& p : image.pixels) sum += p.x + p.y + p.z;
+    return sum / double(image.pixels.size());
+  };
+  const std::string hidden = scene("hidden.xml", "true"), shown = scene("shown.xml", "false");
+  EXPECT_EQ(brightness(hidden, ""), 0.0);
+  EXPECT_GT(brightness(hidden, "--hide-emitters false"), 2.9);  // 3 channels of radiance 1
+  EXPECT_GT(brightness(shown, ""), 2.9);
+  EXPECT_EQ(brightness(shown, "--hide-emitters true"), 0.0);
+  EXPECT_EQ(brightness(shown, "--hide-emitters true --integrator bdpt"), 0.0);
+}
+
 TEST(Cli, InfoDescribesTheScene) {
   std::string text;
   ASSERT_EQ(0, test::run_command(emlt_cmd("info " + cornell()), &text)) << text;

@@ -7,6 +7,7 @@
 
 #include "emlt/integrators/registry.h"
 #include "emlt/run/integrator.h"
+#include "emlt/run/scene_settings.h"
 #include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/scene.h"
@@ -22,7 +23,7 @@ RenderResult render(const std::string& integrator, const Scene& scene, int spp, 
   s.spp = spp;
   s.seed = seed;
   s.progress = false;
-  s.max_depth = scene.description().render.max_depth.value_or(-1);
+  s.max_depth = settings_for(scene.description().render).max_depth;
   ProgressReporter progress(false);
   return make_integrator(integrator)->render(scene, s, progress);
 }

@@ -73,9 +73,9 @@ TEST(CornellBox, JsonAndXmlDescribeTheSameScene) {
   EXPECT_TRUE(xml_desc.warnings.empty()) << xml_desc.warnings.front();
   EXPECT_EQ(json_desc.camera.width, 256);
   EXPECT_EQ(xml_desc.camera.width, 256);
-  EXPECT_EQ(json_desc.render.spp, xml_desc.render.spp);
+  EXPECT_EQ(json_desc.render.said("--spp"), xml_desc.render.said("--spp"));
   EXPECT_EQ(json_desc.render.integrator, xml_desc.render.integrator);
-  EXPECT_EQ(json_desc.render.max_depth, xml_desc.render.max_depth);
+  EXPECT_EQ(json_desc.render.said("--max-depth"), xml_desc.render.said("--max-depth"));
 
   const auto json_scene = Scene::build(json_desc);
   const auto xml_scene = Scene::build(xml_desc);
@@ -151,7 +151,7 @@ TEST(Loader, DefinesOverrideDefaultsInXmlAndJson) {
     const SceneDescription desc = load_scene_description(test::source_path(file), defines);
     EXPECT_EQ(desc.camera.width, 64) << file;
     EXPECT_EQ(desc.camera.height, 48) << file;
-    EXPECT_EQ(desc.render.spp, 4) << file;
+    EXPECT_EQ(desc.render.said("--spp"), "4") << file;
   }
   const auto dir = test::scratch_dir("defines");
   const std::string json =
@@ -179,14 +179,14 @@ TEST(Loader, HideEmittersIsASetting) {
   const auto dir = test::scratch_dir("hide-emitters");
   const SceneDescription xml = load_scene_description(write_file(dir, "hide.xml", small_xml(R"(
   <integrator type="path"><boolean name="hideEmitters" value="true"/></integrator>)")));
-  EXPECT_EQ(xml.render.hide_emitters, true);
+  EXPECT_EQ(xml.render.said("--hide-emitters"), "true");
   EXPECT_TRUE(xml.warnings.empty());
   EXPECT_FALSE(load_scene_description(write_file(dir, "show.xml", small_xml("")))
-                   .render.hide_emitters.value_or(false));
+                   .render.said("--hide-emitters") == "true");
   std::string json = small_json("", "");
   json.insert(1, R"("integrator": {"type": "pt", "hide_emitters": true}, )");
   EXPECT_TRUE(load_scene_description(write_file(dir, "hide.json", json))
-                  .render.hide_emitters.value_or(false));
+                  .render.said("--hide-emitters") == "true");
 }
 
 TEST(Loader, BadInputGivesOneLineErrorNamingFileAndProblem) {
@@ -354,8 +354,8 @@ TEST(Loader, XmlParticleTracer) {
 </scene>)");
   const SceneDescription desc = load_scene_description(xml);
   EXPECT_EQ(desc.render.integrator, "ptracer");
-  EXPECT_EQ(desc.render.max_depth, 6);
-  EXPECT_EQ(desc.render.rr_depth, 3);
+  EXPECT_EQ(desc.render.said("--max-depth"), "6");
+  EXPECT_EQ(desc.render.said("--rr-depth"), "3");
   EXPECT_NE(make_integrator(desc.render.integrator), nullptr);
 }
 
@@ -374,7 +374,7 @@ TEST(Loader, XmlParticleTracerHideEmittersAndBruteForce) {
   };
   const SceneDescription hidden = scene("hide.xml", R"(<boolean name="hideEmitters" value="true"/>
     <boolean name="bruteForce" value="false"/>)");
-  EXPECT_FALSE(hidden.render.hide_emitters.has_value());
+  EXPECT_FALSE(hidden.render.said("--hide-emitters"));
   EXPECT_TRUE(
       any_contains(hidden.warnings, "'hideEmitters' is not a parameter of Mitsuba's ptracer"));
   EXPECT_TRUE(hidden.divergences.empty()) << hidden.divergences.front().message;
@@ -389,7 +389,7 @@ TEST(Loader, XmlParticleTracerHideEmittersAndBruteForce) {
     <integer name="height" value="8"/></film></sensor>
   <shape type="sphere"/>
 </scene>)"))
-                  .render.hide_emitters.value_or(false));
+                  .render.said("--hide-emitters") == "true");
 }
 
 TEST(Loader, XmlSensorFilmSamplerAndIntegrator) {
@@ -409,8 +409,8 @@ TEST(Loader, XmlSensorFilmSamplerAndIntegrator) {
 </scene>)");
   const SceneDescription desc = load_scene_description(xml);
   EXPECT_EQ(desc.render.integrator, "bdpt");
-  EXPECT_EQ(desc.render.max_depth, 7);
-  EXPECT_EQ(desc.render.spp, 64);
+  EXPECT_EQ(desc.render.said("--max-depth"), "7");
+  EXPECT_EQ(desc.render.said("--spp"), "64");
   EXPECT_EQ(desc.camera.width, 40);
   EXPECT_EQ(desc.camera.height, 20);
   EXPECT_FLOAT_EQ(desc.camera.fov_degrees, 30.0f);
@@ -635,8 +635,7 @@ TEST(Loader, TheDescriptionCarriesOnlyWhatTheFileSaysAboutRendering) {
   const SceneDescription silent =
       load_scene_description(write_file(dir, "silent.xml", small_xml("")));
   EXPECT_TRUE(silent.render.integrator.empty());
-  EXPECT_FALSE(silent.render.spp || silent.render.max_depth || silent.render.rr_depth ||
-               silent.render.hide_emitters);
+  EXPECT_TRUE(silent.render.options.empty());
   const RenderSettings engine;
   const RenderSettings s = settings_for(silent.render);
   EXPECT_EQ(s.integrator, engine.integrator);
@@ -645,8 +644,8 @@ TEST(Loader, TheDescriptionCarriesOnlyWhatTheFileSaysAboutRendering) {
   const SceneDescription said = load_scene_description(write_file(dir, "said.xml", small_xml(R"(
   <integrator type="bdpt"><integer name="maxDepth" value="4"/></integrator>)")));
   EXPECT_EQ(said.render.integrator, "bdpt");
-  EXPECT_EQ(said.render.max_depth, 4);
-  EXPECT_FALSE(said.render.rr_depth);  // not said: the engine's
+  EXPECT_EQ(said.render.said("--max-depth"), "4");
+  EXPECT_FALSE(said.render.said("--rr-depth"));  // not said: the engine's
   EXPECT_EQ(settings_for(said.render).rr_depth, engine.rr_depth);
   EXPECT_EQ(settings_for(said.render).max_depth, 4);
 }

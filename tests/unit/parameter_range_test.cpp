@@ -215,9 +215,9 @@ TEST(ParameterRanges, ValuesAtTheBoundsLoad) {
   const SceneDescription j = load_scene_description(test::write_file(dir, "upper.json", json));
   EXPECT_EQ(j.camera.width, 16384);
   EXPECT_EQ(j.camera.height, 1);
-  EXPECT_EQ(j.render.spp, 16777216);
-  EXPECT_EQ(j.render.max_depth, 100000);
-  EXPECT_EQ(j.render.rr_depth, 1);
+  EXPECT_EQ(j.render.said("--spp"), "16777216");
+  EXPECT_EQ(j.render.said("--max-depth"), "100000");
+  EXPECT_EQ(j.render.said("--rr-depth"), "1");
   EXPECT_FLOAT_EQ(j.camera.filter.stddev, 16.0f);
 
   std::string xml = kXml;
@@ -234,9 +234,9 @@ TEST(ParameterRanges, ValuesAtTheBoundsLoad) {
   const SceneDescription x = load_scene_description(test::write_file(dir, "lower.xml", xml));
   EXPECT_EQ(x.camera.width, 1);
   EXPECT_EQ(x.camera.height, 16384);
-  EXPECT_EQ(x.render.spp, 1);
-  EXPECT_EQ(x.render.max_depth, -1);
-  EXPECT_EQ(x.render.rr_depth, 100000);
+  EXPECT_EQ(x.render.said("--spp"), "1");
+  EXPECT_EQ(x.render.said("--max-depth"), "-1");
+  EXPECT_EQ(x.render.said("--rr-depth"), "100000");
   EXPECT_FLOAT_EQ(x.camera.filter.radius, 64.0f);
 }
 

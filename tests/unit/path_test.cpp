@@ -334,7 +334,7 @@ TEST(RandomWalk, BidirectionalRouletteStartsAtMitsubasSegment) {
   })");
   SceneDescription desc = load_scene_description(path, {});
   const int rr_depth = 3;
-  ASSERT_EQ(desc.render.rr_depth, rr_depth);
+  ASSERT_EQ(desc.render.said("--rr-depth"), std::to_string(rr_depth));
   const auto scene = Scene::build(std::move(desc));
   const WalkLimits limits{64, subpath_rr_depth(rr_depth)};
   Rng rng(11, 0);

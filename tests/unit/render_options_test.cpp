@@ -1,7 +1,7 @@
 // The render options as the integrators and the run loop declare them (render_option.h):
 // each flag once, refusals in the option's own words, every value that changes a render
-// recorded in the checkpoint's identity, and each Mitsuba parameter a declaration names
-// meaning in a scene file what the flag means on the command line.
+// recorded in the checkpoint's identity, and the options a scene file may set meaning there
+// what the flag means on the command line.
 #include <gtest/gtest.h>
 
 #include <set>
@@ -11,6 +11,7 @@
 #include "emlt/run/scene_settings.h"
 #include "emlt/scene/loaders/loader.h"
 #include "emlt/settings/render_option.h"
+#include "emlt/settings/scene_options.h"
 #include "support/test_support.h"
 
 using namespace emlt;
@@ -101,40 +102,68 @@ TEST(RenderOptions, EveryRecordedOptionTellsItsValuesApart) {
   }
 }
 
-// What a declaration names as its Mitsuba parameter, the Mitsuba loader reads into the same
-// setting as the flag.
-TEST(RenderOptions, MitsubaParametersMeanWhatTheirFlagsMean) {
-  const auto dir = test::scratch_dir("render-options-mitsuba");
-  int named = 0;
-  for (const RenderOption& option : render_options()) {
-    if (option.mitsuba.empty()) continue;
-    ++named;
-    const std::string value = option.values.kind == OptionValues::Kind::Whole
-                                  ? std::to_string(int64_t(option.values.low) + 3)
-                                  : "0.5";
-    const bool sampler = option.mitsuba == "sampleCount";
-    const std::string parameter =
-        "<integer name=\"" + option.mitsuba + "\" value=\"" + value + "\"/>";
-    const std::string xml = test::write_file(
-        dir, option.mitsuba + ".xml",
-        "<scene version=\"0.6.0\"><integrator type=\"path\">" +
-            (sampler ? std::string() : parameter) +
-            "</integrator><sensor type=\"perspective\"><sampler type=\"independent\">" +
-            (sampler ? parameter : std::string()) +
-            "</sampler><film type=\"hdrfilm\"><integer name=\"width\" value=\"4\"/>"
-            "<integer name=\"height\" value=\"4\"/></film></sensor>"
-            "<emitter type=\"constant\"/></scene>");
-    const SceneDescription desc = load_scene_description(xml);
+// The options a scene file may set are read by the loaders through their declarations
+// (scene_options.h): a Mitsuba parameter and a JSON key mean what the flag means, take the
+// flag's values and are refused in its words; each is also on the command line.
+TEST(RenderOptions, SceneFileOptionsMeanInAFileWhatTheirFlagsMean) {
+  const auto dir = test::scratch_dir("render-options-scene-file");
+  const auto on_command_line = [](const std::string& flag) {
+    for (const RenderOption& o : render_options())
+      if (o.flag == flag) return true;
+    return false;
+  };
+  std::set<std::string> mitsuba_names;
+  for (const SceneFileOption& o : scene_file_options()) {
+    EXPECT_TRUE(on_command_line(o.option.flag)) << o.option.flag;
+    mitsuba_names.insert(o.mitsuba);
+    const bool sampler = o.element == MitsubaElement::Sampler;
+    const std::string value =
+        o.boolean() ? o.word(true) : std::to_string(int64_t(o.option.values.low) + 3);
+    const std::string out_of_range =
+        o.boolean() ? "maybe" : std::to_string(int64_t(o.option.values.low) - 1);
+    const auto xml = [&](const std::string& text) {
+      const std::string parameter = std::string("<") + (o.boolean() ? "boolean" : "integer") +
+                                    " name=\"" + o.mitsuba + "\" value=\"" + text + "\"/>";
+      return test::write_file(
+          dir, o.mitsuba + ".xml",
+          "<scene version=\"0.6.0\"><integrator type=\"path\">" +
+              (sampler ? std::string() : parameter) +
+              "</integrator><sensor type=\"perspective\"><sampler type=\"independent\">" +
+              (sampler ? parameter : std::string()) +
+              "</sampler><film type=\"hdrfilm\"><integer name=\"width\" value=\"4\"/>"
+              "<integer name=\"height\" value=\"4\"/></film></sensor>"
+              "<emitter type=\"constant\"/></scene>");
+    };
+    const auto json = [&](const std::string& text) {
+      return test::write_file(
+          dir, o.json_key() + ".json",
+          R"({"camera": {"lookat": {"origin": [0,0,-5], "target": [0,0,0], "up": [0,1,0]},
+                          "fov": 40, "width": 4, "height": 4},
+              "shapes": [{"type": "rectangle", "emission": [1,1,1]}],
+              "integrator": {")" +
+              o.json_key() + "\": " + text + "}}");
+    };
     RenderSettings by_flag;
-    option.set(by_flag, value);
-    if (option.recorded) {
-      EXPECT_EQ(option.recorded(settings_for(desc.render)), option.recorded(by_flag))
-          << option.mitsuba;
-    } else if (option.flag == "--spp") {
-      EXPECT_EQ(desc.render.spp, by_flag.spp);
-    } else {
-      ADD_FAILURE() << option.flag << ": no way to compare";
+    o.option.set(by_flag, value);
+    for (const std::string& file : {xml(value), json(value)}) {
+      const SceneDescription desc = load_scene_description(file);
+      EXPECT_TRUE(desc.warnings.empty()) << file << ": " << desc.warnings.front();
+      EXPECT_EQ(desc.render.said(o.option.flag), value) << file;
+      const RenderSettings by_file = settings_for(desc.render);
+      for (const RenderOption& any : render_options()) {
+        if (!any.recorded) continue;
+        EXPECT_EQ(any.recorded(by_file), any.recorded(by_flag)) << any.flag << " in " << file;
+      }
+      EXPECT_EQ(by_file.spp, by_flag.spp) << file;
+    }
+    if (o.boolean()) continue;  // a boolean's refusal is the file format's ("expected true...")
+    for (const std::string& file : {xml(out_of_range), json(out_of_range)}) {
+      const std::string message = test::error_of([&] { load_scene_description(file); });
+      EXPECT_NE(message.find("must be " + o.option.values.takes + " (got " + out_of_range + ")"),
+                std::string::npos)
+          << message;
     }
   }
-  EXPECT_EQ(named, 3);  // sampleCount, maxDepth, rrDepth
+  EXPECT_EQ(mitsuba_names,
+            (std::set<std::string>{"sampleCount", "maxDepth", "rrDepth", "hideEmitters"}));
 }

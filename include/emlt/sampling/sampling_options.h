@@ -1,5 +1,6 @@
 #pragma once
 // The options of path sampling shared by every integrator: path length, Russian roulette,
+// whether lights seen directly count (a scene file may set these three: scene_options.h),
 // MIS and the direct-light estimate (render_option.h).
 #include <vector>
 

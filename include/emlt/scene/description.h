@@ -4,6 +4,7 @@
 // same description, which keeps format-specific code out of the renderer.
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -96,12 +97,17 @@ struct Divergence {
 };
 
 // What a scene file says about how to render it (Mitsuba's <integrator> and <sampler>, the
-// JSON file's "integrator"), nothing more: each entry empty where the file says nothing, so
-// the engine's own defaults and the command line fill the rest (the render command).
+// JSON file's "integrator"), nothing more: the integrator, and the scene file options it
+// sets (settings/scene_options.h) in the words of their flags; the engine's own defaults
+// and the command line fill the rest (the render command).
 struct SceneRenderRequest {
-  std::string integrator;  // emlt's name for the file's integrator
-  std::optional<int> spp, max_depth, rr_depth;
-  std::optional<bool> hide_emitters;
+  std::string integrator;  // emlt's name for the file's integrator; empty: not said
+  std::vector<std::pair<std::string, std::string>> options;  // ("--max-depth", "8"), ...
+
+  // The value the file gives the option of `flag`, or nothing when it says nothing.
+  std::optional<std::string> said(std::string_view flag) const;
+  // Records `text` for `flag`, replacing what an earlier element said.
+  void set(const std::string& flag, std::string text);
 };
 
 struct SceneDescription {

@@ -1,12 +1,11 @@
 #pragma once
 // One render option, declared once, by the part of the engine that reads it (the run loop's
 // budgets, an integrator's knobs): its command-line flag, what values it takes, where the
-// value lands in RenderSettings, how a checkpoint records it (a resumed render must have
-// been made with the same value), and the Mitsuba parameter that sets it from a scene file.
-// The command line and the checkpoint header derive from these declarations
-// (render_options() in integrators/registry.h gathers them), so an option is added in one
-// place. The Mitsuba loader, a layer below, reads the few parameters it maps under these
-// names; the RenderOptions tests hold the two together.
+// value lands in RenderSettings and how a checkpoint records it (a resumed render must have
+// been made with the same value). The command line and the checkpoint header derive from
+// these declarations (render_options() in integrators/registry.h gathers them), so an
+// option is added in one place. The few a scene file may set also carry their Mitsuba
+// parameter (settings/scene_options.h), which the loaders read by it.
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -36,9 +35,6 @@ struct RenderOption {
   // The value as a checkpoint records it; empty function: not part of a checkpoint's identity
   // (where output goes, what is reported).
   std::function<std::string(const RenderSettings&)> recorded;
-  // The Mitsuba parameter that sets it (of <integrator>; the sample count, of <sampler>), or
-  // empty.
-  std::string mitsuba;
 
   // Whether `text` is a value the option takes.
   bool accepts(const std::string& text) const;

@@ -11,6 +11,7 @@
 #include "emlt/scene/loaders/obj_loader.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/shape_builders.h"
+#include "emlt/settings/scene_options.h"
 #include "src/scene/loaders/loader_common.h"
 #include "src/scene/parameter_ranges.h"
 
@@ -370,16 +371,23 @@ class JsonSceneReader {
   }
 
   void read_integrator(const json& i) {
-    check_keys(i, "integrator", {"type", "max_depth", "rr_depth", "spp", "hide_emitters"});
+    // Beside its type, the integrator object takes the options a scene file shares with the
+    // command line (settings/scene_options.h), each under its flag's name ("max_depth").
+    for (const auto& item : i.items()) {
+      bool known = item.key() == "type";
+      for (const SceneFileOption& o : scene_file_options()) known |= item.key() == o.json_key();
+      if (!known) warn("unknown key '" + item.key() + "' in integrator ignored");
+    }
     SceneRenderRequest& r = desc_.render;
     if (i.contains("type")) r.integrator = string(i["type"], "integrator.type");
-    if (i.contains("max_depth"))
-      r.max_depth = integer(i, "max_depth", "integrator", -1, loader::kMaxDepthRange);
-    if (i.contains("rr_depth"))
-      r.rr_depth = integer(i, "rr_depth", "integrator", 5, loader::kRrDepthRange);
-    if (i.contains("spp")) r.spp = integer(i, "spp", "integrator", 1, loader::kSppRange);
-    if (i.contains("hide_emitters"))
-      r.hide_emitters = boolean(i, "hide_emitters", "integrator", false);
+    for (const SceneFileOption& o : scene_file_options()) {
+      const std::string key = o.json_key();
+      if (!i.contains(key)) continue;
+      r.set(o.option.flag,
+            o.boolean() ? o.word(boolean(i, key.c_str(), "integrator", false))
+                        : std::to_string(integer(i, key.c_str(), "integrator", 0,
+                                                 loader::whole_range(o.option.values))));
+    }
   }
 
   void conductor_ior(const json& m, const std::string& where, Rgb* eta, Rgb* k) const {

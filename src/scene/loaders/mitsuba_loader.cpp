@@ -18,6 +18,7 @@
 #include "emlt/scene/loaders/serialized_loader.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/shape_builders.h"
+#include "emlt/settings/scene_options.h"
 #include "emlt/settings/settings.h"
 #include "src/scene/loaders/loader_common.h"
 #include "src/scene/loaders/mitsuba_parser.h"
@@ -166,9 +167,6 @@ class MitsubaSceneReader {
                 "integrator type '" + type + "' is not supported; using '" +
                     (r.integrator.empty() ? RenderSettings().integrator : r.integrator) + "'",
                 Document::Warning::Approximated);
-    if (props.has("maxDepth"))
-      r.max_depth = props.get_integer("maxDepth", -1, loader::kMaxDepthRange);
-    if (props.has("rrDepth")) r.rr_depth = props.get_integer("rrDepth", 5, loader::kRrDepthRange);
     // Parameters that steer how fast an integrator converges, never what it converges to:
     // emlt's integrators have their own (command line) controls.
     std::vector<std::string> tuning;
@@ -197,8 +195,7 @@ class MitsubaSceneReader {
                   "camera instead (Mitsuba's brute-force mode counts only the particles "
                   "that hit the camera's aperture: a perspective camera's image is black)");
     }
-    if (type != "ptracer" && props.has("hideEmitters"))
-      r.hide_emitters = props.get_boolean("hideEmitters", false);
+    read_scene_file_options(props, MitsubaElement::Integrator);
     // A switch whose default is what emlt does; switched on, it changes the image and is
     // reported as unsupported.
     if (props.get_boolean("strictNormals", false))
@@ -338,10 +335,22 @@ class MitsubaSceneReader {
     props.warn_unused();
   }
 
+  // The options of `element` that a scene file shares with the command line, by their Mitsuba
+  // names, checked against the flags' own values (settings/scene_options.h). A parameter
+  // already ignored (hideEmitters of a ptracer) is left alone.
+  void read_scene_file_options(Properties& props, MitsubaElement element) {
+    for (const SceneFileOption& o : scene_file_options()) {
+      if (o.element != element || !props.has(o.mitsuba) || props.used(o.mitsuba)) continue;
+      desc_.render.set(o.option.flag,
+                       o.boolean() ? o.word(props.get_boolean(o.mitsuba, false))
+                                   : std::to_string(props.get_integer(
+                                         o.mitsuba, 0, loader::whole_range(o.option.values))));
+    }
+  }
+
   void read_sampler(pugi::xml_node node) {
     Properties props(doc_, node);
-    if (props.has("sampleCount"))
-      desc_.render.spp = props.get_integer("sampleCount", 1, loader::kSppRange);
+    read_scene_file_options(props, MitsubaElement::Sampler);
     props.ignore({"scramble", "dimension", "resolution", "depth"});  // sequence details only
     props.warn_unused();
   }

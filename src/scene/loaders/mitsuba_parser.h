@@ -101,6 +101,8 @@ class Properties {
   pugi::xml_node node_of(const std::string& name) const;
   // Marks parameters that change nothing in this renderer (e.g. a film's pixel format).
   void ignore(std::initializer_list<const char*> names);
+  // Whether `name` has been read or ignored already.
+  bool used(const std::string& name) const { return used_.count(name) != 0; }
 
   const std::vector<pugi::xml_node>& objects() const { return objects_; }
   void warn_unused() const;
