@@ -48,7 +48,7 @@
 // bit-identical values: a path's cones are computed once when it is proposed and found
 // again while it is the chain's current state.
 //
-// The cheap bound (ConeMethod::Field, `--gamlt-cone field`; the exact walk is the default).
+// The cheap bound (ConeMethod::Field, `--gamlt-cone field`).
 // The exact walk costs about 6,000 instructions per mutation on the Cornell box, more than a
 // whole MLT mutation, and 18,000 on the public door (docs/performance.md). The field bound
 // trades width for time: field_cone_half_angle is never wider than the exact cone (same
@@ -75,10 +75,10 @@
 // cones' radii; faster than the exact walk on the large scenes only because of those floors,
 // slower on the small ones. Hence a flag, not the default.
 //
-// The memoised cones (ConeMethod::Cells, `--gamlt-cone cells`, cone_cells.h) keep the exact
-// walk but run it for a quantised segment, the key of a per-thread table shared by nearby
-// states; estimate_cone_tan gives them the walk's own result, which tells an exact cone from
-// one at a bound.
+// The memoised cones (ConeMethod::Cells, `--gamlt-cone cells`, the default; cone_cells.h)
+// keep the exact walk but run it for a quantised segment, the key of a per-thread table shared
+// by nearby states; estimate_cone_tan gives them the walk's own result, which tells an exact
+// cone from one at a bound.
 #include "emlt/path/path.h"
 
 namespace emlt::geometry_aware {

@@ -1,6 +1,7 @@
 #pragma once
-// Memoised cones of quantised segments (`--gamlt-cone cells`): the occluder-free cone of
-// cone.h made a function of a coarse key, so that the perturbations' nearby states share it.
+// Memoised cones of quantised segments (`--gamlt-cone cells`, the default): the occluder-free
+// cone of cone.h made a function of a coarse key, so that the perturbations' nearby states
+// share it.
 //
 // Why. The exact walk costs more than a whole MLT mutation (docs/performance.md), and each
 // proposal needs its own cone, since its endpoints are new floats. But the perturbations move
@@ -20,9 +21,10 @@
 // each end's wall or sphere out). The walk (estimate_cone_tan) runs over the limits rounded
 // outwards to powers of 2^(1/4); where its result lies strictly between its bounds it is
 // tan α* itself, whatever the limits, so the entry then serves any limits; at a bound it
-// serves only the same rounded limits (the same walk). A per-thread direct-mapped table
-// (slot = hash of the key, the whole key stored and compared, recomputed on a mismatch or
-// limits it does not serve) thus returns the same bits as a recomputation: the cone is a
+// serves only the same rounded limits (the same walk) or, at its ceiling, any lower ceiling
+// and, at its floor, any higher floor. A per-thread four-way table (the whole key stored and
+// compared, recomputed on a mismatch or limits it does not serve) thus returns the same bits
+// as a recomputation: the cone is a
 // deterministic function of the state, independent of the table's history, the thread and
 // the order of the chains, which is all the perturbations' acceptance needs (the reverse
 // density already uses y's own cone). Like the exact cones' cache, the table knows a scene by

@@ -38,9 +38,11 @@ CheckpointHeader CheckpointHeader::describe(const SceneDescription& desc,
   add("mpirun -n", number(cluster::size()));  // each rank's share depends on the count
   add("--width", number(desc.camera.width));
   add("--height", number(desc.camera.height));
-  // Every declared option whose value is part of what the render is (render_option.h).
+  // Every declared option whose value is part of what the render is and that this render's
+  // integrator reads (render_option.h).
   for (const RenderOption& option : render_options())
-    if (option.recorded) add(option.flag.c_str(), option.recorded(s));
+    if (option.recorded && (!option.applies || option.applies(s)))
+      add(option.flag.c_str(), option.recorded(s));
   std::string joined;
   for (const std::string& d : defines) joined += (joined.empty() ? "" : " ") + d;
   add("-D", joined.empty() ? "(none)" : joined);

@@ -101,6 +101,11 @@ RenderOption switch_option(std::string flag, bool RenderSettings::*field, std::s
   return o;
 }
 
+void apply_only_where(std::vector<RenderOption>& options,
+                      const std::function<bool(const RenderSettings&)>& predicate) {
+  for (RenderOption& option : options) option.applies = predicate;
+}
+
 RenderOption path_option(std::string flag, std::string RenderSettings::*field, std::string help) {
   RenderOption o;
   o.flag = std::move(flag);

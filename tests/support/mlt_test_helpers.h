@@ -23,11 +23,12 @@ Image render(const Integrator& integrator, const Scene& scene, RenderSettings se
 // Depth 6, 2 threads, seed 7: the settings every strategy test renders with.
 RenderSettings base_settings();
 Image bdpt_reference(const Scene& scene, int spp);
-// The geometry-aware strategies' variants: the cheap cones (RenderSettings::gamlt_field_cone)
-// and delayed acceptance (RenderSettings::gamlt_delayed_acceptance).
+// The geometry-aware strategies' variants: the cheap cones (RenderSettings::gamlt_field_cone),
+// the cells' size (0: the exact walk) and delayed acceptance
+// (RenderSettings::gamlt_delayed_acceptance); the engine's defaults unless told.
 struct GamltVariant {
   bool field_cone = false;
-  double cone_cells = 0.0;  // RenderSettings::gamlt_cone_cells
+  double cone_cells = RenderSettings::kGamltConeCell;  // RenderSettings::gamlt_cone_cells
   bool delayed_acceptance = false;
 };
 // MLT with `mix` (64 chains, 50k bootstrap samples, 256-spp direct image).

@@ -102,6 +102,36 @@ TEST(RenderOptions, EveryRecordedOptionTellsItsValuesApart) {
   }
 }
 
+// A checkpoint records only the options the render's integrator reads: the path-space
+// strategies' options (gamlt cones, the ensemble) for mlt, gamlt and emlt, the primary-sample
+// ones for pssmlt and mmlt, the shared ones for all. A pt checkpoint thus survives a change
+// of the gamlt cones' default.
+TEST(RenderOptions, OnlyTheOptionsAnIntegratorReadsApplyToIt) {
+  const auto applies = [](const std::string& flag, const std::string& integrator) {
+    RenderSettings s;
+    s.integrator = integrator;
+    for (const RenderOption& o : render_options())
+      if (o.flag == flag) return !o.applies || o.applies(s);
+    throw Error("no option " + flag);
+  };
+  for (const char* integrator : {"mlt", "gamlt", "emlt"}) {
+    EXPECT_TRUE(applies("--gamlt-cone", integrator)) << integrator;
+    EXPECT_TRUE(applies("--ensemble-alpha", integrator)) << integrator;
+    EXPECT_FALSE(applies("--pss-sigma", integrator)) << integrator;
+  }
+  for (const char* integrator : {"pt", "bdpt", "direct", "ptracer", "pssmlt", "mmlt"}) {
+    EXPECT_FALSE(applies("--gamlt-cone", integrator)) << integrator;
+    EXPECT_FALSE(applies("--ensemble-size", integrator)) << integrator;
+  }
+  EXPECT_TRUE(applies("--pss-sigma", "pssmlt"));
+  EXPECT_TRUE(applies("--large-step", "mmlt"));
+  for (const char* integrator : {"pt", "mlt", "pssmlt"}) {
+    EXPECT_TRUE(applies("--max-depth", integrator)) << integrator;
+    EXPECT_TRUE(applies("--seed", integrator)) << integrator;
+    EXPECT_TRUE(applies("--chains", integrator)) << integrator;  // the pss chains too
+  }
+}
+
 // The options a scene file may set are read by the loaders through their declarations
 // (scene_options.h): a Mitsuba parameter and a JSON key mean what the flag means, take the
 // flag's values and are refused in its words; each is also on the command line.

@@ -35,6 +35,10 @@ struct RenderOption {
   // The value as a checkpoint records it; empty function: not part of a checkpoint's identity
   // (where output goes, what is reported).
   std::function<std::string(const RenderSettings&)> recorded;
+  // Whether the option can change a render with these settings (its integrator reads it);
+  // empty function: every render. A checkpoint records only the options that apply, so that
+  // a change to another integrator's option (or its default) never stops a resume.
+  std::function<bool(const RenderSettings&)> applies;
 
   // Whether `text` is a value the option takes.
   bool accepts(const std::string& text) const;
@@ -54,6 +58,10 @@ RenderOption switch_option(std::string flag, bool RenderSettings::*field, std::s
 // A file or folder name the render writes to; not part of a checkpoint's identity unless
 // `recorded` is given.
 RenderOption path_option(std::string flag, std::string RenderSettings::*field, std::string help);
+
+// Sets `applies` of each option in `options` to `predicate`.
+void apply_only_where(std::vector<RenderOption>& options,
+                      const std::function<bool(const RenderSettings&)>& predicate);
 
 // A number as the checkpoint header writes it (shortest round-trip form).
 std::string recorded_number(double value);

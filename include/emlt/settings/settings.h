@@ -100,16 +100,17 @@ struct RenderSettings {
   // The geometry-aware (gamlt) perturbations' cones by the cheap conservative bound from the
   // clearance field instead of the exact hierarchy walk (mutations/geometry_aware/cone.h).
   bool gamlt_field_cone = false;
-  // > 0: the gamlt cones memoised by quantised segments (cells of this fraction of each
-  // segment's length) instead of computed for each segment's own endpoints
-  // (mutations/geometry_aware/cone_cells.h). Exclusive with gamlt_field_cone.
-  double gamlt_cone_cells = 0.0;
-  // --gamlt-cone cells' own cell size. 1/4: on the Cornell box (96x64) it computed 9,500
-  // estimates where 1/8 computed 14,300 and 1/16 18,800, and the chains' variance on the
-  // Cornell box and Veach Ajar matched the exact cones'; 1/2 was faster on the Cornell box
-  // only, no different on the two doors and slower on the glass box and the terrain
-  // (docs/performance.md, "Memoised cones of quantised segments").
-  static constexpr double kGamltConeCell = 1.0 / 4.0;
+  // > 0 (the default): the gamlt cones memoised by quantised segments (cells of this fraction
+  // of each segment's length) instead of computed for each segment's own endpoints (0, the
+  // exact walk; mutations/geometry_aware/cone_cells.h). Exclusive with gamlt_field_cone.
+  double gamlt_cone_cells = kGamltConeCell;
+  // The cells' default size. 1/2: at the bench suite's sizes (1 thread, medians of 3
+  // interleaved rounds) gamlt's chains took 1.17-1.45x MLT's time per mutation on the five
+  // suite scenes and Bitterli's Veach Ajar with cells of 1/2, 1.11-1.70x with 1/4 and
+  // 1.07-3.21x with the exact walk, while the chains' variance per mutation with cells of 1/2
+  // matched the exact cones' (Cornell box 1.362e-3 against 1.383e-3, Veach Ajar 1.644 against
+  // 1.670; docs/performance.md, "Memoised cones of quantised segments").
+  static constexpr double kGamltConeCell = 1.0 / 2.0;
   // Delayed (two-stage) acceptance for proposals that defer part of their ratio (the gamlt
   // perturbations' ranges at y): y's cones only for proposals past the first stage
   // (include/emlt/mcmc/delayed_acceptance.h).

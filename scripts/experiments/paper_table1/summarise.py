@@ -26,7 +26,7 @@ PAPER = {
     "cornell-box": {"MLT": 9.62e-3, "Ani": 4.72e-3, "Lin": 4.34e-3, "EMLT": 3.28e-3},
 }
 BASELINE = "MLT"
-DISPLAY_ORDER = ["MLT", "MLT-mix", "MLT-paper", "GAMLT", "Ani", "Lin", "EMLT"]
+DISPLAY_ORDER = ["MLT", "MLT-mix", "MLT-paper", "GAMLT", "GAMLT-exact", "Ani", "Lin", "EMLT"]
 BEGIN = "<!-- table1:begin (scripts/experiments/paper_table1/summarise.py --update) -->"
 END = "<!-- table1:end -->"
 

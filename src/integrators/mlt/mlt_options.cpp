@@ -13,6 +13,12 @@ std::string from_budget(int value) {
   return value > 0 ? recorded_number(int64_t(value)) : "(from the budget)";
 }
 
+// The integrators whose --mutations may name any path-space strategy (the ga-* ones read the
+// gamlt options, the emlt-* ones the ensemble's).
+bool path_space_family(const RenderSettings& s) {
+  return s.integrator == "mlt" || s.integrator == "gamlt" || s.integrator == "emlt";
+}
+
 }  // namespace
 
 const std::vector<RenderOption>& mlt_options() {
@@ -104,11 +110,12 @@ const std::vector<RenderOption>& gamlt_options() {
     cone.flag = "--gamlt-cone";
     cone.help =
         "gamlt (the ga-* strategies): the occluder-free cones that set their step ranges, by the "
-        "exact hierarchy walk (exact), a cheap conservative bound from a clearance field (field: "
-        "narrower cones), or the exact walk memoised for quantised segments (cells: the cone of "
-        "the segment between the endpoints' cell centres, shared by nearby states)";
-    cone.values = {OptionValues::Kind::Word, 0, 0, false, {"exact", "field", "cells"},
-                   "exact, field or cells"};
+        "exact walk memoised for quantised segments (cells, the default: the cone of the segment "
+        "between the endpoints' cell centres, shared by nearby states), the exact hierarchy walk "
+        "for each segment (exact), or a cheap conservative bound from a clearance field (field: "
+        "narrower cones)";
+    cone.values = {OptionValues::Kind::Word, 0, 0, false, {"cells", "exact", "field"},
+                   "cells, exact or field"};
     cone.assign = [](RenderSettings& s, const std::string& text) {
       s.gamlt_field_cone = text == "field";
       // Cells keep a size --gamlt-cone-cell gave; otherwise they take their own.
@@ -126,7 +133,7 @@ const std::vector<RenderOption>& gamlt_options() {
     RenderOption cell = real_option("--gamlt-cone-cell", &RenderSettings::gamlt_cone_cells, 0.0,
                                     true, 1.0, "a number above 0, at most 1",
                                     "gamlt with --gamlt-cone cells: the cells' size as a fraction "
-                                    "of the segment's length (default 1/4)");
+                                    "of the segment's length (default 1/2)");
     cell.assign = [](RenderSettings& s, const std::string& text) {
       if (s.gamlt_field_cone || s.gamlt_cone_cells == 0.0) return;
       s.gamlt_cone_cells = std::stod(text);
@@ -138,6 +145,7 @@ const std::vector<RenderOption>& gamlt_options() {
         "gamlt (the ga-* strategies): Metropolis-Hastings in one stage (full), or in two "
         "(delayed: the ranges at the proposal, which need its cones, only for proposals that "
         "pass a first stage without them; lower acceptance)"));
+    apply_only_where(o, path_space_family);
     return o;
   }();
   return options;
@@ -197,6 +205,7 @@ const std::vector<RenderOption>& ensemble_options() {
                               "emlt: what the adaptive alpha (paper 3.4) is computed from: the "
                               "image points of the step's guides, or of the whole complementary "
                               "ensemble"));
+    apply_only_where(o, path_space_family);
     return o;
   }();
   return options;
