@@ -173,6 +173,9 @@ std::vector<ChiSquareCase> chi_square_cases() {
   cases.push_back({"lambertian_normal", lambertian, 1.0f, true});
   cases.push_back({"lambertian_oblique", lambertian, 0.5f, true});
   cases.push_back({"lambertian_grazing", lambertian, 0.05f, true});
+  const auto oren_nayar = [] { return make_rough_diffuse(Rgb(0.8f, 0.5f, 0.3f), 0.7f); };
+  cases.push_back({"rough_diffuse_oblique", oren_nayar, 0.5f, true});
+  cases.push_back({"rough_diffuse_grazing", oren_nayar, 0.05f, true});
   for (const float alpha : {0.05f, 0.3f, 0.8f}) {
     const std::string a = std::to_string(static_cast<int>(alpha * 100 + 0.5f));
     const auto make = [alpha] { return rough_gold(alpha); };
@@ -252,6 +255,8 @@ std::vector<NamedBsdf> all_materials() {
   conductor_preset("Cu", &cu_eta, &cu_k);
   return {
       {"lambertian", make_lambertian(Rgb(0.7f, 0.5f, 0.2f))},
+      {"rough_diffuse", make_rough_diffuse(Rgb(0.7f, 0.5f, 0.2f), 0.6f)},
+      {"rough_diffuse_fast", make_rough_diffuse(Rgb(0.3f, 0.5f, 0.9f), 1.5f, true)},
       {"conductor_a5", make_rough_conductor(0.05f, cu_eta, cu_k)},
       {"conductor_a30", make_rough_conductor(0.3f, cu_eta, cu_k, Rgb(0.9f))},
       {"conductor_a80", make_rough_conductor(0.8f, cu_eta, cu_k)},
@@ -353,7 +358,7 @@ TEST(BsdfReciprocity, EvalIsSymmetricForReflection) {
 TEST(BsdfOneSided, BackFacingQueriesAreBlack) {
   for (const BsdfPtr& bsdf :
        {make_lambertian(Rgb(1.0f)), rough_gold(0.3f), grey_plastic(0.3f), grey_plastic(0.0f),
-        make_mirror()}) {
+        make_mirror(), make_rough_diffuse(Rgb(1.0f), 0.5f)}) {
     Rng rng(53, 0);
     for (int n = 0; n < 500; ++n) {
       const Vec3 up = spherical_direction(rng.uniform(), 2.0 * M_PI * rng.uniform());

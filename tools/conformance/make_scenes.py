@@ -454,6 +454,25 @@ def build():
                                            '<float name="alpha" value="0.2"/></bsdf>')
     for name, (conv, bsdf) in bsdfs.items():
         s[name] = (conv, scene(sphere(bsdf)), pt_bdpt + (["mlt"] if name == "bsdf-dielectric" else []))
+    # The classic analytic BRDFs Mitsuba 0.6 ships beside the microfacet ones, on the sphere
+    # (every pair of angles at once). Oren-Nayar is rough enough here to differ from a
+    # Lambertian by 10-20 % in its brightest and darkest parts.
+    classic = {
+        "bsdf-roughdiffuse": ("roughdiffuse (Oren-Nayar, full model), alpha 0.7",
+            '<bsdf type="roughdiffuse"><rgb name="reflectance" value="0.75, 0.5, 0.3"/>'
+            '<float name="alpha" value="0.7"/></bsdf>'),
+        "bsdf-roughdiffuse-fast": ("roughdiffuse, useFastApprox, alpha 0.9, reflectance named diffuseReflectance",
+            '<bsdf type="roughdiffuse"><rgb name="diffuseReflectance" value="0.3, 0.6, 0.7"/>'
+            '<float name="alpha" value="0.9"/><boolean name="useFastApprox" value="true"/></bsdf>'),
+        "bsdf-roughdiffuse-texture": ("roughdiffuse, checkerboard alpha (0.05 and 1.2) and reflectance",
+            '<bsdf type="roughdiffuse">'
+            '<texture type="checkerboard" name="reflectance"><rgb name="color0" value="0.8, 0.7, 0.2"/>'
+            '<rgb name="color1" value="0.2, 0.4, 0.8"/><float name="uscale" value="4"/><float name="vscale" value="2"/></texture>'
+            '<texture type="checkerboard" name="alpha"><spectrum name="color0" value="0.05"/><spectrum name="color1" value="1.2"/>'
+            '<float name="uscale" value="6"/><float name="vscale" value="3"/></texture></bsdf>'),
+    }
+    for name, (conv, bsdf) in classic.items():
+        s[name] = (conv, scene(sphere(bsdf)), pt_bdpt + ["mlt"])
     # Rough plastic seen and lit at grazing angles: a panel over the floor, a low camera.
     # Mitsuba weights the base by the rough coating's transmittance, which at grazing
     # angles is far above the smooth 1 - F (GGX alpha 0.12: 0.64 against 0.43 at cos 0.1).

@@ -15,6 +15,12 @@ enum class MicrofacetType { Ggx, Beckmann, Phong };
 // frame so the back behaves like the front (Mitsuba's `twosided`).
 BsdfPtr make_lambertian(const Rgb& reflectance);
 BsdfPtr make_lambertian(TexturePtr reflectance);
+// Rough diffuse reflector (Oren-Nayar, Mitsuba's `roughdiffuse`): `alpha` is the RMS slope
+// of the V-grooves (0: Lambertian); `fast_approximation` is Mitsuba's useFastApprox, which
+// leaves out the full model's interreflection and second-order terms.
+BsdfPtr make_rough_diffuse(const Rgb& reflectance, float alpha, bool fast_approximation = false);
+BsdfPtr make_rough_diffuse(TexturePtr reflectance, TexturePtr alpha,
+                           bool fast_approximation = false);
 BsdfPtr make_mirror(const Rgb& reflectance = Rgb(1.0f));  // ideal specular reflection
 // Smooth dielectric interface; int_ior inside (against the normal), ext_ior outside.
 BsdfPtr make_dielectric(float int_ior = 1.5046f, float ext_ior = 1.000277f,

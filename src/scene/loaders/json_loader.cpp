@@ -408,6 +408,13 @@ class JsonSceneReader {
     if (type == "diffuse") {
       check_keys(m, where, {"type", "reflectance", "two_sided", "opacity", "bump"});
       bsdf = make_lambertian(texture(m, "reflectance", where, Rgb(0.5f)));
+    } else if (type == "roughdiffuse") {
+      check_keys(
+          m, where,
+          {"type", "reflectance", "alpha", "use_fast_approx", "two_sided", "opacity", "bump"});
+      bsdf =
+          make_rough_diffuse(texture(m, "reflectance", where, Rgb(0.5f)), roughness(m, where, 0.2f),
+                             boolean(m, "use_fast_approx", where, false));
     } else if (type == "mirror") {
       check_keys(m, where, {"type", "reflectance", "two_sided", "opacity", "bump"});
       bsdf = make_mirror(color(m, "reflectance", where, Rgb(1.0f)));
@@ -457,8 +464,8 @@ class JsonSceneReader {
     } else {
       fail(where + ".type",
            "unknown material type '" + type +
-               "' (diffuse, mirror, dielectric, roughdielectric, thindielectric, conductor, "
-               "roughconductor, plastic, roughplastic)");
+               "' (diffuse, roughdiffuse, mirror, dielectric, roughdielectric, thindielectric, "
+               "conductor, roughconductor, plastic, roughplastic)");
     }
     // Opaque surfaces are two-sided by default: a single-sided wall seen from behind
     // renders black, which is rarely what a hand-written scene means.

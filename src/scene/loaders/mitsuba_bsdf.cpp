@@ -4,6 +4,9 @@
 // Mitsuba. `mask` and `bumpmap` become the material's opacity and bump textures;
 // `coating` falls back to its nested BSDF with a warning.
 #include <cctype>
+#include <initializer_list>
+#include <optional>
+#include <string>
 
 #include "emlt/core/error.h"
 #include "emlt/scene/conductor_presets.h"
@@ -129,6 +132,29 @@ class BsdfReader {
     return a;
   }
 
+  // Mitsuba's ensureEnergyConservation (on unless the scene turns it off): when the largest
+  // component of a reflectance, or of the sum of a BSDF's reflectances, exceeds 1, they are
+  // all scaled by 0.99 over that maximum. A constant's maximum is known here; a texture's is
+  // not, so a BSDF with a textured one is left as given (8-bit bitmaps never exceed 1).
+  void conserve_energy(Properties& props, pugi::xml_node node,
+                       std::initializer_list<TexturePtr*> reflectances) {
+    if (!props.get_boolean("ensureEnergyConservation", true)) return;
+    Rgb sum(0.0f);
+    for (TexturePtr* r : reflectances) {
+      const std::optional<Rgb> c = (*r)->constant();
+      if (!c) return;
+      sum += glm::max(*c, Rgb(0.0f));
+    }
+    const float maximum = glm::max(sum.x, glm::max(sum.y, sum.z));
+    if (!(maximum > 1.0f)) return;
+    const float scale = 0.99f / maximum;
+    for (TexturePtr* r : reflectances) *r = make_constant_texture(*(*r)->constant() * scale);
+    doc_.warn(node,
+              "reflectance above 1 scaled by " + std::to_string(scale) +
+                  " to conserve energy, as Mitsuba does (ensureEnergyConservation)",
+              Document::Warning::Note);
+  }
+
   // The nested BSDF of a wrapper; unnamed <texture> children are left to `textures`.
   MaterialDesc nested(pugi::xml_node node, Properties& props,
                       std::vector<pugi::xml_node>* textures = nullptr) {
@@ -229,13 +255,19 @@ class BsdfReader {
                   Document::Warning::Note);
       }
     }
-    if (type == "diffuse" || type == "roughdiffuse") {
-      if (type == "roughdiffuse") {
-        doc_.warn(node, "roughdiffuse approximated by a Lambertian diffuse",
-                  Document::Warning::Approximated);
-        props.ignore({"alpha", "useFastApprox"});
-      }
-      return make_lambertian(texture(props, "reflectance", Rgb(0.5f)));
+    if (type == "diffuse") return make_lambertian(texture(props, "reflectance", Rgb(0.5f)));
+    if (type == "roughdiffuse") {
+      // Mitsuba reads `diffuseReflectance` too, when `reflectance` is not given.
+      const char* reflectance_name = props.has("reflectance") || !props.has("diffuseReflectance")
+                                         ? "reflectance"
+                                         : "diffuseReflectance";
+      TexturePtr reflectance = texture(props, reflectance_name, Rgb(0.5f));
+      TexturePtr a = texture(props, "alpha", Rgb(0.2f));
+      if (auto c = a->constant(); c && !((c->x + c->y + c->z) >= 0.0f))
+        doc_.fail(props.node_of("alpha"), "'alpha' of a roughdiffuse must not be negative");
+      const bool fast = props.get_boolean("useFastApprox", false);
+      conserve_energy(props, node, {&reflectance});
+      return make_rough_diffuse(reflectance, a, fast);
     }
     if (type == "dielectric" || type == "thindielectric") {
       const float int_ior = ior(props, "intIOR", 1.5046f, node);

@@ -1,0 +1,122 @@
+// Mitsuba 0.6's analytic BRDFs outside the microfacet family (roughdiffuse, phong, ward,
+// difftrans) as the loaders read them: Mitsuba's parameter names, aliases and defaults give
+// the material they mean, exactly (verdict "exact"), the JSON names give the same one, and a
+// value no BSDF can mean is refused in one line naming the file and the parameter.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "emlt/core/rng.h"
+#include "emlt/scene/description.h"
+#include "emlt/scene/loaders/loader.h"
+#include "emlt/scene/materials.h"
+#include "support/test_support.h"
+
+using namespace emlt;
+
+namespace {
+
+std::string xml_with_bsdf(const std::string& bsdf) {
+  return R"(<?xml version="1.0"?>
+<scene version="0.6.0">
+  <sensor type="perspective">
+    <float name="fov" value="40"/>
+    <transform name="toWorld"><lookat origin="0,0,-5" target="0,0,0" up="0,1,0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film>
+  </sensor>
+  <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+  )" + bsdf +
+         R"(
+  <shape type="sphere"><ref id="subject"/></shape>
+</scene>
+)";
+}
+
+std::string json_with_material(const std::string& material) {
+  return R"({"camera": {"lookat": {"origin": [0,0,-5], "target": [0,0,0], "up": [0,1,0]}, "fov": 40},
+  "materials": {"subject": )" +
+         material + R"(},
+  "shapes": [{"type": "rectangle", "emission": [1,1,1]}, {"type": "sphere", "material": "subject"}]})";
+}
+
+const MaterialDesc& subject(const SceneDescription& d) {
+  for (const MaterialDesc& m : d.materials)
+    if (m.name == "subject") return m;
+  throw std::runtime_error("no material named subject");
+}
+
+// The loaded BSDF and the expected one agree on value and density at random directions.
+void expect_same_bsdf(const Bsdf& loaded, const Bsdf& expected, const std::string& what) {
+  Rng rng(7, 0);
+  for (int n = 0; n < 200; ++n) {
+    const Vec3 wo = glm::normalize(Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform()));
+    const Vec3 wi = glm::normalize(Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform()));
+    const Rgb a = loaded.eval({}, wo, wi), b = expected.eval({}, wo, wi);
+    for (int c = 0; c < 3; ++c) ASSERT_NEAR(a[c], b[c], 1e-5f * (1.0f + b[c])) << what;
+    ASSERT_NEAR(loaded.pdf({}, wo, wi), expected.pdf({}, wo, wi),
+                1e-5f * (1.0f + expected.pdf({}, wo, wi)))
+        << what;
+  }
+}
+
+SceneDescription load_xml(const std::string& name, const std::string& bsdf) {
+  const auto dir = test::scratch_dir("classic-bsdf-loader");
+  return load_scene_description(test::write_file(dir, name, xml_with_bsdf(bsdf)));
+}
+
+std::string xml_error(const std::string& name, const std::string& bsdf) {
+  const auto dir = test::scratch_dir("classic-bsdf-loader");
+  const std::string path = test::write_file(dir, name, xml_with_bsdf(bsdf));
+  return test::error_of([&] { load_scene_description(path); });
+}
+
+void expect_one_line_naming(const std::string& message, const std::string& file,
+                            const std::string& problem) {
+  EXPECT_NE(message.find(file), std::string::npos) << message;
+  EXPECT_NE(message.find(problem), std::string::npos) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+}
+
+}  // namespace
+
+TEST(ClassicBsdfLoader, RoughDiffuseReadsMitsubasParametersAndDefaults) {
+  const SceneDescription defaults =
+      load_xml("rd_defaults.xml", R"(<bsdf type="roughdiffuse" id="subject"/>)");
+  EXPECT_EQ(defaults.verdict(), "exact");
+  EXPECT_EQ(subject(defaults).bsdf->name(), "rough_diffuse");
+  expect_same_bsdf(*subject(defaults).bsdf, *make_rough_diffuse(Rgb(0.5f), 0.2f), "defaults");
+
+  const SceneDescription given = load_xml("rd_given.xml", R"(<bsdf type="roughdiffuse" id="subject">
+    <rgb name="diffuseReflectance" value="0.2, 0.4, 0.6"/><float name="alpha" value="0.8"/>
+    <boolean name="useFastApprox" value="true"/></bsdf>)");
+  EXPECT_EQ(given.verdict(), "exact");
+  EXPECT_EQ(subject(given).bsdf->name(), "rough_diffuse_fast");
+  expect_same_bsdf(*subject(given).bsdf, *make_rough_diffuse(Rgb(0.2f, 0.4f, 0.6f), 0.8f, true),
+                   "diffuseReflectance, alpha, useFastApprox");
+
+  // Mitsuba scales a reflectance above 1 to 0.99 of its largest component (a note), unless
+  // told not to.
+  const SceneDescription bright =
+      load_xml("rd_bright.xml", R"(<bsdf type="roughdiffuse" id="subject">
+    <rgb name="reflectance" value="2, 1, 0.5"/></bsdf>)");
+  EXPECT_EQ(bright.verdict(), "exact");
+  expect_same_bsdf(*subject(bright).bsdf,
+                   *make_rough_diffuse(Rgb(2.0f, 1.0f, 0.5f) * (0.99f / 2.0f), 0.2f), "scaled");
+  const SceneDescription kept = load_xml("rd_kept.xml", R"(<bsdf type="roughdiffuse" id="subject">
+    <rgb name="reflectance" value="2, 1, 0.5"/><boolean name="ensureEnergyConservation" value="false"/></bsdf>)");
+  expect_same_bsdf(*subject(kept).bsdf, *make_rough_diffuse(Rgb(2.0f, 1.0f, 0.5f), 0.2f), "kept");
+
+  expect_one_line_naming(xml_error("rd_negative.xml", R"(<bsdf type="roughdiffuse" id="subject">
+    <float name="alpha" value="-0.3"/></bsdf>)"),
+                         "rd_negative.xml", "'alpha' of a roughdiffuse must not be negative");
+}
+
+TEST(ClassicBsdfLoader, RoughDiffuseInJson) {
+  const auto dir = test::scratch_dir("classic-bsdf-loader");
+  const SceneDescription d = load_scene_description(test::write_file(
+      dir, "rd.json", json_with_material(R"({"type": "roughdiffuse", "reflectance": [0.3, 0.2, 0.1],
+        "alpha": 0.6, "use_fast_approx": true, "two_sided": false})")));
+  expect_same_bsdf(*subject(d).bsdf, *make_rough_diffuse(Rgb(0.3f, 0.2f, 0.1f), 0.6f, true),
+                   "json");
+}
