@@ -167,6 +167,10 @@ BsdfPtr grey_plastic(float alpha) {
   return make_rough_plastic(alpha, Rgb(0.5f, 0.4f, 0.3f), Rgb(1.0f));
 }
 
+BsdfPtr shiny_phong(float exponent) {
+  return make_phong(exponent, Rgb(0.5f, 0.4f, 0.3f), Rgb(0.2f, 0.3f, 0.4f));
+}
+
 std::vector<ChiSquareCase> chi_square_cases() {
   std::vector<ChiSquareCase> cases;
   const auto lambertian = [] { return make_lambertian(Rgb(0.8f)); };
@@ -176,6 +180,10 @@ std::vector<ChiSquareCase> chi_square_cases() {
   const auto oren_nayar = [] { return make_rough_diffuse(Rgb(0.8f, 0.5f, 0.3f), 0.7f); };
   cases.push_back({"rough_diffuse_oblique", oren_nayar, 0.5f, true});
   cases.push_back({"rough_diffuse_grazing", oren_nayar, 0.05f, true});
+  // Phong loses the part of its lobe that falls below the surface.
+  cases.push_back({"phong_n30_oblique", [] { return shiny_phong(30.0f); }, 0.6f, false});
+  cases.push_back({"phong_n5_grazing", [] { return shiny_phong(5.0f); }, 0.1f, false});
+  cases.push_back({"phong_n300_near_normal", [] { return shiny_phong(300.0f); }, 0.95f, false});
   for (const float alpha : {0.05f, 0.3f, 0.8f}) {
     const std::string a = std::to_string(static_cast<int>(alpha * 100 + 0.5f));
     const auto make = [alpha] { return rough_gold(alpha); };
@@ -242,6 +250,27 @@ TEST(BsdfChiSquareTeeth, RejectsPlasticDensityWithWrongLobeMixture) {
   EXPECT_LT(run_chi_square(*plastic, wo, mixed, 31).chi2.p_value, 1e-6);
 }
 
+// Phong's density: the lobes weighted half and half instead of by the reflectances'
+// luminances, and a lobe three powers narrower (still normalised) than the one sampled.
+TEST(BsdfChiSquareTeeth, RejectsPhongDensityWithWrongMixtureOrExponent) {
+  const float n = 30.0f;
+  const BsdfPtr phong = shiny_phong(n);
+  const Vec3 wo = incident(0.6f);
+  const Vec3 mirror(-wo.x, -wo.y, wo.z);
+  const double specular = luminance(Rgb(0.5f, 0.4f, 0.3f));
+  const double weight = specular / (specular + luminance(Rgb(0.2f, 0.3f, 0.4f)));
+  const auto density = [&](double w, double exponent) -> DirectionalDensity {
+    return [=](const Vec3& wi) {
+      if (wi.z <= 0.0f) return 0.0;
+      const double c = std::max(0.0, double(glm::dot(wi, mirror)));
+      return w * (exponent + 1.0) / (2.0 * M_PI) * std::pow(c, exponent) + (1.0 - w) * wi.z / M_PI;
+    };
+  };
+  EXPECT_GT(run_chi_square(*phong, wo, density(weight, n), 37).chi2.p_value, kMinPValue);
+  EXPECT_LT(run_chi_square(*phong, wo, density(0.5, n), 37).chi2.p_value, 1e-6);
+  EXPECT_LT(run_chi_square(*phong, wo, density(weight, n + 3.0), 37).chi2.p_value, 1e-6);
+}
+
 // ---------------------------------------------------------------------------------------
 // sample() against eval()/pdf(), reciprocity, robustness.
 
@@ -257,6 +286,8 @@ std::vector<NamedBsdf> all_materials() {
       {"lambertian", make_lambertian(Rgb(0.7f, 0.5f, 0.2f))},
       {"rough_diffuse", make_rough_diffuse(Rgb(0.7f, 0.5f, 0.2f), 0.6f)},
       {"rough_diffuse_fast", make_rough_diffuse(Rgb(0.3f, 0.5f, 0.9f), 1.5f, true)},
+      {"phong_n30", shiny_phong(30.0f)},
+      {"phong_n2_dull", make_phong(2.0f, Rgb(0.1f), Rgb(0.8f, 0.6f, 0.4f))},
       {"conductor_a5", make_rough_conductor(0.05f, cu_eta, cu_k)},
       {"conductor_a30", make_rough_conductor(0.3f, cu_eta, cu_k, Rgb(0.9f))},
       {"conductor_a80", make_rough_conductor(0.8f, cu_eta, cu_k)},
@@ -358,7 +389,7 @@ TEST(BsdfReciprocity, EvalIsSymmetricForReflection) {
 TEST(BsdfOneSided, BackFacingQueriesAreBlack) {
   for (const BsdfPtr& bsdf :
        {make_lambertian(Rgb(1.0f)), rough_gold(0.3f), grey_plastic(0.3f), grey_plastic(0.0f),
-        make_mirror(), make_rough_diffuse(Rgb(1.0f), 0.5f)}) {
+        make_mirror(), make_rough_diffuse(Rgb(1.0f), 0.5f), shiny_phong(20.0f)}) {
     Rng rng(53, 0);
     for (int n = 0; n < 500; ++n) {
       const Vec3 up = spherical_direction(rng.uniform(), 2.0 * M_PI * rng.uniform());

@@ -209,4 +209,65 @@ TEST(RoughDiffuseEnergy, SampledAlbedoMatchesQuadratureAndStaysBounded) {
   }
 }
 
+// ---------------------------------------------------------------------------------------
+// Modified Phong (phong)
+
+// Lafortune and Willems 1994: kd / pi + ks (n + 2) / (2 pi) cos^n(a), a the angle between wi
+// and wo's mirror direction (the lobe is zero past 90 degrees from it).
+double modified_phong(const DirectionPair& p, double kd, double ks, double n) {
+  const Vec3 mirror(-p.wo.x, -p.wo.y, p.wo.z);
+  const double c = glm::dot(DVec3(p.wi), DVec3(mirror));
+  return kd / M_PI + (c > 0.0 ? ks * (n + 2.0) / (2.0 * M_PI) * std::pow(c, n) : 0.0);
+}
+
+const Rgb kKs(0.3f, 0.25f, 0.2f), kKd(0.1f, 0.4f, 0.6f);
+
+TEST(Phong, FollowsTheModifiedPhongModel) {
+  for (const float n : {0.0f, 1.0f, 10.0f, 80.0f, 1000.0f}) {
+    const BsdfPtr bsdf = make_phong(n, kKs, kKd);
+    const Reference reference = [n](const DirectionPair& p, int c) {
+      return modified_phong(p, kKd[c], kKs[c], n);
+    };
+    EXPECT_LT(worst_relative_error(*bsdf, reference), 2e-4) << "exponent " << n;
+  }
+}
+
+// The comparison notices the unnormalised lobe's (n + 1) / (2 pi) in place of the value's
+// (n + 2) / (2 pi), and a lobe about the normal's half vector instead of the mirror direction
+// (Blinn's).
+TEST(PhongTeeth, NoticesNormalisationAndLobeSlips) {
+  const float n = 20.0f;
+  const BsdfPtr bsdf = make_phong(n, kKs, kKd);
+  const Reference density_normalised = [n](const DirectionPair& p, int c) {
+    return modified_phong(p, kKd[c], kKs[c] * (n + 1.0) / (n + 2.0), n);
+  };
+  EXPECT_GT(worst_relative_error(*bsdf, density_normalised), 1e-2);
+  const Reference blinn = [n](const DirectionPair& p, int c) {
+    const DVec3 h = glm::normalize(DVec3(p.wo) + DVec3(p.wi));
+    return kKd[c] / M_PI + kKs[c] * (n + 2.0) / (2.0 * M_PI) * std::pow(h.z, n);
+  };
+  EXPECT_GT(worst_relative_error(*bsdf, blinn), 1e-2);
+}
+
+// Energy: a white Phong (ks + kd = 1) never reflects more than it receives, and a purely
+// specular one reflects everything at normal incidence, where its whole lobe is above the
+// surface; the sampled weights average to the albedo the value implies.
+TEST(PhongEnergy, WhitePhongConservesEnergy) {
+  for (const float n : {1.0f, 10.0f, 100.0f}) {
+    for (const float ks : {0.0f, 0.4f, 1.0f}) {
+      const BsdfPtr white = make_phong(n, Rgb(ks), Rgb(1.0f - ks));
+      for (const double c : kCosines) {
+        const AlbedoPair a = albedo(*white, direction(std::acos(c), 0.3), 40000, 113);
+        const std::string what =
+            "n " + std::to_string(n) + " ks " + std::to_string(ks) + " cos " + std::to_string(c);
+        EXPECT_NEAR(a.sampled.x, a.quadrature.x, 4.0 * a.standard_error.x + 3e-3) << what;
+        EXPECT_LE(a.sampled.x, 1.0 + 4.0 * a.standard_error.x + 1e-3) << what;
+        if (c == 1.0) {
+          EXPECT_NEAR(a.sampled.x, 1.0, 4.0 * a.standard_error.x + 1e-3) << what;
+        }
+      }
+    }
+  }
+}
+
 }  // namespace

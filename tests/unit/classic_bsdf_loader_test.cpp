@@ -120,3 +120,43 @@ TEST(ClassicBsdfLoader, RoughDiffuseInJson) {
   expect_same_bsdf(*subject(d).bsdf, *make_rough_diffuse(Rgb(0.3f, 0.2f, 0.1f), 0.6f, true),
                    "json");
 }
+
+TEST(ClassicBsdfLoader, PhongReadsMitsubasParametersAndDefaults) {
+  const SceneDescription defaults =
+      load_xml("phong_defaults.xml", R"(<bsdf type="phong" id="subject"/>)");
+  EXPECT_EQ(defaults.verdict(), "exact");
+  EXPECT_EQ(subject(defaults).bsdf->name(), "phong");
+  expect_same_bsdf(*subject(defaults).bsdf, *make_phong(30.0f, Rgb(0.2f), Rgb(0.5f)), "defaults");
+
+  const SceneDescription given = load_xml("phong_given.xml", R"(<bsdf type="phong" id="subject">
+    <float name="exponent" value="12"/><rgb name="specularReflectance" value="0.3, 0.2, 0.1"/>
+    <rgb name="diffuseReflectance" value="0.1, 0.2, 0.4"/></bsdf>)");
+  EXPECT_EQ(given.verdict(), "exact");
+  expect_same_bsdf(*subject(given).bsdf,
+                   *make_phong(12.0f, Rgb(0.3f, 0.2f, 0.1f), Rgb(0.1f, 0.2f, 0.4f)), "given");
+
+  // The two reflectances together are scaled to 0.99 of the largest component of their sum.
+  const SceneDescription bright = load_xml("phong_bright.xml", R"(<bsdf type="phong" id="subject">
+    <spectrum name="specularReflectance" value="0.6"/><rgb name="diffuseReflectance" value="0.8, 0.5, 0.3"/></bsdf>)");
+  EXPECT_EQ(bright.verdict(), "exact");
+  const float scale = 0.99f / 1.4f;
+  expect_same_bsdf(*subject(bright).bsdf,
+                   *make_phong(30.0f, Rgb(0.6f * scale), Rgb(0.8f, 0.5f, 0.3f) * scale), "scaled");
+
+  expect_one_line_naming(xml_error("phong_negative.xml", R"(<bsdf type="phong" id="subject">
+    <float name="exponent" value="-2"/></bsdf>)"),
+                         "phong_negative.xml", "'exponent' of a phong must not be negative");
+}
+
+TEST(ClassicBsdfLoader, PhongInJson) {
+  const auto dir = test::scratch_dir("classic-bsdf-loader");
+  const SceneDescription d = load_scene_description(test::write_file(
+      dir, "phong.json",
+      json_with_material(R"({"type": "phong", "exponent": 7, "specular_reflectance": 0.3,
+        "diffuse_reflectance": [0.2, 0.1, 0.05], "two_sided": false})")));
+  expect_same_bsdf(*subject(d).bsdf, *make_phong(7.0f, Rgb(0.3f), Rgb(0.2f, 0.1f, 0.05f)), "json");
+  const std::string path = test::write_file(
+      dir, "phong_negative.json", json_with_material(R"({"type": "phong", "exponent": -1})"));
+  expect_one_line_naming(test::error_of([&] { load_scene_description(path); }),
+                         "phong_negative.json", "exponent: must be >= 0");
+}

@@ -470,6 +470,20 @@ def build():
             '<rgb name="color1" value="0.2, 0.4, 0.8"/><float name="uscale" value="4"/><float name="vscale" value="2"/></texture>'
             '<texture type="checkerboard" name="alpha"><spectrum name="color0" value="0.05"/><spectrum name="color1" value="1.2"/>'
             '<float name="uscale" value="6"/><float name="vscale" value="3"/></texture></bsdf>'),
+        "bsdf-phong": ("phong, exponent 40, specularReflectance and diffuseReflectance",
+            '<bsdf type="phong"><float name="exponent" value="40"/><rgb name="specularReflectance" value="0.4, 0.35, 0.3"/>'
+            '<rgb name="diffuseReflectance" value="0.2, 0.3, 0.5"/></bsdf>'),
+        "bsdf-phong-defaults": ("phong defaults (exponent 30, specular 0.2, diffuse 0.5)", '<bsdf type="phong"/>'),
+        "bsdf-phong-energy": ("phong whose reflectances sum above 1 (scaled to 0.99 of their largest sum)",
+            '<bsdf type="phong"><float name="exponent" value="10"/><spectrum name="specularReflectance" value="0.6"/>'
+            '<rgb name="diffuseReflectance" value="0.8, 0.5, 0.3"/></bsdf>'),
+        "bsdf-phong-texture": ("phong, checkerboard exponent (5 and 200) and diffuseReflectance",
+            '<bsdf type="phong">'
+            '<texture type="checkerboard" name="exponent"><spectrum name="color0" value="5"/><spectrum name="color1" value="200"/>'
+            '<float name="uscale" value="6"/><float name="vscale" value="3"/></texture>'
+            '<texture type="checkerboard" name="diffuseReflectance"><rgb name="color0" value="0.6, 0.2, 0.1"/>'
+            '<rgb name="color1" value="0.1, 0.3, 0.5"/><float name="uscale" value="4"/><float name="vscale" value="2"/></texture>'
+            '<spectrum name="specularReflectance" value="0.3"/></bsdf>'),
     }
     for name, (conv, bsdf) in classic.items():
         s[name] = (conv, scene(sphere(bsdf)), pt_bdpt + ["mlt"])

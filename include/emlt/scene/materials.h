@@ -21,6 +21,12 @@ BsdfPtr make_lambertian(TexturePtr reflectance);
 BsdfPtr make_rough_diffuse(const Rgb& reflectance, float alpha, bool fast_approximation = false);
 BsdfPtr make_rough_diffuse(TexturePtr reflectance, TexturePtr alpha,
                            bool fast_approximation = false);
+// Mitsuba's `phong`, the modified (energy-conserving) Phong of Lafortune and Willems: a
+// Lambertian term diffuse / pi plus specular (n + 2) / (2 pi) cos^n about the mirror
+// direction. `exponent` n may be a texture (its channel mean).
+BsdfPtr make_phong(float exponent, const Rgb& specular_reflectance, const Rgb& diffuse_reflectance);
+BsdfPtr make_phong(TexturePtr exponent, TexturePtr specular_reflectance,
+                   TexturePtr diffuse_reflectance);
 BsdfPtr make_mirror(const Rgb& reflectance = Rgb(1.0f));  // ideal specular reflection
 // Smooth dielectric interface; int_ior inside (against the normal), ext_ior outside.
 BsdfPtr make_dielectric(float int_ior = 1.5046f, float ext_ior = 1.000277f,

@@ -415,6 +415,15 @@ class JsonSceneReader {
       bsdf =
           make_rough_diffuse(texture(m, "reflectance", where, Rgb(0.5f)), roughness(m, where, 0.2f),
                              boolean(m, "use_fast_approx", where, false));
+    } else if (type == "phong") {
+      check_keys(m, where,
+                 {"type", "exponent", "specular_reflectance", "diffuse_reflectance", "two_sided",
+                  "opacity", "bump"});
+      TexturePtr exponent = texture(m, "exponent", where, Rgb(30.0f));
+      if (auto c = exponent->constant(); c && !(c->x >= 0.0f))
+        fail(where + ".exponent", "must be >= 0");
+      bsdf = make_phong(exponent, texture(m, "specular_reflectance", where, Rgb(0.2f)),
+                        texture(m, "diffuse_reflectance", where, Rgb(0.5f)));
     } else if (type == "mirror") {
       check_keys(m, where, {"type", "reflectance", "two_sided", "opacity", "bump"});
       bsdf = make_mirror(color(m, "reflectance", where, Rgb(1.0f)));
@@ -464,8 +473,8 @@ class JsonSceneReader {
     } else {
       fail(where + ".type",
            "unknown material type '" + type +
-               "' (diffuse, roughdiffuse, mirror, dielectric, roughdielectric, thindielectric, "
-               "conductor, roughconductor, plastic, roughplastic)");
+               "' (diffuse, roughdiffuse, phong, mirror, dielectric, roughdielectric, "
+               "thindielectric, conductor, roughconductor, plastic, roughplastic)");
     }
     // Opaque surfaces are two-sided by default: a single-sided wall seen from behind
     // renders black, which is rarely what a hand-written scene means.

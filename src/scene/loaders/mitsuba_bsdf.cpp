@@ -269,6 +269,15 @@ class BsdfReader {
       conserve_energy(props, node, {&reflectance});
       return make_rough_diffuse(reflectance, a, fast);
     }
+    if (type == "phong") {
+      TexturePtr exponent = texture(props, "exponent", Rgb(30.0f));
+      if (auto c = exponent->constant(); c && !((c->x + c->y + c->z) >= 0.0f))
+        doc_.fail(props.node_of("exponent"), "'exponent' of a phong must not be negative");
+      TexturePtr specular = texture(props, "specularReflectance", Rgb(0.2f));
+      TexturePtr diffuse = texture(props, "diffuseReflectance", Rgb(0.5f));
+      conserve_energy(props, node, {&specular, &diffuse});
+      return make_phong(exponent, specular, diffuse);
+    }
     if (type == "dielectric" || type == "thindielectric") {
       const float int_ior = ior(props, "intIOR", 1.5046f, node);
       const float ext_ior = ior(props, "extIOR", 1.000277f, node);
