@@ -171,6 +171,10 @@ BsdfPtr shiny_phong(float exponent) {
   return make_phong(exponent, Rgb(0.5f, 0.4f, 0.3f), Rgb(0.2f, 0.3f, 0.4f));
 }
 
+BsdfPtr anisotropic_ward(WardVariant variant) {
+  return make_ward(variant, 0.08f, 0.35f, Rgb(0.5f, 0.4f, 0.3f), Rgb(0.2f, 0.3f, 0.4f));
+}
+
 std::vector<ChiSquareCase> chi_square_cases() {
   std::vector<ChiSquareCase> cases;
   const auto lambertian = [] { return make_lambertian(Rgb(0.8f)); };
@@ -184,6 +188,13 @@ std::vector<ChiSquareCase> chi_square_cases() {
   cases.push_back({"phong_n30_oblique", [] { return shiny_phong(30.0f); }, 0.6f, false});
   cases.push_back({"phong_n5_grazing", [] { return shiny_phong(5.0f); }, 0.1f, false});
   cases.push_back({"phong_n300_near_normal", [] { return shiny_phong(300.0f); }, 0.95f, false});
+  cases.push_back({"ward_balanced_aniso_oblique",
+                   [] { return anisotropic_ward(WardVariant::Balanced); }, 0.6f, false});
+  cases.push_back({"ward_duer_aniso_grazing",
+                   [] { return anisotropic_ward(WardVariant::WardDuer); }, 0.1f, false});
+  cases.push_back({"ward_original_isotropic_near_normal",
+                   [] { return make_ward(WardVariant::Ward, 0.2f, 0.2f, Rgb(0.6f), Rgb(0.1f)); },
+                   0.9f, false});
   for (const float alpha : {0.05f, 0.3f, 0.8f}) {
     const std::string a = std::to_string(static_cast<int>(alpha * 100 + 0.5f));
     const auto make = [alpha] { return rough_gold(alpha); };
@@ -271,6 +282,16 @@ TEST(BsdfChiSquareTeeth, RejectsPhongDensityWithWrongMixtureOrExponent) {
   EXPECT_LT(run_chi_square(*phong, wo, density(weight, n + 3.0), 37).chi2.p_value, 1e-6);
 }
 
+// Ward's half-vector density with alpha_u and alpha_v exchanged (the lobe turned a quarter
+// turn about the normal) is told from the one sampled.
+TEST(BsdfChiSquareTeeth, RejectsWardDensityTurnedAQuarter) {
+  const BsdfPtr ward = anisotropic_ward(WardVariant::Balanced);
+  const BsdfPtr turned =
+      make_ward(WardVariant::Balanced, 0.35f, 0.08f, Rgb(0.5f, 0.4f, 0.3f), Rgb(0.2f, 0.3f, 0.4f));
+  const Vec3 wo = incident(0.6f);
+  EXPECT_LT(run_chi_square(*ward, wo, density_of(*turned, wo), 41).chi2.p_value, 1e-6);
+}
+
 // ---------------------------------------------------------------------------------------
 // sample() against eval()/pdf(), reciprocity, robustness.
 
@@ -288,6 +309,9 @@ std::vector<NamedBsdf> all_materials() {
       {"rough_diffuse_fast", make_rough_diffuse(Rgb(0.3f, 0.5f, 0.9f), 1.5f, true)},
       {"phong_n30", shiny_phong(30.0f)},
       {"phong_n2_dull", make_phong(2.0f, Rgb(0.1f), Rgb(0.8f, 0.6f, 0.4f))},
+      {"ward_balanced", anisotropic_ward(WardVariant::Balanced)},
+      {"ward_duer", anisotropic_ward(WardVariant::WardDuer)},
+      {"ward_original", make_ward(WardVariant::Ward, 0.3f, 0.1f, Rgb(0.3f), Rgb(0.6f))},
       {"conductor_a5", make_rough_conductor(0.05f, cu_eta, cu_k)},
       {"conductor_a30", make_rough_conductor(0.3f, cu_eta, cu_k, Rgb(0.9f))},
       {"conductor_a80", make_rough_conductor(0.8f, cu_eta, cu_k)},
@@ -389,7 +413,8 @@ TEST(BsdfReciprocity, EvalIsSymmetricForReflection) {
 TEST(BsdfOneSided, BackFacingQueriesAreBlack) {
   for (const BsdfPtr& bsdf :
        {make_lambertian(Rgb(1.0f)), rough_gold(0.3f), grey_plastic(0.3f), grey_plastic(0.0f),
-        make_mirror(), make_rough_diffuse(Rgb(1.0f), 0.5f), shiny_phong(20.0f)}) {
+        make_mirror(), make_rough_diffuse(Rgb(1.0f), 0.5f), shiny_phong(20.0f),
+        anisotropic_ward(WardVariant::Balanced)}) {
     Rng rng(53, 0);
     for (int n = 0; n < 500; ++n) {
       const Vec3 up = spherical_direction(rng.uniform(), 2.0 * M_PI * rng.uniform());

@@ -160,3 +160,62 @@ TEST(ClassicBsdfLoader, PhongInJson) {
   expect_one_line_naming(test::error_of([&] { load_scene_description(path); }),
                          "phong_negative.json", "exponent: must be >= 0");
 }
+
+TEST(ClassicBsdfLoader, WardReadsMitsubasParametersAndDefaults) {
+  const SceneDescription defaults =
+      load_xml("ward_defaults.xml", R"(<bsdf type="ward" id="subject"/>)");
+  EXPECT_EQ(defaults.verdict(), "exact");
+  EXPECT_EQ(subject(defaults).bsdf->name(), "ward_balanced");
+  EXPECT_FALSE(subject(defaults).bsdf->is_anisotropic());
+  expect_same_bsdf(*subject(defaults).bsdf,
+                   *make_ward(WardVariant::Balanced, 0.1f, 0.1f, Rgb(0.2f), Rgb(0.5f)), "defaults");
+
+  // `alpha` is the default of whichever of alphaU and alphaV is not given; variant names
+  // are read in any case, as Mitsuba reads them.
+  const SceneDescription given = load_xml("ward_given.xml", R"(<bsdf type="ward" id="subject">
+    <string name="variant" value="Ward-Duer"/><float name="alpha" value="0.3"/><float name="alphaV" value="0.05"/>
+    <rgb name="specularReflectance" value="0.3, 0.2, 0.1"/><rgb name="diffuseReflectance" value="0.1, 0.2, 0.4"/></bsdf>)");
+  EXPECT_EQ(given.verdict(), "exact");
+  EXPECT_TRUE(subject(given).bsdf->is_anisotropic());
+  expect_same_bsdf(
+      *subject(given).bsdf,
+      *make_ward(WardVariant::WardDuer, 0.3f, 0.05f, Rgb(0.3f, 0.2f, 0.1f), Rgb(0.1f, 0.2f, 0.4f)),
+      "given");
+  EXPECT_EQ(subject(load_xml("ward_original.xml", R"(<bsdf type="ward" id="subject">
+    <string name="variant" value="ward"/></bsdf>)"))
+                .bsdf->name(),
+            "ward_original");
+
+  const SceneDescription bright = load_xml("ward_bright.xml", R"(<bsdf type="ward" id="subject">
+    <spectrum name="specularReflectance" value="0.5"/><spectrum name="diffuseReflectance" value="0.75"/></bsdf>)");
+  expect_same_bsdf(*subject(bright).bsdf,
+                   *make_ward(WardVariant::Balanced, 0.1f, 0.1f, Rgb(0.5f * 0.99f / 1.25f),
+                              Rgb(0.75f * 0.99f / 1.25f)),
+                   "scaled");
+
+  expect_one_line_naming(xml_error("ward_variant.xml", R"(<bsdf type="ward" id="subject">
+    <string name="variant" value="blinn"/></bsdf>)"),
+                         "ward_variant.xml",
+                         "unknown ward variant 'blinn' (ward, ward-duer or balanced)");
+  expect_one_line_naming(xml_error("ward_zero.xml", R"(<bsdf type="ward" id="subject">
+    <float name="alphaU" value="0"/></bsdf>)"),
+                         "ward_zero.xml", "'alphaU' of a ward must be positive");
+  expect_one_line_naming(xml_error("ward_alpha.xml", R"(<bsdf type="ward" id="subject">
+    <float name="alpha" value="-1"/></bsdf>)"),
+                         "ward_alpha.xml", "'alpha' must be a positive number");
+}
+
+TEST(ClassicBsdfLoader, WardInJson) {
+  const auto dir = test::scratch_dir("classic-bsdf-loader");
+  const SceneDescription d = load_scene_description(test::write_file(
+      dir, "ward.json",
+      json_with_material(R"({"type": "ward", "variant": "ward-duer", "alpha": 0.2, "alpha_v": 0.4,
+        "specular_reflectance": 0.3, "diffuse_reflectance": [0.2, 0.1, 0.05], "two_sided": false})")));
+  expect_same_bsdf(*subject(d).bsdf,
+                   *make_ward(WardVariant::WardDuer, 0.2f, 0.4f, Rgb(0.3f), Rgb(0.2f, 0.1f, 0.05f)),
+                   "json");
+  const std::string path = test::write_file(
+      dir, "ward_variant.json", json_with_material(R"({"type": "ward", "variant": "blinn"})"));
+  expect_one_line_naming(test::error_of([&] { load_scene_description(path); }), "ward_variant.json",
+                         "variant: expected \"ward\", \"ward-duer\" or \"balanced\"");
+}

@@ -484,6 +484,21 @@ def build():
             '<texture type="checkerboard" name="diffuseReflectance"><rgb name="color0" value="0.6, 0.2, 0.1"/>'
             '<rgb name="color1" value="0.1, 0.3, 0.5"/><float name="uscale" value="4"/><float name="vscale" value="2"/></texture>'
             '<spectrum name="specularReflectance" value="0.3"/></bsdf>'),
+        "bsdf-ward": ("ward, balanced (the default), alphaU 0.05 and alphaV 0.3 along the sphere's dp/du",
+            '<bsdf type="ward"><float name="alphaU" value="0.05"/><float name="alphaV" value="0.3"/>'
+            '<rgb name="specularReflectance" value="0.5, 0.45, 0.4"/><rgb name="diffuseReflectance" value="0.15, 0.2, 0.3"/></bsdf>'),
+        "bsdf-ward-original": ("ward, variant ward (Ward's own normalisation), alpha 0.15",
+            '<bsdf type="ward"><string name="variant" value="ward"/><float name="alpha" value="0.15"/>'
+            '<spectrum name="specularReflectance" value="0.4"/><rgb name="diffuseReflectance" value="0.4, 0.2, 0.1"/></bsdf>'),
+        "bsdf-ward-duer": ("ward, variant ward-duer, alpha 0.2, default reflectances",
+            '<bsdf type="ward"><string name="variant" value="ward-duer"/><float name="alpha" value="0.2"/></bsdf>'),
+        "bsdf-ward-texture": ("ward, checkerboard alphaU (0.03 and 0.4), alphaV from alpha 0.1, checkerboard diffuseReflectance",
+            '<bsdf type="ward"><float name="alpha" value="0.1"/>'
+            '<texture type="checkerboard" name="alphaU"><spectrum name="color0" value="0.03"/><spectrum name="color1" value="0.4"/>'
+            '<float name="uscale" value="6"/><float name="vscale" value="3"/></texture>'
+            '<texture type="checkerboard" name="diffuseReflectance"><rgb name="color0" value="0.5, 0.3, 0.1"/>'
+            '<rgb name="color1" value="0.1, 0.2, 0.5"/><float name="uscale" value="4"/><float name="vscale" value="2"/></texture>'
+            '<spectrum name="specularReflectance" value="0.35"/></bsdf>'),
     }
     for name, (conv, bsdf) in classic.items():
         s[name] = (conv, scene(sphere(bsdf)), pt_bdpt + ["mlt"])

@@ -424,6 +424,28 @@ class JsonSceneReader {
         fail(where + ".exponent", "must be >= 0");
       bsdf = make_phong(exponent, texture(m, "specular_reflectance", where, Rgb(0.2f)),
                         texture(m, "diffuse_reflectance", where, Rgb(0.5f)));
+    } else if (type == "ward") {
+      check_keys(m, where,
+                 {"type", "variant", "alpha", "alpha_u", "alpha_v", "specular_reflectance",
+                  "diffuse_reflectance", "two_sided", "opacity", "bump"});
+      const std::string name =
+          m.contains("variant") ? string(m["variant"], where + ".variant") : "balanced";
+      WardVariant variant = WardVariant::Balanced;
+      if (name == "ward")
+        variant = WardVariant::Ward;
+      else if (name == "ward-duer")
+        variant = WardVariant::WardDuer;
+      else if (name != "balanced")
+        fail(where + ".variant", "expected \"ward\", \"ward-duer\" or \"balanced\"");
+      const float alpha =
+          m.contains("alpha") ? number(m["alpha"], where + ".alpha", loader::kPositiveRange) : 0.1f;
+      TexturePtr alpha_u = texture(m, "alpha_u", where, Rgb(alpha));
+      TexturePtr alpha_v = texture(m, "alpha_v", where, Rgb(alpha));
+      for (const auto& [key, a] : {std::pair{"alpha_u", alpha_u}, std::pair{"alpha_v", alpha_v}})
+        if (auto c = a->constant(); c && !(c->x > 0.0f)) fail(where + "." + key, "must be > 0");
+      bsdf =
+          make_ward(variant, alpha_u, alpha_v, texture(m, "specular_reflectance", where, Rgb(0.2f)),
+                    texture(m, "diffuse_reflectance", where, Rgb(0.5f)));
     } else if (type == "mirror") {
       check_keys(m, where, {"type", "reflectance", "two_sided", "opacity", "bump"});
       bsdf = make_mirror(color(m, "reflectance", where, Rgb(1.0f)));
@@ -473,7 +495,7 @@ class JsonSceneReader {
     } else {
       fail(where + ".type",
            "unknown material type '" + type +
-               "' (diffuse, roughdiffuse, phong, mirror, dielectric, roughdielectric, "
+               "' (diffuse, roughdiffuse, phong, ward, mirror, dielectric, roughdielectric, "
                "thindielectric, conductor, roughconductor, plastic, roughplastic)");
     }
     // Opaque surfaces are two-sided by default: a single-sided wall seen from behind

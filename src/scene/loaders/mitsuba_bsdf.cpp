@@ -7,6 +7,7 @@
 #include <initializer_list>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "emlt/core/error.h"
 #include "emlt/scene/conductor_presets.h"
@@ -277,6 +278,30 @@ class BsdfReader {
       TexturePtr diffuse = texture(props, "diffuseReflectance", Rgb(0.5f));
       conserve_energy(props, node, {&specular, &diffuse});
       return make_phong(exponent, specular, diffuse);
+    }
+    if (type == "ward") {
+      std::string name = props.get_string("variant", "balanced");
+      for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));  // as Mitsuba
+      WardVariant variant = WardVariant::Balanced;
+      if (name == "ward")
+        variant = WardVariant::Ward;
+      else if (name == "ward-duer")
+        variant = WardVariant::WardDuer;
+      else if (name != "balanced")
+        doc_.fail(props.node_of("variant"),
+                  "unknown ward variant '" + name + "' (ward, ward-duer or balanced)");
+      // `alpha` (a number) is the default of both alphaU and alphaV, which may be textures.
+      const float alpha = props.get_float("alpha", 0.1f, loader::kPositiveRange);
+      TexturePtr alpha_u = texture(props, "alphaU", Rgb(alpha));
+      TexturePtr alpha_v = texture(props, "alphaV", Rgb(alpha));
+      for (const auto& [which, a] : {std::pair{"alphaU", alpha_u}, std::pair{"alphaV", alpha_v}})
+        if (auto c = a->constant(); c && !((c->x + c->y + c->z) > 0.0f))
+          doc_.fail(props.node_of(which),
+                    std::string("'") + which + "' of a ward must be positive");
+      TexturePtr specular = texture(props, "specularReflectance", Rgb(0.2f));
+      TexturePtr diffuse = texture(props, "diffuseReflectance", Rgb(0.5f));
+      conserve_energy(props, node, {&specular, &diffuse});
+      return make_ward(variant, alpha_u, alpha_v, specular, diffuse);
     }
     if (type == "dielectric" || type == "thindielectric") {
       const float int_ior = ior(props, "intIOR", 1.5046f, node);
