@@ -188,6 +188,9 @@ std::vector<ChiSquareCase> chi_square_cases() {
   cases.push_back({"phong_n30_oblique", [] { return shiny_phong(30.0f); }, 0.6f, false});
   cases.push_back({"phong_n5_grazing", [] { return shiny_phong(5.0f); }, 0.1f, false});
   cases.push_back({"phong_n300_near_normal", [] { return shiny_phong(300.0f); }, 0.95f, false});
+  const auto transmitter = [] { return make_diffuse_transmitter(Rgb(0.7f, 0.5f, 0.3f)); };
+  cases.push_back({"diffuse_transmitter_front", transmitter, 0.6f, true});
+  cases.push_back({"diffuse_transmitter_back_grazing", transmitter, -0.1f, true});
   cases.push_back({"ward_balanced_aniso_oblique",
                    [] { return anisotropic_ward(WardVariant::Balanced); }, 0.6f, false});
   cases.push_back({"ward_duer_aniso_grazing",
@@ -292,6 +295,16 @@ TEST(BsdfChiSquareTeeth, RejectsWardDensityTurnedAQuarter) {
   EXPECT_LT(run_chi_square(*ward, wo, density_of(*turned, wo), 41).chi2.p_value, 1e-6);
 }
 
+// A diffuse transmitter's samples are told from the same cosine lobe on wo's own side.
+TEST(BsdfChiSquareTeeth, RejectsTransmitterDensityOnTheWrongSide) {
+  const BsdfPtr transmitter = make_diffuse_transmitter(Rgb(1.0f));
+  const Vec3 wo = incident(0.6f);
+  const DirectionalDensity reflected = [](const Vec3& wi) {
+    return wi.z > 0.0f ? double(wi.z) / M_PI : 0.0;
+  };
+  EXPECT_LT(run_chi_square(*transmitter, wo, reflected, 43).chi2.p_value, 1e-6);
+}
+
 // ---------------------------------------------------------------------------------------
 // sample() against eval()/pdf(), reciprocity, robustness.
 
@@ -310,6 +323,7 @@ std::vector<NamedBsdf> all_materials() {
       {"phong_n30", shiny_phong(30.0f)},
       {"phong_n2_dull", make_phong(2.0f, Rgb(0.1f), Rgb(0.8f, 0.6f, 0.4f))},
       {"ward_balanced", anisotropic_ward(WardVariant::Balanced)},
+      {"diffuse_transmitter", make_diffuse_transmitter(Rgb(0.6f, 0.4f, 0.2f))},
       {"ward_duer", anisotropic_ward(WardVariant::WardDuer)},
       {"ward_original", make_ward(WardVariant::Ward, 0.3f, 0.1f, Rgb(0.3f), Rgb(0.6f))},
       {"conductor_a5", make_rough_conductor(0.05f, cu_eta, cu_k)},

@@ -357,4 +357,47 @@ TEST(WardEnergy, BalancedConservesEnergyAndSamplingAccountsForEveryVariant) {
   }
 }
 
+// ---------------------------------------------------------------------------------------
+// Diffuse transmitter (difftrans)
+
+// T / pi between opposite sides, from either side, and nothing on the same side; the
+// value does not change when the two directions are exchanged or both turned over.
+TEST(DiffuseTransmitter, TransmitsTOverPiAcrossAndReflectsNothing) {
+  const Rgb t(0.7f, 0.4f, 0.1f);
+  const BsdfPtr bsdf = make_diffuse_transmitter(t);
+  for (const DirectionPair& p : direction_pairs(500, 131)) {
+    const Vec3 below(p.wi.x, p.wi.y, -p.wi.z), wo_below(p.wo.x, p.wo.y, -p.wo.z);
+    EXPECT_TRUE(is_black(bsdf->eval({}, p.wo, p.wi)));
+    EXPECT_TRUE(is_black(bsdf->eval({}, wo_below, below)));
+    EXPECT_EQ(bsdf->pdf({}, p.wo, p.wi), 0.0f);
+    for (const Rgb& f :
+         {bsdf->eval({}, p.wo, below), bsdf->eval({}, below, p.wo), bsdf->eval({}, wo_below, p.wi)})
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(f[c], t[c] / M_PI, 1e-6);
+    EXPECT_NEAR(bsdf->pdf({}, p.wo, below), std::abs(below.z) / M_PI, 1e-6);
+    EXPECT_NEAR(bsdf->pdf({}, wo_below, p.wi), p.wi.z / M_PI, 1e-6);
+  }
+}
+
+// Energy: every sample leaves by the other side carrying exactly T, from either side at
+// every angle, so the albedo is T (and 1 for a white transmitter).
+TEST(DiffuseTransmitterEnergy, TransmitsExactlyT) {
+  const Rgb t(1.0f, 0.6f, 0.2f);
+  const BsdfPtr bsdf = make_diffuse_transmitter(t);
+  for (const double c : kCosines) {
+    for (const double side : {1.0, -1.0}) {
+      const Vec3 wo = direction(std::acos(side * c), 0.3);
+      const AlbedoPair a = albedo(*bsdf, wo, 2000, 137);
+      for (int k = 0; k < 3; ++k) EXPECT_NEAR(a.sampled[k], t[k], 1e-5) << c << " " << side;
+      Rng rng(139, 0);
+      for (int n = 0; n < 100; ++n) {
+        const auto s = bsdf->sample({}, wo, rng.uniform(), rng.uniform2());
+        ASSERT_TRUE(s);
+        EXPECT_LT(s->wi.z * wo.z, 0.0f);
+        EXPECT_EQ(s->lobe, kLobeDiffuse | kLobeTransmission);
+        EXPECT_EQ(s->eta, 1.0f);
+      }
+    }
+  }
+}
+
 }  // namespace

@@ -219,3 +219,31 @@ TEST(ClassicBsdfLoader, WardInJson) {
   expect_one_line_naming(test::error_of([&] { load_scene_description(path); }), "ward_variant.json",
                          "variant: expected \"ward\", \"ward-duer\" or \"balanced\"");
 }
+
+TEST(ClassicBsdfLoader, DiffuseTransmitterReadsMitsubasParametersAndDefaults) {
+  const SceneDescription defaults =
+      load_xml("difftrans_defaults.xml", R"(<bsdf type="difftrans" id="subject"/>)");
+  EXPECT_EQ(defaults.verdict(), "exact");
+  EXPECT_EQ(subject(defaults).bsdf->name(), "diffuse_transmitter");
+  expect_same_bsdf(*subject(defaults).bsdf, *make_diffuse_transmitter(Rgb(0.5f)), "defaults");
+  const SceneDescription alias =
+      load_xml("difftrans_alias.xml", R"(<bsdf type="difftrans" id="subject">
+    <rgb name="diffuseTransmittance" value="0.2, 0.4, 0.8"/></bsdf>)");
+  EXPECT_EQ(alias.verdict(), "exact");
+  expect_same_bsdf(*subject(alias).bsdf, *make_diffuse_transmitter(Rgb(0.2f, 0.4f, 0.8f)),
+                   "diffuseTransmittance");
+  const SceneDescription bright =
+      load_xml("difftrans_bright.xml", R"(<bsdf type="difftrans" id="subject">
+    <rgb name="transmittance" value="1.5, 1, 0.5"/></bsdf>)");
+  expect_same_bsdf(*subject(bright).bsdf,
+                   *make_diffuse_transmitter(Rgb(1.5f, 1.0f, 0.5f) * (0.99f / 1.5f)), "scaled");
+}
+
+TEST(ClassicBsdfLoader, DiffuseTransmitterInJsonIsNotMadeTwoSided) {
+  const auto dir = test::scratch_dir("classic-bsdf-loader");
+  const SceneDescription d = load_scene_description(test::write_file(
+      dir, "difftrans.json",
+      json_with_material(R"({"type": "difftrans", "transmittance": [0.3, 0.2, 0.1]})")));
+  EXPECT_EQ(subject(d).bsdf->name(), "diffuse_transmitter");
+  expect_same_bsdf(*subject(d).bsdf, *make_diffuse_transmitter(Rgb(0.3f, 0.2f, 0.1f)), "json");
+}

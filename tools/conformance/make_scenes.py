@@ -499,9 +499,18 @@ def build():
             '<texture type="checkerboard" name="diffuseReflectance"><rgb name="color0" value="0.5, 0.3, 0.1"/>'
             '<rgb name="color1" value="0.1, 0.2, 0.5"/><float name="uscale" value="4"/><float name="vscale" value="2"/></texture>'
             '<spectrum name="specularReflectance" value="0.35"/></bsdf>'),
+        "bsdf-difftrans": ("difftrans: a sphere letting light through both its sides diffusely",
+            '<bsdf type="difftrans"><rgb name="transmittance" value="0.8, 0.6, 0.3"/></bsdf>'),
     }
     for name, (conv, bsdf) in classic.items():
         s[name] = (conv, scene(sphere(bsdf)), pt_bdpt + ["mlt"])
+    # A diffuser under the lamp: the room is lit only through it, and it is seen from below.
+    s["bsdf-difftrans-diffuser"] = ("difftrans: a checkerboard diffuseTransmittance panel under the lamp lights the room",
+        scene(sphere(WHITE) + rect('<bsdf type="difftrans"><texture type="checkerboard" name="diffuseTransmittance">'
+                                   '<rgb name="color0" value="0.9, 0.8, 0.6"/><rgb name="color1" value="0.3, 0.5, 0.9"/>'
+                                   '<float name="uscale" value="2"/><float name="vscale" value="2"/></texture></bsdf>',
+                                   '<scale x="0.45" y="0.45"/><rotate x="1" angle="90"/><translate y="1.8"/>')),
+        pt_bdpt + ["mlt"])
     # Rough plastic seen and lit at grazing angles: a panel over the floor, a low camera.
     # Mitsuba weights the base by the rough coating's transmittance, which at grazing
     # angles is far above the smooth 1 - F (GGX alpha 0.12: 0.64 against 0.43 at cos 0.1).

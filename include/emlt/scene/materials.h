@@ -36,6 +36,10 @@ BsdfPtr make_ward(WardVariant variant, float alpha_u, float alpha_v,
                   const Rgb& specular_reflectance, const Rgb& diffuse_reflectance);
 BsdfPtr make_ward(WardVariant variant, TexturePtr alpha_u, TexturePtr alpha_v,
                   TexturePtr specular_reflectance, TexturePtr diffuse_reflectance);
+// Mitsuba's `difftrans`: light from either side leaves the other side diffusely,
+// f = transmittance / pi across the surface, nothing reflected.
+BsdfPtr make_diffuse_transmitter(const Rgb& transmittance);
+BsdfPtr make_diffuse_transmitter(TexturePtr transmittance);
 BsdfPtr make_mirror(const Rgb& reflectance = Rgb(1.0f));  // ideal specular reflection
 // Smooth dielectric interface; int_ior inside (against the normal), ext_ior outside.
 BsdfPtr make_dielectric(float int_ior = 1.5046f, float ext_ior = 1.000277f,

@@ -446,6 +446,10 @@ class JsonSceneReader {
       bsdf =
           make_ward(variant, alpha_u, alpha_v, texture(m, "specular_reflectance", where, Rgb(0.2f)),
                     texture(m, "diffuse_reflectance", where, Rgb(0.5f)));
+    } else if (type == "difftrans") {
+      check_keys(m, where, {"type", "transmittance", "opacity", "bump"});
+      opaque = false;
+      bsdf = make_diffuse_transmitter(texture(m, "transmittance", where, Rgb(0.5f)));
     } else if (type == "mirror") {
       check_keys(m, where, {"type", "reflectance", "two_sided", "opacity", "bump"});
       bsdf = make_mirror(color(m, "reflectance", where, Rgb(1.0f)));
@@ -495,8 +499,9 @@ class JsonSceneReader {
     } else {
       fail(where + ".type",
            "unknown material type '" + type +
-               "' (diffuse, roughdiffuse, phong, ward, mirror, dielectric, roughdielectric, "
-               "thindielectric, conductor, roughconductor, plastic, roughplastic)");
+               "' (diffuse, roughdiffuse, phong, ward, difftrans, mirror, dielectric, "
+               "roughdielectric, thindielectric, conductor, roughconductor, plastic, "
+               "roughplastic)");
     }
     // Opaque surfaces are two-sided by default: a single-sided wall seen from behind
     // renders black, which is rarely what a hand-written scene means.

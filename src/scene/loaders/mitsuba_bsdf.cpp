@@ -270,6 +270,15 @@ class BsdfReader {
       conserve_energy(props, node, {&reflectance});
       return make_rough_diffuse(reflectance, a, fast);
     }
+    if (type == "difftrans") {
+      // Mitsuba reads `diffuseTransmittance` too, when `transmittance` is not given.
+      const char* name = props.has("transmittance") || !props.has("diffuseTransmittance")
+                             ? "transmittance"
+                             : "diffuseTransmittance";
+      TexturePtr transmittance = texture(props, name, Rgb(0.5f));
+      conserve_energy(props, node, {&transmittance});
+      return make_diffuse_transmitter(transmittance);
+    }
     if (type == "phong") {
       TexturePtr exponent = texture(props, "exponent", Rgb(30.0f));
       if (auto c = exponent->constant(); c && !((c->x + c->y + c->z) >= 0.0f))
