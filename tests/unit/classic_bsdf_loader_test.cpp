@@ -247,3 +247,20 @@ TEST(ClassicBsdfLoader, DiffuseTransmitterInJsonIsNotMadeTwoSided) {
   EXPECT_EQ(subject(d).bsdf->name(), "diffuse_transmitter");
   expect_same_bsdf(*subject(d).bsdf, *make_diffuse_transmitter(Rgb(0.3f, 0.2f, 0.1f)), "json");
 }
+
+// A textured reflectance above 1 is not scaled (its largest texel is Mitsuba's to know): the
+// scene is said to be approximated, naming ensureEnergyConservation.
+TEST(ClassicBsdfLoader, TexturedReflectanceAboveOneIsReportedNotScaled) {
+  const SceneDescription d = load_xml("textured_bright.xml", R"(<bsdf type="phong" id="subject">
+    <texture type="checkerboard" name="diffuseReflectance"><spectrum name="color0" value="0.9"/>
+    <spectrum name="color1" value="0.2"/></texture></bsdf>)");
+  EXPECT_EQ(d.verdict(), "approximated: 1 item");
+  bool named = false;
+  for (const std::string& w : d.warnings)
+    named |= w.find("ensureEnergyConservation") != std::string::npos;
+  EXPECT_TRUE(named);
+  const SceneDescription dim = load_xml("textured_dim.xml", R"(<bsdf type="phong" id="subject">
+    <texture type="checkerboard" name="diffuseReflectance"><spectrum name="color0" value="0.7"/>
+    <spectrum name="color1" value="0.2"/></texture></bsdf>)");
+  EXPECT_EQ(dim.verdict(), "exact");
+}

@@ -135,19 +135,37 @@ class BsdfReader {
 
   // Mitsuba's ensureEnergyConservation (on unless the scene turns it off): when the largest
   // component of a reflectance, or of the sum of a BSDF's reflectances, exceeds 1, they are
-  // all scaled by 0.99 over that maximum. A constant's maximum is known here; a texture's is
-  // not, so a BSDF with a textured one is left as given (8-bit bitmaps never exceed 1).
+  // all scaled by 0.99 over that maximum. A constant's maximum is known here and applied; a
+  // texture's is not (Mitsuba takes a bitmap's largest texel), so where a texture's lookups
+  // over a grid of its period reach above 1 the difference is reported, not guessed at.
   void conserve_energy(Properties& props, pugi::xml_node node,
                        std::initializer_list<TexturePtr*> reflectances) {
     if (!props.get_boolean("ensureEnergyConservation", true)) return;
     Rgb sum(0.0f);
+    bool textured = false;
     for (TexturePtr* r : reflectances) {
-      const std::optional<Rgb> c = (*r)->constant();
-      if (!c) return;
-      sum += glm::max(*c, Rgb(0.0f));
+      if (const std::optional<Rgb> c = (*r)->constant()) {
+        sum += glm::max(*c, Rgb(0.0f));
+        continue;
+      }
+      textured = true;
+      constexpr int kSide = 128;
+      Rgb largest(0.0f);
+      for (int j = 0; j < kSide; ++j)
+        for (int i = 0; i < kSide; ++i)
+          largest = glm::max(largest, (*r)->eval(Vec2((i + 0.5f) / kSide, (j + 0.5f) / kSide)));
+      sum += largest;
     }
     const float maximum = glm::max(sum.x, glm::max(sum.y, sum.z));
     if (!(maximum > 1.0f)) return;
+    if (textured) {
+      doc_.warn(node,
+                "textured reflectance reaching " + std::to_string(maximum) +
+                    " left as given; Mitsuba scales it to conserve energy "
+                    "(ensureEnergyConservation: 0.99 over its largest texel)",
+                Document::Warning::Approximated);
+      return;
+    }
     const float scale = 0.99f / maximum;
     for (TexturePtr* r : reflectances) *r = make_constant_texture(*(*r)->constant() * scale);
     doc_.warn(node,
