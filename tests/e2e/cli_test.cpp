@@ -169,11 +169,12 @@ TEST(Cli, InfoGivesAFidelityVerdictAndStrictRefusesDivergences) {
   <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
 )" + body + "</scene>\n";
   };
-  // A Mitchell filter and a rough diffuse BSDF are approximated; a point light is not
-  // supported at all.
-  write_file(dir / "approx.xml",
-             scene_with(R"(<rfilter type="mitchell"/>)",
-                        R"(<shape type="sphere"><bsdf type="roughdiffuse"/></shape>
+  // A Mitchell filter and a coating (rendered as its nested BSDF) are approximated; a point
+  // light is not supported at all.
+  write_file(
+      dir / "approx.xml",
+      scene_with(R"(<rfilter type="mitchell"/>)",
+                 R"(<shape type="sphere"><bsdf type="coating"><bsdf type="diffuse"/></bsdf></shape>
   <emitter type="point"/>
 )"));
   write_file(dir / "exact.xml", scene_with(R"(<rfilter type="box"/>)", ""));

@@ -167,12 +167,37 @@ BsdfPtr grey_plastic(float alpha) {
   return make_rough_plastic(alpha, Rgb(0.5f, 0.4f, 0.3f), Rgb(1.0f));
 }
 
+BsdfPtr shiny_phong(float exponent) {
+  return make_phong(exponent, Rgb(0.5f, 0.4f, 0.3f), Rgb(0.2f, 0.3f, 0.4f));
+}
+
+BsdfPtr anisotropic_ward(WardVariant variant) {
+  return make_ward(variant, 0.08f, 0.35f, Rgb(0.5f, 0.4f, 0.3f), Rgb(0.2f, 0.3f, 0.4f));
+}
+
 std::vector<ChiSquareCase> chi_square_cases() {
   std::vector<ChiSquareCase> cases;
   const auto lambertian = [] { return make_lambertian(Rgb(0.8f)); };
   cases.push_back({"lambertian_normal", lambertian, 1.0f, true});
   cases.push_back({"lambertian_oblique", lambertian, 0.5f, true});
   cases.push_back({"lambertian_grazing", lambertian, 0.05f, true});
+  const auto oren_nayar = [] { return make_rough_diffuse(Rgb(0.8f, 0.5f, 0.3f), 0.7f); };
+  cases.push_back({"rough_diffuse_oblique", oren_nayar, 0.5f, true});
+  cases.push_back({"rough_diffuse_grazing", oren_nayar, 0.05f, true});
+  // Phong loses the part of its lobe that falls below the surface.
+  cases.push_back({"phong_n30_oblique", [] { return shiny_phong(30.0f); }, 0.6f, false});
+  cases.push_back({"phong_n5_grazing", [] { return shiny_phong(5.0f); }, 0.1f, false});
+  cases.push_back({"phong_n300_near_normal", [] { return shiny_phong(300.0f); }, 0.95f, false});
+  const auto transmitter = [] { return make_diffuse_transmitter(Rgb(0.7f, 0.5f, 0.3f)); };
+  cases.push_back({"diffuse_transmitter_front", transmitter, 0.6f, true});
+  cases.push_back({"diffuse_transmitter_back_grazing", transmitter, -0.1f, true});
+  cases.push_back({"ward_balanced_aniso_oblique",
+                   [] { return anisotropic_ward(WardVariant::Balanced); }, 0.6f, false});
+  cases.push_back({"ward_duer_aniso_grazing",
+                   [] { return anisotropic_ward(WardVariant::WardDuer); }, 0.1f, false});
+  cases.push_back({"ward_original_isotropic_near_normal",
+                   [] { return make_ward(WardVariant::Ward, 0.2f, 0.2f, Rgb(0.6f), Rgb(0.1f)); },
+                   0.9f, false});
   for (const float alpha : {0.05f, 0.3f, 0.8f}) {
     const std::string a = std::to_string(static_cast<int>(alpha * 100 + 0.5f));
     const auto make = [alpha] { return rough_gold(alpha); };
@@ -239,6 +264,47 @@ TEST(BsdfChiSquareTeeth, RejectsPlasticDensityWithWrongLobeMixture) {
   EXPECT_LT(run_chi_square(*plastic, wo, mixed, 31).chi2.p_value, 1e-6);
 }
 
+// Phong's density: the lobes weighted half and half instead of by the reflectances'
+// luminances, and a lobe three powers narrower (still normalised) than the one sampled.
+TEST(BsdfChiSquareTeeth, RejectsPhongDensityWithWrongMixtureOrExponent) {
+  const float n = 30.0f;
+  const BsdfPtr phong = shiny_phong(n);
+  const Vec3 wo = incident(0.6f);
+  const Vec3 mirror(-wo.x, -wo.y, wo.z);
+  const double specular = luminance(Rgb(0.5f, 0.4f, 0.3f));
+  const double weight = specular / (specular + luminance(Rgb(0.2f, 0.3f, 0.4f)));
+  const auto density = [&](double w, double exponent) -> DirectionalDensity {
+    return [=](const Vec3& wi) {
+      if (wi.z <= 0.0f) return 0.0;
+      const double c = std::max(0.0, double(glm::dot(wi, mirror)));
+      return w * (exponent + 1.0) / (2.0 * M_PI) * std::pow(c, exponent) + (1.0 - w) * wi.z / M_PI;
+    };
+  };
+  EXPECT_GT(run_chi_square(*phong, wo, density(weight, n), 37).chi2.p_value, kMinPValue);
+  EXPECT_LT(run_chi_square(*phong, wo, density(0.5, n), 37).chi2.p_value, 1e-6);
+  EXPECT_LT(run_chi_square(*phong, wo, density(weight, n + 3.0), 37).chi2.p_value, 1e-6);
+}
+
+// Ward's half-vector density with alpha_u and alpha_v exchanged (the lobe turned a quarter
+// turn about the normal) is told from the one sampled.
+TEST(BsdfChiSquareTeeth, RejectsWardDensityTurnedAQuarter) {
+  const BsdfPtr ward = anisotropic_ward(WardVariant::Balanced);
+  const BsdfPtr turned =
+      make_ward(WardVariant::Balanced, 0.35f, 0.08f, Rgb(0.5f, 0.4f, 0.3f), Rgb(0.2f, 0.3f, 0.4f));
+  const Vec3 wo = incident(0.6f);
+  EXPECT_LT(run_chi_square(*ward, wo, density_of(*turned, wo), 41).chi2.p_value, 1e-6);
+}
+
+// A diffuse transmitter's samples are told from the same cosine lobe on wo's own side.
+TEST(BsdfChiSquareTeeth, RejectsTransmitterDensityOnTheWrongSide) {
+  const BsdfPtr transmitter = make_diffuse_transmitter(Rgb(1.0f));
+  const Vec3 wo = incident(0.6f);
+  const DirectionalDensity reflected = [](const Vec3& wi) {
+    return wi.z > 0.0f ? double(wi.z) / M_PI : 0.0;
+  };
+  EXPECT_LT(run_chi_square(*transmitter, wo, reflected, 43).chi2.p_value, 1e-6);
+}
+
 // ---------------------------------------------------------------------------------------
 // sample() against eval()/pdf(), reciprocity, robustness.
 
@@ -252,6 +318,14 @@ std::vector<NamedBsdf> all_materials() {
   conductor_preset("Cu", &cu_eta, &cu_k);
   return {
       {"lambertian", make_lambertian(Rgb(0.7f, 0.5f, 0.2f))},
+      {"rough_diffuse", make_rough_diffuse(Rgb(0.7f, 0.5f, 0.2f), 0.6f)},
+      {"rough_diffuse_fast", make_rough_diffuse(Rgb(0.3f, 0.5f, 0.9f), 1.5f, true)},
+      {"phong_n30", shiny_phong(30.0f)},
+      {"phong_n2_dull", make_phong(2.0f, Rgb(0.1f), Rgb(0.8f, 0.6f, 0.4f))},
+      {"ward_balanced", anisotropic_ward(WardVariant::Balanced)},
+      {"diffuse_transmitter", make_diffuse_transmitter(Rgb(0.6f, 0.4f, 0.2f))},
+      {"ward_duer", anisotropic_ward(WardVariant::WardDuer)},
+      {"ward_original", make_ward(WardVariant::Ward, 0.3f, 0.1f, Rgb(0.3f), Rgb(0.6f))},
       {"conductor_a5", make_rough_conductor(0.05f, cu_eta, cu_k)},
       {"conductor_a30", make_rough_conductor(0.3f, cu_eta, cu_k, Rgb(0.9f))},
       {"conductor_a80", make_rough_conductor(0.8f, cu_eta, cu_k)},
@@ -353,7 +427,8 @@ TEST(BsdfReciprocity, EvalIsSymmetricForReflection) {
 TEST(BsdfOneSided, BackFacingQueriesAreBlack) {
   for (const BsdfPtr& bsdf :
        {make_lambertian(Rgb(1.0f)), rough_gold(0.3f), grey_plastic(0.3f), grey_plastic(0.0f),
-        make_mirror()}) {
+        make_mirror(), make_rough_diffuse(Rgb(1.0f), 0.5f), shiny_phong(20.0f),
+        anisotropic_ward(WardVariant::Balanced)}) {
     Rng rng(53, 0);
     for (int n = 0; n < 500; ++n) {
       const Vec3 up = spherical_direction(rng.uniform(), 2.0 * M_PI * rng.uniform());

@@ -454,6 +454,63 @@ def build():
                                            '<float name="alpha" value="0.2"/></bsdf>')
     for name, (conv, bsdf) in bsdfs.items():
         s[name] = (conv, scene(sphere(bsdf)), pt_bdpt + (["mlt"] if name == "bsdf-dielectric" else []))
+    # The classic analytic BRDFs Mitsuba 0.6 ships beside the microfacet ones, on the sphere
+    # (every pair of angles at once). Oren-Nayar is rough enough here to differ from a
+    # Lambertian by 10-20 % in its brightest and darkest parts.
+    classic = {
+        "bsdf-roughdiffuse": ("roughdiffuse (Oren-Nayar, full model), alpha 0.7",
+            '<bsdf type="roughdiffuse"><rgb name="reflectance" value="0.75, 0.5, 0.3"/>'
+            '<float name="alpha" value="0.7"/></bsdf>'),
+        "bsdf-roughdiffuse-fast": ("roughdiffuse, useFastApprox, alpha 0.9, reflectance named diffuseReflectance",
+            '<bsdf type="roughdiffuse"><rgb name="diffuseReflectance" value="0.3, 0.6, 0.7"/>'
+            '<float name="alpha" value="0.9"/><boolean name="useFastApprox" value="true"/></bsdf>'),
+        "bsdf-roughdiffuse-texture": ("roughdiffuse, checkerboard alpha (0.05 and 1.2) and reflectance",
+            '<bsdf type="roughdiffuse">'
+            '<texture type="checkerboard" name="reflectance"><rgb name="color0" value="0.8, 0.7, 0.2"/>'
+            '<rgb name="color1" value="0.2, 0.4, 0.8"/><float name="uscale" value="4"/><float name="vscale" value="2"/></texture>'
+            '<texture type="checkerboard" name="alpha"><spectrum name="color0" value="0.05"/><spectrum name="color1" value="1.2"/>'
+            '<float name="uscale" value="6"/><float name="vscale" value="3"/></texture></bsdf>'),
+        "bsdf-phong": ("phong, exponent 40, specularReflectance and diffuseReflectance",
+            '<bsdf type="phong"><float name="exponent" value="40"/><rgb name="specularReflectance" value="0.4, 0.35, 0.3"/>'
+            '<rgb name="diffuseReflectance" value="0.2, 0.3, 0.5"/></bsdf>'),
+        "bsdf-phong-defaults": ("phong defaults (exponent 30, specular 0.2, diffuse 0.5)", '<bsdf type="phong"/>'),
+        "bsdf-phong-energy": ("phong whose reflectances sum above 1 (scaled to 0.99 of their largest sum)",
+            '<bsdf type="phong"><float name="exponent" value="10"/><spectrum name="specularReflectance" value="0.6"/>'
+            '<rgb name="diffuseReflectance" value="0.8, 0.5, 0.3"/></bsdf>'),
+        "bsdf-phong-texture": ("phong, checkerboard exponent (5 and 200) and diffuseReflectance",
+            '<bsdf type="phong">'
+            '<texture type="checkerboard" name="exponent"><spectrum name="color0" value="5"/><spectrum name="color1" value="200"/>'
+            '<float name="uscale" value="6"/><float name="vscale" value="3"/></texture>'
+            '<texture type="checkerboard" name="diffuseReflectance"><rgb name="color0" value="0.6, 0.2, 0.1"/>'
+            '<rgb name="color1" value="0.1, 0.3, 0.5"/><float name="uscale" value="4"/><float name="vscale" value="2"/></texture>'
+            '<spectrum name="specularReflectance" value="0.3"/></bsdf>'),
+        "bsdf-ward": ("ward, balanced (the default), alphaU 0.05 and alphaV 0.3 along the sphere's dp/du",
+            '<bsdf type="ward"><float name="alphaU" value="0.05"/><float name="alphaV" value="0.3"/>'
+            '<rgb name="specularReflectance" value="0.5, 0.45, 0.4"/><rgb name="diffuseReflectance" value="0.15, 0.2, 0.3"/></bsdf>'),
+        "bsdf-ward-original": ("ward, variant ward (Ward's own normalisation), alpha 0.15",
+            '<bsdf type="ward"><string name="variant" value="ward"/><float name="alpha" value="0.15"/>'
+            '<spectrum name="specularReflectance" value="0.4"/><rgb name="diffuseReflectance" value="0.4, 0.2, 0.1"/></bsdf>'),
+        "bsdf-ward-duer": ("ward, variant ward-duer, alpha 0.2, default reflectances",
+            '<bsdf type="ward"><string name="variant" value="ward-duer"/><float name="alpha" value="0.2"/></bsdf>'),
+        "bsdf-ward-texture": ("ward, checkerboard alphaU (0.03 and 0.4), alphaV from alpha 0.1, checkerboard diffuseReflectance",
+            '<bsdf type="ward"><float name="alpha" value="0.1"/>'
+            '<texture type="checkerboard" name="alphaU"><spectrum name="color0" value="0.03"/><spectrum name="color1" value="0.4"/>'
+            '<float name="uscale" value="6"/><float name="vscale" value="3"/></texture>'
+            '<texture type="checkerboard" name="diffuseReflectance"><rgb name="color0" value="0.5, 0.3, 0.1"/>'
+            '<rgb name="color1" value="0.1, 0.2, 0.5"/><float name="uscale" value="4"/><float name="vscale" value="2"/></texture>'
+            '<spectrum name="specularReflectance" value="0.35"/></bsdf>'),
+        "bsdf-difftrans": ("difftrans: a sphere letting light through both its sides diffusely",
+            '<bsdf type="difftrans"><rgb name="transmittance" value="0.8, 0.6, 0.3"/></bsdf>'),
+    }
+    for name, (conv, bsdf) in classic.items():
+        s[name] = (conv, scene(sphere(bsdf)), pt_bdpt + ["mlt"])
+    # A diffuser under the lamp: the room is lit only through it, and it is seen from below.
+    s["bsdf-difftrans-diffuser"] = ("difftrans: a checkerboard diffuseTransmittance panel under the lamp lights the room",
+        scene(sphere(WHITE) + rect('<bsdf type="difftrans"><texture type="checkerboard" name="diffuseTransmittance">'
+                                   '<rgb name="color0" value="0.9, 0.8, 0.6"/><rgb name="color1" value="0.3, 0.5, 0.9"/>'
+                                   '<float name="uscale" value="2"/><float name="vscale" value="2"/></texture></bsdf>',
+                                   '<scale x="0.45" y="0.45"/><rotate x="1" angle="90"/><translate y="1.8"/>')),
+        pt_bdpt + ["mlt"])
     # Rough plastic seen and lit at grazing angles: a panel over the floor, a low camera.
     # Mitsuba weights the base by the rough coating's transmittance, which at grazing
     # angles is far above the smooth 1 - F (GGX alpha 0.12: 0.64 against 0.43 at cos 0.1).

@@ -416,6 +416,48 @@ class JsonSceneReader {
     if (type == "diffuse") {
       check_keys(m, where, {"type", "reflectance", "two_sided", "opacity", "bump"});
       bsdf = make_lambertian(texture(m, "reflectance", where, Rgb(0.5f)));
+    } else if (type == "roughdiffuse") {
+      check_keys(
+          m, where,
+          {"type", "reflectance", "alpha", "use_fast_approx", "two_sided", "opacity", "bump"});
+      bsdf =
+          make_rough_diffuse(texture(m, "reflectance", where, Rgb(0.5f)), roughness(m, where, 0.2f),
+                             boolean(m, "use_fast_approx", where, false));
+    } else if (type == "phong") {
+      check_keys(m, where,
+                 {"type", "exponent", "specular_reflectance", "diffuse_reflectance", "two_sided",
+                  "opacity", "bump"});
+      TexturePtr exponent = texture(m, "exponent", where, Rgb(30.0f));
+      if (auto c = exponent->constant(); c && !(c->x >= 0.0f))
+        fail(where + ".exponent", "must be >= 0");
+      bsdf = make_phong(exponent, texture(m, "specular_reflectance", where, Rgb(0.2f)),
+                        texture(m, "diffuse_reflectance", where, Rgb(0.5f)));
+    } else if (type == "ward") {
+      check_keys(m, where,
+                 {"type", "variant", "alpha", "alpha_u", "alpha_v", "specular_reflectance",
+                  "diffuse_reflectance", "two_sided", "opacity", "bump"});
+      const std::string name =
+          m.contains("variant") ? string(m["variant"], where + ".variant") : "balanced";
+      WardVariant variant = WardVariant::Balanced;
+      if (name == "ward")
+        variant = WardVariant::Ward;
+      else if (name == "ward-duer")
+        variant = WardVariant::WardDuer;
+      else if (name != "balanced")
+        fail(where + ".variant", "expected \"ward\", \"ward-duer\" or \"balanced\"");
+      const float alpha =
+          m.contains("alpha") ? number(m["alpha"], where + ".alpha", loader::kPositiveRange) : 0.1f;
+      TexturePtr alpha_u = texture(m, "alpha_u", where, Rgb(alpha));
+      TexturePtr alpha_v = texture(m, "alpha_v", where, Rgb(alpha));
+      for (const auto& [key, a] : {std::pair{"alpha_u", alpha_u}, std::pair{"alpha_v", alpha_v}})
+        if (auto c = a->constant(); c && !(c->x > 0.0f)) fail(where + "." + key, "must be > 0");
+      bsdf =
+          make_ward(variant, alpha_u, alpha_v, texture(m, "specular_reflectance", where, Rgb(0.2f)),
+                    texture(m, "diffuse_reflectance", where, Rgb(0.5f)));
+    } else if (type == "difftrans") {
+      check_keys(m, where, {"type", "transmittance", "opacity", "bump"});
+      opaque = false;
+      bsdf = make_diffuse_transmitter(texture(m, "transmittance", where, Rgb(0.5f)));
     } else if (type == "mirror") {
       check_keys(m, where, {"type", "reflectance", "two_sided", "opacity", "bump"});
       bsdf = make_mirror(color(m, "reflectance", where, Rgb(1.0f)));
@@ -465,8 +507,9 @@ class JsonSceneReader {
     } else {
       fail(where + ".type",
            "unknown material type '" + type +
-               "' (diffuse, mirror, dielectric, roughdielectric, thindielectric, conductor, "
-               "roughconductor, plastic, roughplastic)");
+               "' (diffuse, roughdiffuse, phong, ward, difftrans, mirror, dielectric, "
+               "roughdielectric, thindielectric, conductor, roughconductor, plastic, "
+               "roughplastic)");
     }
     // Opaque surfaces are two-sided by default: a single-sided wall seen from behind
     // renders black, which is rarely what a hand-written scene means.

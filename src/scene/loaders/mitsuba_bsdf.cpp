@@ -4,6 +4,10 @@
 // Mitsuba. `mask` and `bumpmap` become the material's opacity and bump textures;
 // `coating` falls back to its nested BSDF with a warning.
 #include <cctype>
+#include <initializer_list>
+#include <optional>
+#include <string>
+#include <utility>
 
 #include "emlt/core/error.h"
 #include "emlt/scene/conductor_presets.h"
@@ -129,6 +133,47 @@ class BsdfReader {
     return a;
   }
 
+  // Mitsuba's ensureEnergyConservation (on unless the scene turns it off): when the largest
+  // component of a reflectance, or of the sum of a BSDF's reflectances, exceeds 1, they are
+  // all scaled by 0.99 over that maximum. A constant's maximum is known here and applied; a
+  // texture's is not (Mitsuba takes a bitmap's largest texel), so where a texture's lookups
+  // over a grid of its period reach above 1 the difference is reported, not guessed at.
+  void conserve_energy(Properties& props, pugi::xml_node node,
+                       std::initializer_list<TexturePtr*> reflectances) {
+    if (!props.get_boolean("ensureEnergyConservation", true)) return;
+    Rgb sum(0.0f);
+    bool textured = false;
+    for (TexturePtr* r : reflectances) {
+      if (const std::optional<Rgb> c = (*r)->constant()) {
+        sum += glm::max(*c, Rgb(0.0f));
+        continue;
+      }
+      textured = true;
+      constexpr int kSide = 128;
+      Rgb largest(0.0f);
+      for (int j = 0; j < kSide; ++j)
+        for (int i = 0; i < kSide; ++i)
+          largest = glm::max(largest, (*r)->eval(Vec2((i + 0.5f) / kSide, (j + 0.5f) / kSide)));
+      sum += largest;
+    }
+    const float maximum = glm::max(sum.x, glm::max(sum.y, sum.z));
+    if (!(maximum > 1.0f)) return;
+    if (textured) {
+      doc_.warn(node,
+                "textured reflectance reaching " + std::to_string(maximum) +
+                    " left as given; Mitsuba scales it to conserve energy "
+                    "(ensureEnergyConservation: 0.99 over its largest texel)",
+                Document::Warning::Approximated);
+      return;
+    }
+    const float scale = 0.99f / maximum;
+    for (TexturePtr* r : reflectances) *r = make_constant_texture(*(*r)->constant() * scale);
+    doc_.warn(node,
+              "reflectance above 1 scaled by " + std::to_string(scale) +
+                  " to conserve energy, as Mitsuba does (ensureEnergyConservation)",
+              Document::Warning::Note);
+  }
+
   // The nested BSDF of a wrapper; unnamed <texture> children are left to `textures`.
   MaterialDesc nested(pugi::xml_node node, Properties& props,
                       std::vector<pugi::xml_node>* textures = nullptr) {
@@ -229,13 +274,61 @@ class BsdfReader {
                   Document::Warning::Note);
       }
     }
-    if (type == "diffuse" || type == "roughdiffuse") {
-      if (type == "roughdiffuse") {
-        doc_.warn(node, "roughdiffuse approximated by a Lambertian diffuse",
-                  Document::Warning::Approximated);
-        props.ignore({"alpha", "useFastApprox"});
-      }
-      return make_lambertian(texture(props, "reflectance", Rgb(0.5f)));
+    if (type == "diffuse") return make_lambertian(texture(props, "reflectance", Rgb(0.5f)));
+    if (type == "roughdiffuse") {
+      // Mitsuba reads `diffuseReflectance` too, when `reflectance` is not given.
+      const char* reflectance_name = props.has("reflectance") || !props.has("diffuseReflectance")
+                                         ? "reflectance"
+                                         : "diffuseReflectance";
+      TexturePtr reflectance = texture(props, reflectance_name, Rgb(0.5f));
+      TexturePtr a = texture(props, "alpha", Rgb(0.2f));
+      if (auto c = a->constant(); c && !((c->x + c->y + c->z) >= 0.0f))
+        doc_.fail(props.node_of("alpha"), "'alpha' of a roughdiffuse must not be negative");
+      const bool fast = props.get_boolean("useFastApprox", false);
+      conserve_energy(props, node, {&reflectance});
+      return make_rough_diffuse(reflectance, a, fast);
+    }
+    if (type == "difftrans") {
+      // Mitsuba reads `diffuseTransmittance` too, when `transmittance` is not given.
+      const char* name = props.has("transmittance") || !props.has("diffuseTransmittance")
+                             ? "transmittance"
+                             : "diffuseTransmittance";
+      TexturePtr transmittance = texture(props, name, Rgb(0.5f));
+      conserve_energy(props, node, {&transmittance});
+      return make_diffuse_transmitter(transmittance);
+    }
+    if (type == "phong") {
+      TexturePtr exponent = texture(props, "exponent", Rgb(30.0f));
+      if (auto c = exponent->constant(); c && !((c->x + c->y + c->z) >= 0.0f))
+        doc_.fail(props.node_of("exponent"), "'exponent' of a phong must not be negative");
+      TexturePtr specular = texture(props, "specularReflectance", Rgb(0.2f));
+      TexturePtr diffuse = texture(props, "diffuseReflectance", Rgb(0.5f));
+      conserve_energy(props, node, {&specular, &diffuse});
+      return make_phong(exponent, specular, diffuse);
+    }
+    if (type == "ward") {
+      std::string name = props.get_string("variant", "balanced");
+      for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));  // as Mitsuba
+      WardVariant variant = WardVariant::Balanced;
+      if (name == "ward")
+        variant = WardVariant::Ward;
+      else if (name == "ward-duer")
+        variant = WardVariant::WardDuer;
+      else if (name != "balanced")
+        doc_.fail(props.node_of("variant"),
+                  "unknown ward variant '" + name + "' (ward, ward-duer or balanced)");
+      // `alpha` (a number) is the default of both alphaU and alphaV, which may be textures.
+      const float alpha = props.get_float("alpha", 0.1f, loader::kPositiveRange);
+      TexturePtr alpha_u = texture(props, "alphaU", Rgb(alpha));
+      TexturePtr alpha_v = texture(props, "alphaV", Rgb(alpha));
+      for (const auto& [which, a] : {std::pair{"alphaU", alpha_u}, std::pair{"alphaV", alpha_v}})
+        if (auto c = a->constant(); c && !((c->x + c->y + c->z) > 0.0f))
+          doc_.fail(props.node_of(which),
+                    std::string("'") + which + "' of a ward must be positive");
+      TexturePtr specular = texture(props, "specularReflectance", Rgb(0.2f));
+      TexturePtr diffuse = texture(props, "diffuseReflectance", Rgb(0.5f));
+      conserve_energy(props, node, {&specular, &diffuse});
+      return make_ward(variant, alpha_u, alpha_v, specular, diffuse);
     }
     if (type == "dielectric" || type == "thindielectric") {
       const float int_ior = ior(props, "intIOR", 1.5046f, node);
