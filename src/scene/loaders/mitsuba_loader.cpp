@@ -18,7 +18,6 @@
 #include "emlt/scene/loaders/serialized_loader.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/shape_builders.h"
-#include "emlt/settings/scene_options.h"
 #include "emlt/settings/settings.h"
 #include "src/scene/loaders/loader_common.h"
 #include "src/scene/loaders/mitsuba_parser.h"
@@ -72,7 +71,7 @@ class MitsubaSceneReader {
           read_sensor(child);
         has_sensor = true;
       } else if (kind == "integrator")
-        read_integrator(child);
+        mitsuba::read_integrator(doc_, child, desc_.render);
       else if (kind == "medium" && !referenced(doc_.attribute(child, "id")))
         // A medium only acts where a shape or sensor names it; exporters leave unused ones.
         doc_.warn(child,
@@ -148,72 +147,6 @@ class MitsubaSceneReader {
   }
 
  private:
-  void read_integrator(pugi::xml_node node) {
-    const std::string type = doc_.attribute(node, "type");
-    Properties props(doc_, node);
-    SceneRenderRequest& r = desc_.render;
-    if (type == "path")
-      r.integrator = "pt";
-    else if (type == "direct")
-      r.integrator = "direct";
-    else if (type == "bdpt")
-      r.integrator = "bdpt";
-    else if (type == "mlt")
-      r.integrator = "mlt";
-    else if (type == "ptracer")
-      r.integrator = "ptracer";
-    else  // any unbiased or consistent integrator converges to the same image
-      doc_.warn(node,
-                "integrator type '" + type + "' is not supported; using '" +
-                    (r.integrator.empty() ? RenderSettings().integrator : r.integrator) + "'",
-                Document::Warning::Approximated);
-    // Parameters that steer how fast an integrator converges, never what it converges to:
-    // emlt's integrators have their own (command line) controls.
-    std::vector<std::string> tuning;
-    for (const char* name :
-         {"lightImage", "sampleDirect", "luminanceSamples", "twoStage", "directSamples",
-          "separateDirect", "bidirectionalMutation", "lensPerturbation", "multiChainPerturbation",
-          "causticPerturbation", "manifoldPerturbation", "lambda", "emitterSamples", "bsdfSamples",
-          "granularity"})
-      if (props.has(name)) tuning.push_back(name);
-    for (const std::string& name : tuning) props.ignore({name.c_str()});
-    if (type == "ptracer") {
-      // Mitsuba's particle tracer does not read hideEmitters (only its camera-side
-      // integrators do): it draws the lights seen directly whatever the flag says.
-      if (props.has("hideEmitters")) {
-        props.ignore({"hideEmitters"});
-        doc_.warn(node,
-                  "'hideEmitters' is not a parameter of Mitsuba's ptracer, which draws the "
-                  "lights seen directly; ignored, as Mitsuba does",
-                  Document::Warning::Note);
-      }
-      // Brute force only lets particles reach the camera by hitting its aperture (never, for
-      // a pinhole: Mitsuba's image is black): an estimator emlt does not have.
-      if (props.get_boolean("bruteForce", false))
-        doc_.warn(node,
-                  "'bruteForce' is not supported: every light vertex is connected to the "
-                  "camera instead (Mitsuba's brute-force mode counts only the particles "
-                  "that hit the camera's aperture: a perspective camera's image is black)");
-    }
-    read_scene_file_options(props, MitsubaElement::Integrator);
-    // A switch whose default is what emlt does; switched on, it changes the image and is
-    // reported as unsupported.
-    if (props.get_boolean("strictNormals", false))
-      doc_.warn(node, "'strictNormals' is not supported; rendered as if false");
-    if (!tuning.empty()) {
-      std::string names;
-      for (const std::string& name : tuning) names += (names.empty() ? "'" : ", '") + name + "'";
-      doc_.warn(
-          node,
-          "convergence parameters " + names + " ignored (they change the noise, not the image)",
-          Document::Warning::Note);
-    }
-    for (pugi::xml_node child : props.objects())
-      doc_.warn(child, "unsupported element <" + std::string(child.name()) +
-                           "> inside <integrator> ignored");
-    props.warn_unused();
-  }
-
   void read_sensor(pugi::xml_node node) {
     const std::string type = doc_.attribute(node, "type");
     if (type != "perspective" && type != "thinlens")
@@ -237,7 +170,7 @@ class MitsubaSceneReader {
       if (kind == "film")
         read_film(child);
       else if (kind == "sampler")
-        read_sampler(child);
+        mitsuba::read_sampler(doc_, child, desc_.render);
       else
         doc_.warn(child, "unsupported element <" + kind + "> inside <sensor> ignored");
     }
@@ -332,26 +265,6 @@ class MitsubaSceneReader {
                 Document::Warning::Approximated);
       props.ignore({"B", "C", "lobes", "radius"});
     }
-    props.warn_unused();
-  }
-
-  // The options of `element` that a scene file shares with the command line, by their Mitsuba
-  // names, checked against the flags' own values (settings/scene_options.h). A parameter
-  // already ignored (hideEmitters of a ptracer) is left alone.
-  void read_scene_file_options(Properties& props, MitsubaElement element) {
-    for (const SceneFileOption& o : scene_file_options()) {
-      if (o.element != element || !props.has(o.mitsuba) || props.used(o.mitsuba)) continue;
-      desc_.render.set(o.option.flag,
-                       o.boolean() ? o.word(props.get_boolean(o.mitsuba, false))
-                                   : std::to_string(props.get_integer(
-                                         o.mitsuba, 0, loader::whole_range(o.option.values))));
-    }
-  }
-
-  void read_sampler(pugi::xml_node node) {
-    Properties props(doc_, node);
-    read_scene_file_options(props, MitsubaElement::Sampler);
-    props.ignore({"scramble", "dimension", "resolution", "depth"});  // sequence details only
     props.warn_unused();
   }
 

@@ -124,6 +124,10 @@ class Properties {
 MaterialDesc read_bsdf(const Document& doc, pugi::xml_node node, NamedObjects& named,
                        std::vector<std::string>& warnings);
 
+// <integrator> and <sampler> to what they say about rendering (mitsuba_render_request.cpp).
+void read_integrator(const Document& doc, pugi::xml_node node, SceneRenderRequest& request);
+void read_sampler(const Document& doc, pugi::xml_node node, SceneRenderRequest& request);
+
 // <texture> element (or <ref id=>) to a texture; declarations with an id are added to
 // `named`.
 TexturePtr read_texture(const Document& doc, pugi::xml_node node, NamedObjects& named);

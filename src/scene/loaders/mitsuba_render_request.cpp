@@ -1,0 +1,102 @@
+// What a Mitsuba scene's <integrator> and <sampler> say about rendering: emlt's name for the
+// integrator, and the options a scene file shares with the command line (maxDepth, rrDepth,
+// hideEmitters, sampleCount: settings/scene_options.h) in their flags' words; what only
+// changes how fast an integrator converges is noted, what changes the image and emlt does
+// not do is reported.
+#include "emlt/settings/scene_options.h"
+#include "emlt/settings/settings.h"
+#include "src/scene/loaders/mitsuba_parser.h"
+
+namespace emlt::mitsuba {
+
+namespace {
+
+// The options of `element` that a scene file shares with the command line, by their Mitsuba
+// names, checked against the flags' own values (settings/scene_options.h). A parameter
+// already ignored (hideEmitters of a ptracer) is left alone.
+void read_scene_file_options(Properties& props, MitsubaElement element,
+                             SceneRenderRequest& request) {
+  for (const SceneFileOption& o : scene_file_options()) {
+    if (o.element != element || !props.has(o.mitsuba) || props.used(o.mitsuba)) continue;
+    request.set(o.option.flag, o.boolean()
+                                   ? o.word(props.get_boolean(o.mitsuba, false))
+                                   : std::to_string(props.get_integer(
+                                         o.mitsuba, 0, loader::whole_range(o.option.values))));
+  }
+}
+
+}  // namespace
+
+void read_integrator(const Document& doc, pugi::xml_node node, SceneRenderRequest& request) {
+  const std::string type = doc.attribute(node, "type");
+  Properties props(doc, node);
+  if (type == "path")
+    request.integrator = "pt";
+  else if (type == "direct")
+    request.integrator = "direct";
+  else if (type == "bdpt")
+    request.integrator = "bdpt";
+  else if (type == "mlt")
+    request.integrator = "mlt";
+  else if (type == "ptracer")
+    request.integrator = "ptracer";
+  else  // any unbiased or consistent integrator converges to the same image
+    doc.warn(node,
+             "integrator type '" + type + "' is not supported; using '" +
+                 (request.integrator.empty() ? RenderSettings().integrator : request.integrator) +
+                 "'",
+             Document::Warning::Approximated);
+  // Parameters that steer how fast an integrator converges, never what it converges to:
+  // emlt's integrators have their own (command line) controls.
+  std::vector<std::string> tuning;
+  for (const char* name :
+       {"lightImage", "sampleDirect", "luminanceSamples", "twoStage", "directSamples",
+        "separateDirect", "bidirectionalMutation", "lensPerturbation", "multiChainPerturbation",
+        "causticPerturbation", "manifoldPerturbation", "lambda", "emitterSamples", "bsdfSamples",
+        "granularity"})
+    if (props.has(name)) tuning.push_back(name);
+  for (const std::string& name : tuning) props.ignore({name.c_str()});
+  if (type == "ptracer") {
+    // Mitsuba's particle tracer does not read hideEmitters (only its camera-side
+    // integrators do): it draws the lights seen directly whatever the flag says.
+    if (props.has("hideEmitters")) {
+      props.ignore({"hideEmitters"});
+      doc.warn(node,
+               "'hideEmitters' is not a parameter of Mitsuba's ptracer, which draws the "
+               "lights seen directly; ignored, as Mitsuba does",
+               Document::Warning::Note);
+    }
+    // Brute force only lets particles reach the camera by hitting its aperture (never, for
+    // a pinhole: Mitsuba's image is black): an estimator emlt does not have.
+    if (props.get_boolean("bruteForce", false))
+      doc.warn(node,
+               "'bruteForce' is not supported: every light vertex is connected to the "
+               "camera instead (Mitsuba's brute-force mode counts only the particles "
+               "that hit the camera's aperture: a perspective camera's image is black)");
+  }
+  read_scene_file_options(props, MitsubaElement::Integrator, request);
+  // A switch whose default is what emlt does; switched on, it changes the image and is
+  // reported as unsupported.
+  if (props.get_boolean("strictNormals", false))
+    doc.warn(node, "'strictNormals' is not supported; rendered as if false");
+  if (!tuning.empty()) {
+    std::string names;
+    for (const std::string& name : tuning) names += (names.empty() ? "'" : ", '") + name + "'";
+    doc.warn(node,
+             "convergence parameters " + names + " ignored (they change the noise, not the image)",
+             Document::Warning::Note);
+  }
+  for (pugi::xml_node child : props.objects())
+    doc.warn(child,
+             "unsupported element <" + std::string(child.name()) + "> inside <integrator> ignored");
+  props.warn_unused();
+}
+
+void read_sampler(const Document& doc, pugi::xml_node node, SceneRenderRequest& request) {
+  Properties props(doc, node);
+  read_scene_file_options(props, MitsubaElement::Sampler, request);
+  props.ignore({"scramble", "dimension", "resolution", "depth"});  // sequence details only
+  props.warn_unused();
+}
+
+}  // namespace emlt::mitsuba
