@@ -19,6 +19,7 @@
 #include "mutations/geometry_aware/ga_perturbations.h"
 #include "mutations/perturbation_common.h"
 #include "support/mlt_test_helpers.h"
+#include "support/reverse_moves.h"
 #include "support/test_support.h"
 
 using namespace emlt;
@@ -242,18 +243,11 @@ TEST(GeometryAwareCellCone, EveryStrategySatisfiesTheDetailedBalanceIdentity) {
         [&](const Path& x, const Path& y) { return lens.perturb_to(y, x.raster(), ctx); });
   const GaCausticPerturbation caustic;
   check(caustic, "ga-caustic", 1.0, [&](const Path& x, const Path& y) {
-    const int l = CausticPerturbation::fixed_vertex(x.type);
-    return caustic.perturb_to(
-        y, direction_between(x.vertices[size_t(l)], x.vertices[size_t(l + 1)]), ctx);
+    return caustic.perturb_to(y, test::caustic_direction(x), ctx);
   });
   const GaMultiChainPerturbation multichain;
   check(multichain, "ga-multichain", 4.0, [&](const Path& x, const Path& y) {
-    const int l = MultiChainPerturbation::fixed_vertex(x.type);
-    std::vector<Vec3> directions;
-    for (int i = x.edges() - 1; i >= l + 2; --i)
-      if (!x.vertices[size_t(i)].delta)
-        directions.push_back(direction_between(x.vertices[size_t(i)], x.vertices[size_t(i - 1)]));
-    return multichain.perturb_to(y, x.raster(), directions, ctx);
+    return multichain.perturb_to(y, x.raster(), test::multichain_directions(x), ctx);
   });
 }
 

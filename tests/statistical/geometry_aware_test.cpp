@@ -31,6 +31,7 @@
 #include "mutations/geometry_aware/ga_perturbations.h"
 #include "mutations/perturbation_common.h"
 #include "support/mlt_test_helpers.h"
+#include "support/reverse_moves.h"
 #include "support/test_scenes.h"
 #include "support/test_support.h"
 
@@ -383,21 +384,15 @@ TEST(GeometryAwareRoundTrip, EveryStrategySatisfiesTheDetailedBalanceIdentity) {
                   }),
                   "ga-lens");
   const GaCausticPerturbation caustic;
-  expect_balanced(round_trips(*scene, caustic, paths, [&](const Path& x, const Path& y, const MutationContext& ctx) {
-                    const int l = CausticPerturbation::fixed_vertex(x.type);
-                    return caustic.perturb_to(y, direction_between(x.vertices[size_t(l)], x.vertices[size_t(l + 1)]), ctx);
-                  }),
-                  "ga-caustic");
+  const auto caustic_back = [&](const Path& x, const Path& y, const MutationContext& ctx) {
+    return caustic.perturb_to(y, test::caustic_direction(x), ctx);
+  };
+  expect_balanced(round_trips(*scene, caustic, paths, caustic_back), "ga-caustic");
   const GaMultiChainPerturbation multichain;
-  expect_balanced(round_trips(*scene, multichain, paths, [&](const Path& x, const Path& y, const MutationContext& ctx) {
-                    const int l = MultiChainPerturbation::fixed_vertex(x.type);
-                    std::vector<Vec3> directions;
-                    for (int i = x.edges() - 1; i >= l + 2; --i)
-                      if (!x.vertices[size_t(i)].delta)
-                        directions.push_back(direction_between(x.vertices[size_t(i)], x.vertices[size_t(i - 1)]));
-                    return multichain.perturb_to(y, x.raster(), directions, ctx);
-                  }),
-                  "ga-multichain", 4.0);
+  const auto multichain_back = [&](const Path& x, const Path& y, const MutationContext& ctx) {
+    return multichain.perturb_to(y, x.raster(), test::multichain_directions(x), ctx);
+  };
+  expect_balanced(round_trips(*scene, multichain, paths, multichain_back), "ga-multichain", 4.0);
 }
 
 // Delayed acceptance (include/emlt/mcmc/delayed_acceptance.h) on the same kind of round
@@ -474,28 +469,16 @@ TEST(GeometryAwareRoundTrip, DelayedAcceptanceSatisfiesDetailedBalanceAndCatches
   const GaLensPerturbation lens;
   expect_balanced(delayed_round_trips(*scene, lens, paths, kLensBack(lens)), "ga-lens, delayed");
   const GaCausticPerturbation caustic;
-  expect_balanced(delayed_round_trips(
-                      *scene, caustic, paths,
-                      [&](const Path& x, const Path& y, const MutationContext& ctx) {
-                        const int l = CausticPerturbation::fixed_vertex(x.type);
-                        return caustic.perturb_to(
-                            y, direction_between(x.vertices[size_t(l)], x.vertices[size_t(l + 1)]),
-                            ctx);
-                      }),
-                  "ga-caustic, delayed");
+  const auto caustic_back = [&](const Path& x, const Path& y, const MutationContext& ctx) {
+    return caustic.perturb_to(y, test::caustic_direction(x), ctx);
+  };
+  expect_balanced(delayed_round_trips(*scene, caustic, paths, caustic_back), "ga-caustic, delayed");
   const GaMultiChainPerturbation multichain;
-  expect_balanced(
-      delayed_round_trips(*scene, multichain, paths,
-                          [&](const Path& x, const Path& y, const MutationContext& ctx) {
-                            const int l = MultiChainPerturbation::fixed_vertex(x.type);
-                            std::vector<Vec3> directions;
-                            for (int i = x.edges() - 1; i >= l + 2; --i)
-                              if (!x.vertices[size_t(i)].delta)
-                                directions.push_back(direction_between(x.vertices[size_t(i)],
-                                                                       x.vertices[size_t(i - 1)]));
-                            return multichain.perturb_to(y, x.raster(), directions, ctx);
-                          }),
-      "ga-multichain, delayed", 4.0);
+  const auto multichain_back = [&](const Path& x, const Path& y, const MutationContext& ctx) {
+    return multichain.perturb_to(y, x.raster(), test::multichain_directions(x), ctx);
+  };
+  expect_balanced(delayed_round_trips(*scene, multichain, paths, multichain_back),
+                  "ga-multichain, delayed", 4.0);
 
   // The driver's bug: the second stage with the whole ratio counts the first stage's twice.
   const Balance whole_twice = delayed_round_trips(*scene, lens, paths, kLensBack(lens), true);

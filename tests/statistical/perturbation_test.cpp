@@ -22,6 +22,7 @@
 #include "mutations/multichain_perturbation.h"
 #include "mutations/perturbation_common.h"
 #include "support/mlt_test_helpers.h"
+#include "support/reverse_moves.h"
 #include "support/test_scenes.h"
 #include "support/test_support.h"
 
@@ -311,19 +312,13 @@ TEST(PerturbationRoundTrip, EveryStrategySatisfiesTheDetailedBalanceIdentity) {
 
   const CausticPerturbation caustic;
   const auto caustic_stats = round_trips(*scene, caustic, paths, [&](const Path& x, const Path& y, const MutationContext& ctx) {
-    const int l = CausticPerturbation::fixed_vertex(x.type);
-    return caustic.perturb_to(y, direction_between(x.vertices[size_t(l)], x.vertices[size_t(l + 1)]), ctx);
+    return caustic.perturb_to(y, test::caustic_direction(x), ctx);
   });
   expect_round_trips(caustic_stats, "caustic");
 
   const MultiChainPerturbation multichain;
   const auto multichain_stats = round_trips(*scene, multichain, paths, [&](const Path& x, const Path& y, const MutationContext& ctx) {
-    const int l = MultiChainPerturbation::fixed_vertex(x.type);
-    std::vector<Vec3> directions;
-    for (int i = x.edges() - 1; i >= l + 2; --i)
-      if (!x.vertices[size_t(i)].delta)
-        directions.push_back(direction_between(x.vertices[size_t(i)], x.vertices[size_t(i - 1)]));
-    return multichain.perturb_to(y, x.raster(), directions, ctx);
+    return multichain.perturb_to(y, x.raster(), test::multichain_directions(x), ctx);
   });
   expect_round_trips(multichain_stats, "multichain", 4.0);
 }
