@@ -28,7 +28,8 @@ int run_info(const InfoOptions& options) {
   for (const auto& m : d.materials)
     fmt::print("  {:<20} {}\n", m.name, m.bsdf ? m.bsdf->name() : std::string("(none)"));
   const RenderSettings s = settings_for(d.render);  // the file's, else the engine's defaults
-  fmt::print("integrator   {} (max depth {}, {} spp)\n", s.integrator, s.max_depth, s.spp);
+  fmt::print("integrator   {} (max depth {}, roulette after {} segments, {} spp{})\n", s.integrator,
+             s.max_depth, s.rr_depth, s.spp, s.hide_emitters ? ", emitters hidden" : "");
   fmt::print("warnings     {}\n", scene->warnings().size());
   for (const auto& w : scene->warnings()) fmt::print("  {}\n", w);
   // Last, so that it is the line a user sees first: is this the scene the file means?

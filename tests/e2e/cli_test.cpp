@@ -148,6 +148,12 @@ TEST(Cli, TheCommandLineOverridesWhatTheSceneFileSets) {
   EXPECT_GT(brightness(shown, ""), 2.9);
   EXPECT_EQ(brightness(shown, "--hide-emitters true"), 0.0);
   EXPECT_EQ(brightness(shown, "--hide-emitters true --integrator bdpt"), 0.0);
+  // `emlt info` says what the file sets.
+  std::string info;
+  ASSERT_EQ(0, test::run_command(emlt_cmd("info " + hidden), &info)) << info;
+  EXPECT_NE(info.find("emitters hidden"), std::string::npos) << info;
+  ASSERT_EQ(0, test::run_command(emlt_cmd("info " + shown), &info)) << info;
+  EXPECT_EQ(info.find("emitters hidden"), std::string::npos) << info;
 }
 
 TEST(Cli, InfoDescribesTheScene) {
