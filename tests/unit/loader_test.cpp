@@ -338,6 +338,63 @@ TEST(Loader, XmlAndJsonPrimitiveShapesAndTransformsAgree) {
   EXPECT_GT(fa.x, fa.z);  // gold
 }
 
+// Every transform element and attribute Mitsuba 0.6's parser accepts (scene.xsd and its
+// scene handler): <lookAt> as well as <lookat>, a lookat without `up` framed by Mitsuba's
+// coordinateSystem() of the viewing direction, and the forms it refuses refused here too.
+TEST(Loader, MitsubaTransformElementsAsMitsubaReadsThem) {
+  const auto dir = test::scratch_dir("transforms");
+  std::string camel = small_xml(R"(
+  <shape type="rectangle"><transform name="toWorld"><scale x="2" y="1"/>
+    <lookAt origin="0, 0.5, 0" target="0, 3, 0"/></transform></shape>)");
+  camel.replace(camel.find("<lookat origin=\"0,0,-5\""), 7, "<lookAt");
+  const SceneDescription desc = load_scene_description(write_file(dir, "camel.xml", camel));
+  EXPECT_TRUE(desc.warnings.empty()) << desc.warnings.front();
+  EXPECT_EQ(desc.verdict(), "exact");
+  const SceneDescription lower =
+      load_scene_description(write_file(dir, "lower.xml", small_xml("")));
+  for (int col = 0; col < 4; ++col)
+    for (int row = 0; row < 4; ++row)
+      EXPECT_FLOAT_EQ(desc.camera.to_world[col][row], lower.camera.to_world[col][row]);
+  EXPECT_FLOAT_EQ(desc.camera.to_world[3][2], -5.0f);  // the camera did move
+  // Facing straight up, Mitsuba's frame has up = (1, 0, 0) and left = (0, 0, 1): the
+  // rectangle's long local x runs along world z, its short y along world x.
+  ASSERT_EQ(desc.meshes.size(), 2u);
+  Vec3 lo(1e9f), hi(-1e9f);
+  for (const Vec3& p : desc.meshes[1].positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  EXPECT_NEAR(lo.z, -2.0f, 1e-5f);
+  EXPECT_NEAR(hi.z, 2.0f, 1e-5f);
+  EXPECT_NEAR(lo.x, -1.0f, 1e-5f);
+  EXPECT_NEAR(hi.x, 1.0f, 1e-5f);
+  EXPECT_NEAR(lo.y, 0.5f, 1e-6f);
+  EXPECT_NEAR(hi.y, 0.5f, 1e-6f);
+
+  struct Case {
+    std::string element, problem;
+  };
+  const std::vector<Case> refused = {
+      {R"(<scale value="2" x="1"/>)",
+       "line 11: <scale> takes either 'value' or 'x'/'y'/'z', not both"},
+      {R"(<scale/>)", "line 11: <scale> needs 'value' or 'x'/'y'/'z'"},
+      {R"(<rotate y="1"/>)", "line 11: <rotate> needs an 'angle' (degrees)"},
+      {R"(<rotate angle="30"/>)", "line 11: <rotate> needs a non-zero axis"},
+      {R"(<lookAt origin="1, 2, 3"/>)", "line 11: <lookAt> needs 'target'"},
+      {R"(<lookAt origin="1, 2, 3" target="1, 2, 3"/>)",
+       "line 11: <lookAt>: 'origin' and 'target' coincide"},
+      {R"(<lookat origin="0, 0, 0" target="0, 2, 0" up="0, 1, 0"/>)",
+       "line 11: <lookat>: 'up' is parallel to the viewing direction"},
+  };
+  for (const Case& c : refused) {
+    const std::string path =
+        write_file(dir, "bad.xml",
+                   small_xml("  <shape type=\"cube\"><transform name=\"toWorld\">\n    " +
+                             c.element + "</transform></shape>"));
+    const std::string message = load_and_build_error(path);
+    EXPECT_NE(message.find("bad.xml: " + c.problem), std::string::npos)
+        << c.element << ": " << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+}
+
 // Mitsuba's particle tracer is emlt's, with its depth parameters; granularity (the light
 // paths of a work unit) only schedules the work.
 TEST(Loader, XmlParticleTracer) {
