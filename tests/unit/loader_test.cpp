@@ -623,6 +623,61 @@ TEST(Loader, MitsubaSettingsThatChangeNoImageKeepTheVerdictExact) {
             "unsupported: 1 item");
 }
 
+// What steers only how Mitsuba samples (a sampler's seed and sequence, a rough BSDF's
+// visible-normal sampling, a light's sampling weight, an integrator's sample counts and
+// work units) is a note: the scene stays exact and --strict takes it. What changes the
+// image is still an item.
+TEST(Loader, SamplingOnlyParametersAreNotesNotItems) {
+  const auto dir = test::scratch_dir("sampling-only");
+  std::string xml = small_xml(R"(
+  <shape type="sphere"><bsdf type="roughconductor"><boolean name="sampleVisible" value="false"/></bsdf></shape>
+  <shape type="disk"><bsdf type="roughdielectric"><boolean name="sampleVisible" value="true"/></bsdf></shape>
+  <shape type="cube"><bsdf type="roughplastic"><boolean name="sampleVisible" value="false"/></bsdf></shape>
+  <shape type="rectangle"><transform name="toWorld"><translate z="2"/></transform>
+    <emitter type="area"><rgb name="radiance" value="1"/><float name="samplingWeight" value="3"/></emitter></shape>
+  <emitter type="constant"><float name="samplingWeight" value="0.5"/></emitter>)");
+  xml.replace(xml.find("<film"), 0,
+              "<sampler type=\"ldsampler\"><integer name=\"sampleCount\" value=\"4\"/>"
+              "<integer name=\"seed\" value=\"7\"/><integer name=\"dimension\" value=\"8\"/>"
+              "<integer name=\"scramble\" value=\"3\"/></sampler>");
+  const std::string direct =
+      R"(<integrator type="direct"><integer name="shadingSamples" value="4"/></integrator>)";
+  const std::string mlt =
+      R"(<integrator type="mlt"><integer name="workUnits" value="8"/><integer name="timeout" value="60"/>
+    <float name="probFactor" value="20"/><integer name="firstStageSizeReduction" value="4"/></integrator>)";
+  for (const std::string& integrator : {direct, mlt}) {
+    std::string scene = xml;
+    scene.replace(scene.find("<sensor"), 0, integrator + "\n  ");
+    const SceneDescription desc = load_scene_description(write_file(dir, "exact.xml", scene));
+    EXPECT_EQ(desc.verdict(), "exact") << desc.divergences.front().message;
+    for (const char* needle :
+         {"'sampleVisible' of <bsdf type=\"roughconductor\"> steers only how Mitsuba samples",
+          "'sampleVisible' of <bsdf type=\"roughdielectric\">",
+          "'sampleVisible' of <bsdf type=\"roughplastic\">",
+          "'seed', 'scramble', 'dimension' of <sampler type=\"ldsampler\"> steer only the sample "
+          "sequence",
+          "'samplingWeight' of <emitter type=\"area\">",
+          "'samplingWeight' of <emitter type=\"constant\">"})
+      EXPECT_TRUE(any_contains(desc.warnings, needle)) << needle;
+    EXPECT_TRUE(any_contains(
+        desc.warnings, integrator == direct
+                           ? "'shadingSamples'"
+                           : "'probFactor', 'firstStageSizeReduction', 'workUnits', 'timeout'"));
+  }
+  // A malformed value is refused as Mitsuba refuses it.
+  std::string malformed = xml;
+  malformed.replace(malformed.find("value=\"false\""), 13, "value=\"maybe\"");
+  EXPECT_NE(load_and_build_error(write_file(dir, "malformed.xml", malformed))
+                .find("'sampleVisible' must be true or false, not 'maybe'"),
+            std::string::npos);
+  // Beside them, a parameter that changes the image is still counted.
+  std::string counted = xml;
+  counted.replace(counted.find("<integer name=\"seed\""), 0,
+                  "<integer name=\"wobble\" value=\"1\"/>");
+  EXPECT_EQ(load_scene_description(write_file(dir, "counted.xml", counted)).verdict(),
+            "unsupported: 1 item");
+}
+
 TEST(Loader, ShapesWithoutABsdfGetMitsubasDefault) {
   const auto dir = test::scratch_dir("default-bsdf");
   // A lamp that names no BSDF: Mitsuba makes it black. A panel that names none: a

@@ -454,6 +454,31 @@ void Properties::ignore(std::initializer_list<const char*> names) {
   for (const char* name : names) used_.insert(name);
 }
 
+void Properties::note_sampling_only(std::initializer_list<const char*> names,
+                                    const std::string& what) {
+  std::string listed;
+  int count = 0;
+  for (const char* name : names) {
+    if (!has(name) || used(name)) continue;
+    // Read as Mitsuba reads it, so that a malformed value is refused as it is there.
+    const std::string kind = kind_of(name);
+    if (kind == "boolean")
+      get_boolean(name, false);
+    else if (kind == "integer" || kind == "float")
+      get_float(name, 0.0f);
+    else
+      take(name, {"string"});
+    listed += (listed.empty() ? "'" : ", '") + std::string(name) + "'";
+    ++count;
+  }
+  if (count == 0) return;
+  doc_.warn(owner_,
+            (count == 1 ? "parameter " : "parameters ") + listed + " of " + doc_.describe(owner_) +
+                (count == 1 ? " steers only " : " steer only ") + what +
+                ", not the image; emlt samples its own way",
+            Document::Warning::Note);
+}
+
 void Properties::warn_unused() const {
   for (const auto& [name, node] : values_)
     if (!used_.count(name))
