@@ -338,6 +338,63 @@ TEST(Loader, XmlAndJsonPrimitiveShapesAndTransformsAgree) {
   EXPECT_GT(fa.x, fa.z);  // gold
 }
 
+// Every transform element and attribute Mitsuba 0.6's parser accepts (scene.xsd and its
+// scene handler): <lookAt> as well as <lookat>, a lookat without `up` framed by Mitsuba's
+// coordinateSystem() of the viewing direction, and the forms it refuses refused here too.
+TEST(Loader, MitsubaTransformElementsAsMitsubaReadsThem) {
+  const auto dir = test::scratch_dir("transforms");
+  std::string camel = small_xml(R"(
+  <shape type="rectangle"><transform name="toWorld"><scale x="2" y="1"/>
+    <lookAt origin="0, 0.5, 0" target="0, 3, 0"/></transform></shape>)");
+  camel.replace(camel.find("<lookat origin=\"0,0,-5\""), 7, "<lookAt");
+  const SceneDescription desc = load_scene_description(write_file(dir, "camel.xml", camel));
+  EXPECT_TRUE(desc.warnings.empty()) << desc.warnings.front();
+  EXPECT_EQ(desc.verdict(), "exact");
+  const SceneDescription lower =
+      load_scene_description(write_file(dir, "lower.xml", small_xml("")));
+  for (int col = 0; col < 4; ++col)
+    for (int row = 0; row < 4; ++row)
+      EXPECT_FLOAT_EQ(desc.camera.to_world[col][row], lower.camera.to_world[col][row]);
+  EXPECT_FLOAT_EQ(desc.camera.to_world[3][2], -5.0f);  // the camera did move
+  // Facing straight up, Mitsuba's frame has up = (1, 0, 0) and left = (0, 0, 1): the
+  // rectangle's long local x runs along world z, its short y along world x.
+  ASSERT_EQ(desc.meshes.size(), 2u);
+  Vec3 lo(1e9f), hi(-1e9f);
+  for (const Vec3& p : desc.meshes[1].positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  EXPECT_NEAR(lo.z, -2.0f, 1e-5f);
+  EXPECT_NEAR(hi.z, 2.0f, 1e-5f);
+  EXPECT_NEAR(lo.x, -1.0f, 1e-5f);
+  EXPECT_NEAR(hi.x, 1.0f, 1e-5f);
+  EXPECT_NEAR(lo.y, 0.5f, 1e-6f);
+  EXPECT_NEAR(hi.y, 0.5f, 1e-6f);
+
+  struct Case {
+    std::string element, problem;
+  };
+  const std::vector<Case> refused = {
+      {R"(<scale value="2" x="1"/>)",
+       "line 11: <scale> takes either 'value' or 'x'/'y'/'z', not both"},
+      {R"(<scale/>)", "line 11: <scale> needs 'value' or 'x'/'y'/'z'"},
+      {R"(<rotate y="1"/>)", "line 11: <rotate> needs an 'angle' (degrees)"},
+      {R"(<rotate angle="30"/>)", "line 11: <rotate> needs a non-zero axis"},
+      {R"(<lookAt origin="1, 2, 3"/>)", "line 11: <lookAt> needs 'target'"},
+      {R"(<lookAt origin="1, 2, 3" target="1, 2, 3"/>)",
+       "line 11: <lookAt>: 'origin' and 'target' coincide"},
+      {R"(<lookat origin="0, 0, 0" target="0, 2, 0" up="0, 1, 0"/>)",
+       "line 11: <lookat>: 'up' is parallel to the viewing direction"},
+  };
+  for (const Case& c : refused) {
+    const std::string path =
+        write_file(dir, "bad.xml",
+                   small_xml("  <shape type=\"cube\"><transform name=\"toWorld\">\n    " +
+                             c.element + "</transform></shape>"));
+    const std::string message = load_and_build_error(path);
+    EXPECT_NE(message.find("bad.xml: " + c.problem), std::string::npos)
+        << c.element << ": " << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+}
+
 // Mitsuba's particle tracer is emlt's, with its depth parameters; granularity (the light
 // paths of a work unit) only schedules the work.
 TEST(Loader, XmlParticleTracer) {
@@ -563,6 +620,61 @@ TEST(Loader, MitsubaSettingsThatChangeNoImageKeepTheVerdictExact) {
               std::string("name=\"strictNormals\" value=\"false\"").size(),
               "name=\"strictNormals\" value=\"true\"");
   EXPECT_EQ(load_scene_description(write_file(dir, "strict.xml", xml)).verdict(),
+            "unsupported: 1 item");
+}
+
+// What steers only how Mitsuba samples (a sampler's seed and sequence, a rough BSDF's
+// visible-normal sampling, a light's sampling weight, an integrator's sample counts and
+// work units) is a note: the scene stays exact and --strict takes it. What changes the
+// image is still an item.
+TEST(Loader, SamplingOnlyParametersAreNotesNotItems) {
+  const auto dir = test::scratch_dir("sampling-only");
+  std::string xml = small_xml(R"(
+  <shape type="sphere"><bsdf type="roughconductor"><boolean name="sampleVisible" value="false"/></bsdf></shape>
+  <shape type="disk"><bsdf type="roughdielectric"><boolean name="sampleVisible" value="true"/></bsdf></shape>
+  <shape type="cube"><bsdf type="roughplastic"><boolean name="sampleVisible" value="false"/></bsdf></shape>
+  <shape type="rectangle"><transform name="toWorld"><translate z="2"/></transform>
+    <emitter type="area"><rgb name="radiance" value="1"/><float name="samplingWeight" value="3"/></emitter></shape>
+  <emitter type="constant"><float name="samplingWeight" value="0.5"/></emitter>)");
+  xml.replace(xml.find("<film"), 0,
+              "<sampler type=\"ldsampler\"><integer name=\"sampleCount\" value=\"4\"/>"
+              "<integer name=\"seed\" value=\"7\"/><integer name=\"dimension\" value=\"8\"/>"
+              "<integer name=\"scramble\" value=\"3\"/></sampler>");
+  const std::string direct =
+      R"(<integrator type="direct"><integer name="shadingSamples" value="4"/></integrator>)";
+  const std::string mlt =
+      R"(<integrator type="mlt"><integer name="workUnits" value="8"/><integer name="timeout" value="60"/>
+    <float name="probFactor" value="20"/><integer name="firstStageSizeReduction" value="4"/></integrator>)";
+  for (const std::string& integrator : {direct, mlt}) {
+    std::string scene = xml;
+    scene.replace(scene.find("<sensor"), 0, integrator + "\n  ");
+    const SceneDescription desc = load_scene_description(write_file(dir, "exact.xml", scene));
+    EXPECT_EQ(desc.verdict(), "exact") << desc.divergences.front().message;
+    for (const char* needle :
+         {"'sampleVisible' of <bsdf type=\"roughconductor\"> steers only how Mitsuba samples",
+          "'sampleVisible' of <bsdf type=\"roughdielectric\">",
+          "'sampleVisible' of <bsdf type=\"roughplastic\">",
+          "'seed', 'scramble', 'dimension' of <sampler type=\"ldsampler\"> steer only the sample "
+          "sequence",
+          "'samplingWeight' of <emitter type=\"area\">",
+          "'samplingWeight' of <emitter type=\"constant\">"})
+      EXPECT_TRUE(any_contains(desc.warnings, needle)) << needle;
+    EXPECT_TRUE(any_contains(
+        desc.warnings, integrator == direct
+                           ? "'shadingSamples'"
+                           : "'probFactor', 'firstStageSizeReduction', 'workUnits', 'timeout'"));
+  }
+  // A malformed value is refused as Mitsuba refuses it.
+  std::string malformed = xml;
+  malformed.replace(malformed.find("value=\"false\""), 13, "value=\"maybe\"");
+  EXPECT_NE(load_and_build_error(write_file(dir, "malformed.xml", malformed))
+                .find("'sampleVisible' must be true or false, not 'maybe'"),
+            std::string::npos);
+  // Beside them, a parameter that changes the image is still counted.
+  std::string counted = xml;
+  counted.replace(counted.find("<integer name=\"seed\""), 0,
+                  "<integer name=\"wobble\" value=\"1\"/>");
+  EXPECT_EQ(load_scene_description(write_file(dir, "counted.xml", counted)).verdict(),
             "unsupported: 1 item");
 }
 

@@ -84,6 +84,8 @@ class BsdfReader {
   }
 
   MicrofacetType distribution(Properties& props, pugi::xml_node node) {
+    // Mitsuba's choice between sampling all normals and the visible ones only.
+    props.note_sampling_only({"sampleVisible"}, "how Mitsuba samples the microfacet normals");
     std::string name = props.get_string("distribution", "beckmann");
     for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));  // as Mitsuba
     if (name == "ggx") return MicrofacetType::Ggx;
@@ -247,7 +249,7 @@ class BsdfReader {
     doc_.warn(node, "<bsdf type=\"" + type + "\"> is not supported; using its nested BSDF alone",
               Document::Warning::Approximated);
     props.ignore({"thickness", "intIOR", "extIOR", "sigmaA", "specularReflectance", "alpha",
-                  "distribution"});
+                  "distribution", "sampleVisible"});
     std::vector<pugi::xml_node> ignored_textures;
     return nested(node, props, &ignored_textures);
   }

@@ -400,7 +400,7 @@ class MitsubaSceneReader {
           doc_.fail(child, "an emitter inside a shapegroup is not supported (nor by Mitsuba)");
         Properties emitter(doc_, child);
         emission = emitter.get_color("radiance", Rgb(1.0f));
-        emitter.ignore({"samplingWeight"});
+        emitter.note_sampling_only({"samplingWeight"}, "how often Mitsuba samples this light");
         emitter.warn_unused();
       } else {
         doc_.warn(child, "unsupported element " + doc_.describe(child) + " inside <shape> ignored");
@@ -506,7 +506,8 @@ class MitsubaSceneReader {
       return;
     }
     Properties props(doc_, node);
-    props.ignore({"samplingWeight", "cache"});
+    props.ignore({"cache"});
+    props.note_sampling_only({"samplingWeight"}, "how often Mitsuba samples this light");
     EnvironmentDesc& env = desc_.environment;
     if (type == "constant") {
       env.kind = EnvironmentDesc::Kind::Constant;

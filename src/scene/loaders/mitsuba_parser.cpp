@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdlib>
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -20,6 +21,18 @@ float srgb_to_linear(float v) {
 
 bool is_identifier_char(char c) {
   return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+}
+
+// The up vector Mitsuba's <lookat> takes when the file gives none (or a zero one): its
+// coordinateSystem()'s second axis for the viewing direction, so that a panel placed facing
+// straight up, where (0, 1, 0) would be degenerate, still has a frame, and a camera without
+// `up` turns about its axis exactly as Mitsuba's does.
+Vec3 mitsuba_default_up(const Vec3& origin, const Vec3& target) {
+  const Vec3 a = glm::normalize(target - origin);
+  const Vec3 c = std::abs(a.x) > std::abs(a.y)
+                     ? Vec3(a.z, 0.0f, -a.x) / std::sqrt(a.x * a.x + a.z * a.z)
+                     : Vec3(0.0f, a.z, -a.y) / std::sqrt(a.y * a.y + a.z * a.z);
+  return glm::cross(c, a);
 }
 
 }  // namespace
@@ -377,6 +390,12 @@ Mat4 Properties::get_transform(const std::string& name) {
           glm::translate(Mat4(1.0f), doc_.has_attribute(op, "value") ? vec3_of(op, "value")
                                                                      : axis_attributes(op, 0.0f));
     } else if (kind == "scale") {
+      // Mitsuba refuses a <scale> with both forms or neither, rather than guessing.
+      const bool has_axes =
+          doc_.has_attribute(op, "x") || doc_.has_attribute(op, "y") || doc_.has_attribute(op, "z");
+      if (has_axes == doc_.has_attribute(op, "value"))
+        doc_.fail(op, has_axes ? "<scale> takes either 'value' or 'x'/'y'/'z', not both"
+                               : "<scale> needs 'value' or 'x'/'y'/'z'");
       Vec3 s = axis_attributes(op, 1.0f);
       if (doc_.has_attribute(op, "value")) {
         const std::vector<float> v = doc_.to_floats(op, doc_.attribute(op, "value"));
@@ -391,6 +410,8 @@ Mat4 Properties::get_transform(const std::string& name) {
     } else if (kind == "rotate") {
       const Vec3 axis =
           doc_.has_attribute(op, "axis") ? vec3_of(op, "axis") : axis_attributes(op, 0.0f);
+      if (!doc_.has_attribute(op, "angle")) doc_.fail(op, "<rotate> needs an 'angle' (degrees)");
+      if (axis == Vec3(0.0f)) doc_.fail(op, "<rotate> needs a non-zero axis ('x', 'y', 'z')");
       step = loader::rotation_matrix(axis, doc_.to_float(op, doc_.attribute(op, "angle")));
     } else if (kind == "matrix") {
       const std::vector<float> v = doc_.to_floats(op, doc_.attribute(op, "value"));
@@ -398,9 +419,18 @@ Mat4 Properties::get_transform(const std::string& name) {
       const int n = v.size() == 16 ? 4 : 3;
       for (int row = 0; row < n; ++row)
         for (int col = 0; col < n; ++col) step[col][row] = v[size_t(row * n + col)];
-    } else if (kind == "lookat") {
-      const Vec3 up = doc_.has_attribute(op, "up") ? vec3_of(op, "up") : Vec3(0, 1, 0);
-      step = look_at_matrix(vec3_of(op, "origin"), vec3_of(op, "target"), up);
+    } else if (kind == "lookat" || kind == "lookAt") {  // Mitsuba accepts both spellings
+      for (const char* required : {"origin", "target"})
+        if (!doc_.has_attribute(op, required))
+          doc_.fail(op, "<" + kind + "> needs '" + required + "'");
+      const Vec3 origin = vec3_of(op, "origin"), target = vec3_of(op, "target");
+      if (origin == target) doc_.fail(op, "<" + kind + ">: 'origin' and 'target' coincide");
+      Vec3 up(0.0f);
+      if (doc_.has_attribute(op, "up") && !doc_.attribute(op, "up").empty()) up = vec3_of(op, "up");
+      if (up == Vec3(0.0f)) up = mitsuba_default_up(origin, target);
+      if (!(glm::length(glm::cross(up, target - origin)) > 0.0f))
+        doc_.fail(op, "<" + kind + ">: 'up' is parallel to the viewing direction");
+      step = look_at_matrix(origin, target, up);
     } else {
       doc_.warn(op, "unsupported transform element <" + kind + "> ignored");
       continue;
@@ -422,6 +452,31 @@ std::vector<std::string> Properties::names_of_kind(const std::string& kind) cons
 
 void Properties::ignore(std::initializer_list<const char*> names) {
   for (const char* name : names) used_.insert(name);
+}
+
+void Properties::note_sampling_only(std::initializer_list<const char*> names,
+                                    const std::string& what) {
+  std::string listed;
+  int count = 0;
+  for (const char* name : names) {
+    if (!has(name) || used(name)) continue;
+    // Read as Mitsuba reads it, so that a malformed value is refused as it is there.
+    const std::string kind = kind_of(name);
+    if (kind == "boolean")
+      get_boolean(name, false);
+    else if (kind == "integer" || kind == "float")
+      get_float(name, 0.0f);
+    else
+      take(name, {"string"});
+    listed += (listed.empty() ? "'" : ", '") + std::string(name) + "'";
+    ++count;
+  }
+  if (count == 0) return;
+  doc_.warn(owner_,
+            (count == 1 ? "parameter " : "parameters ") + listed + " of " + doc_.describe(owner_) +
+                (count == 1 ? " steers only " : " steer only ") + what +
+                ", not the image; emlt samples its own way",
+            Document::Warning::Note);
 }
 
 void Properties::warn_unused() const {

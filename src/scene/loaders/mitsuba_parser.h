@@ -101,6 +101,11 @@ class Properties {
   pugi::xml_node node_of(const std::string& name) const;
   // Marks parameters that change nothing in this renderer (e.g. a film's pixel format).
   void ignore(std::initializer_list<const char*> names);
+  // Parameters that change only how Mitsuba draws its samples (a sampler's seed, a rough
+  // BSDF's sampleVisible), never the converged image: those present are checked to be of
+  // one of `kinds` with a well-formed value, marked used and named in one note (no item of
+  // the verdict). `what` says what they steer ("sampling", "the sample sequence").
+  void note_sampling_only(std::initializer_list<const char*> names, const std::string& what);
   // Whether `name` has been read or ignored already.
   bool used(const std::string& name) const { return used_.count(name) != 0; }
 

@@ -49,11 +49,26 @@ void read_integrator(const Document& doc, pugi::xml_node node, SceneRenderReques
   // Parameters that steer how fast an integrator converges, never what it converges to:
   // emlt's integrators have their own (command line) controls.
   std::vector<std::string> tuning;
-  for (const char* name :
-       {"lightImage", "sampleDirect", "luminanceSamples", "twoStage", "directSamples",
-        "separateDirect", "bidirectionalMutation", "lensPerturbation", "multiChainPerturbation",
-        "causticPerturbation", "manifoldPerturbation", "lambda", "emitterSamples", "bsdfSamples",
-        "granularity"})
+  for (const char* name : {"lightImage",
+                           "sampleDirect",
+                           "luminanceSamples",
+                           "twoStage",
+                           "directSamples",
+                           "separateDirect",
+                           "bidirectionalMutation",
+                           "lensPerturbation",
+                           "multiChainPerturbation",
+                           "causticPerturbation",
+                           "manifoldPerturbation",
+                           "lambda",
+                           "probFactor",
+                           "firstStageSizeReduction",
+                           "workUnits",
+                           "timeout",
+                           "emitterSamples",
+                           "bsdfSamples",
+                           "shadingSamples",
+                           "granularity"})
     if (props.has(name)) tuning.push_back(name);
   for (const std::string& name : tuning) props.ignore({name.c_str()});
   if (type == "ptracer") {
@@ -95,7 +110,11 @@ void read_integrator(const Document& doc, pugi::xml_node node, SceneRenderReques
 void read_sampler(const Document& doc, pugi::xml_node node, SceneRenderRequest& request) {
   Properties props(doc, node);
   read_scene_file_options(props, MitsubaElement::Sampler, request);
-  props.ignore({"scramble", "dimension", "resolution", "depth"});  // sequence details only
+  // Every sampler converges to the same image; only its sequence differs. Mitsuba 0.6's
+  // read scramble and dimension; seed (Mitsuba 2's, written by exporters), resolution and
+  // depth are read by none of them, and change nothing there either.
+  props.note_sampling_only({"seed", "scramble", "dimension", "resolution", "depth"},
+                           "the sample sequence");
   props.warn_unused();
 }
 
