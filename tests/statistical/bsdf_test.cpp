@@ -214,6 +214,23 @@ std::vector<ChiSquareCase> chi_square_cases() {
   }
   // Smooth coating: the delta lobe's samples fall in the "rest" cell.
   cases.push_back({"smooth_plastic_oblique", [] { return grey_plastic(0.0f); }, 0.6f, false});
+  // Weighted sums: the density mixes the parts' by their weights' shares.
+  cases.push_back(
+      {"mixture_lambertian_gold_oblique",
+       [] {
+         return make_mixture({make_lambertian(Rgb(0.6f)), rough_gold(0.3f)}, {0.6f, 0.7f});
+       },
+       0.5f, false});
+  cases.push_back(
+      {"mixture_with_smooth_plastic_grazing",
+       [] {
+         return make_mixture({grey_plastic(0.0f), shiny_phong(20.0f)}, {0.4f, 0.5f}, false);
+       },
+       0.15f, false});
+  cases.push_back(
+      {"blend_plastic_ward_near_normal",
+       [] { return make_blend(0.3f, grey_plastic(0.2f), anisotropic_ward(WardVariant::Balanced)); },
+       0.9f, false});
   cases.push_back({"two_sided_lambertian_back",
                    [] { return make_two_sided(make_lambertian(Rgb(0.5f))); }, -0.7f, true});
   cases.push_back({"two_sided_conductor_a30_back",
@@ -337,6 +354,14 @@ std::vector<NamedBsdf> all_materials() {
       {"two_sided_lambertian", make_two_sided(make_lambertian(Rgb(0.5f)))},
       {"mirror", make_mirror(Rgb(0.9f))},
       {"dielectric", make_dielectric(1.5f, 1.0f)},
+      {"mixture", make_mixture({make_lambertian(Rgb(0.7f, 0.5f, 0.2f)),
+                                make_rough_conductor(0.3f, cu_eta, cu_k)},
+                               {0.6f, 0.7f})},
+      {"mixture_with_dielectric",
+       make_mixture({make_dielectric(1.5f, 1.0f), make_rough_diffuse(Rgb(0.5f), 0.4f)},
+                    {0.2f, 0.6f})},
+      {"blend", make_blend(0.3f, make_rough_plastic(0.2f, Rgb(0.5f), Rgb(1.0f)),
+                           anisotropic_ward(WardVariant::Balanced))},
   };
 }
 

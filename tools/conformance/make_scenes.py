@@ -511,6 +511,30 @@ def build():
                                    '<float name="uscale" value="2"/><float name="vscale" value="2"/></texture></bsdf>',
                                    '<scale x="0.45" y="0.45"/><rotate x="1" angle="90"/><translate y="1.8"/>')),
         pt_bdpt + ["mlt"])
+    # Weighted sums of BSDFs. The mixture's weights sum above 1 and are divided by their sum
+    # (ensureEnergyConservation); the second sphere keeps its weights and mixes in a delta
+    # lobe. The blend's weight is a number on the sphere and a bitmap's channel mean on the
+    # panel, between a diffuse and a smooth gold mirror.
+    gold = '<bsdf type="conductor"><string name="material" value="Au"/></bsdf>'
+    s["bsdf-mixturebsdf"] = ("mixturebsdf: weights 0.6, 0.7 (scaled to sum 1) of diffuse and rough copper; "
+                             "0.3; 0.5 of gold and diffuse without energy conservation",
+        scene(sphere('<bsdf type="mixturebsdf"><string name="weights" value="0.6, 0.7"/>' +
+                     DIFFUSE % "0.8, 0.3, 0.2" +
+                     '<bsdf type="roughconductor"><string name="material" value="Cu"/>'
+                     '<string name="distribution" value="ggx"/><float name="alpha" value="0.2"/></bsdf></bsdf>',
+                     "-0.42, 0.4, 0", 0.4) +
+              sphere('<bsdf type="mixturebsdf"><string name="weights" value="0.3; 0.5"/>'
+                     '<boolean name="ensureEnergyConservation" value="false"/>' + gold +
+                     DIFFUSE % "0.2, 0.5, 0.8" + '</bsdf>', "0.45, 0.35, 0.1", 0.35)),
+        pt_bdpt + ["mlt"])
+    s["bsdf-blendbsdf"] = ("blendbsdf: weight 0.3 between diffuse and rough plastic; a bitmap weight between diffuse and gold",
+        scene(sphere('<bsdf type="blendbsdf"><float name="weight" value="0.3"/>' + DIFFUSE % "0.3, 0.7, 0.4" +
+                     '<bsdf type="roughplastic"><string name="distribution" value="ggx"/><float name="alpha" value="0.1"/>'
+                     '<rgb name="diffuseReflectance" value="0.7, 0.2, 0.1"/></bsdf></bsdf>', "-0.45, 0.35, 0.1", 0.35) +
+              rect('<bsdf type="blendbsdf"><texture type="bitmap" name="weight">' + bitmap() + '</texture>' +
+                   DIFFUSE % "0.8, 0.8, 0.8" + gold + '</bsdf>',
+                   '<scale x="0.4" y="0.4"/><rotate y="1" angle="-20"/><translate x="0.45" y="0.7" z="-0.3"/>')),
+        pt_bdpt + ["mlt"])
     # Rough plastic seen and lit at grazing angles: a panel over the floor, a low camera.
     # Mitsuba weights the base by the rough coating's transmittance, which at grazing
     # angles is far above the smooth 1 - F (GGX alpha 0.12: 0.64 against 0.43 at cos 0.1).

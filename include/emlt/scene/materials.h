@@ -2,6 +2,8 @@
 // Factories for the built-in BSDFs. Parameters follow Mitsuba 0.6 naming where one exists.
 // Every colour or roughness that Mitsuba lets a texture drive has an overload taking a
 // TexturePtr; the Rgb/float forms wrap their value in a constant texture.
+#include <vector>
+
 #include "emlt/scene/bsdf.h"
 #include "emlt/scene/texture.h"
 
@@ -84,5 +86,14 @@ BsdfPtr make_rough_plastic(TexturePtr alpha, TexturePtr diffuse_reflectance,
                            float ext_ior = 1.000277f, bool nonlinear = false,
                            MicrofacetType distribution = MicrofacetType::Ggx);
 BsdfPtr make_two_sided(BsdfPtr inner);
+// Mitsuba's `mixturebsdf`: sum_i weights_i f_i, each part sampled in proportion to its
+// weight. With `ensure_energy_conservation` (Mitsuba's default) weights summing to more than
+// 1 are scaled to sum to 1. Weights must not be negative and must have a positive sum.
+BsdfPtr make_mixture(std::vector<BsdfPtr> parts, std::vector<float> weights,
+                     bool ensure_energy_conservation = true);
+// Mitsuba's `blendbsdf`: (1 - w) f_first + w f_second, w the channel mean of `weight` at the
+// point, clamped to [0, 1].
+BsdfPtr make_blend(TexturePtr weight, BsdfPtr first, BsdfPtr second);
+BsdfPtr make_blend(float weight, BsdfPtr first, BsdfPtr second);
 
 }  // namespace emlt

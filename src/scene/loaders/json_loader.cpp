@@ -504,12 +504,50 @@ class JsonSceneReader {
           texture(m, "specular_reflectance", where, Rgb(1.0f)), ior(m, "int_ior", where, 1.49f),
           ior(m, "ext_ior", where, 1.000277f), boolean(m, "nonlinear", where, false),
           type == "plastic" ? MicrofacetType::Ggx : distribution(m, where));
+    } else if (type == "mixture" || type == "blend") {
+      // Weighted sums of nested materials (Mitsuba's mixturebsdf and blendbsdf); each part
+      // keeps its own sidedness, and opacity and bump belong to the whole surface.
+      const bool mixture = type == "mixture";
+      if (mixture)
+        check_keys(
+            m, where,
+            {"type", "materials", "weights", "ensure_energy_conservation", "opacity", "bump"});
+      else
+        check_keys(m, where, {"type", "materials", "weight", "opacity", "bump"});
+      opaque = false;
+      const json& list = required(m, "materials", where);
+      if (!list.is_array()) fail(where + ".materials", "expected an array of materials");
+      std::vector<BsdfPtr> parts;
+      for (size_t i = 0; i < list.size(); ++i) {
+        const std::string at = where + ".materials[" + std::to_string(i) + "]";
+        const MaterialDesc part = read_material(list[i], at);
+        if (part.opacity || part.bump)
+          fail(at, "a part of a " + type + " takes no opacity or bump");
+        parts.push_back(part.bsdf);
+      }
+      if (mixture) {
+        const json& weights = required(m, "weights", where);
+        if (!weights.is_array() || weights.size() != parts.size())
+          fail(where + ".weights", "expected one number per material");
+        std::vector<float> values;
+        float total = 0.0f;
+        for (size_t i = 0; i < weights.size(); ++i) {
+          values.push_back(number(weights[i], where + ".weights[" + std::to_string(i) + "]",
+                                  loader::kNonNegativeRange));
+          total += values.back();
+        }
+        if (!(total > 0.0f)) fail(where + ".weights", "must sum to more than 0");
+        bsdf = make_mixture(parts, values, boolean(m, "ensure_energy_conservation", where, true));
+      } else {
+        if (parts.size() != 2) fail(where + ".materials", "a blend takes exactly two materials");
+        bsdf = make_blend(texture(m, "weight", where, Rgb(0.5f)), parts[0], parts[1]);
+      }
     } else {
       fail(where + ".type",
            "unknown material type '" + type +
                "' (diffuse, roughdiffuse, phong, ward, difftrans, mirror, dielectric, "
                "roughdielectric, thindielectric, conductor, roughconductor, plastic, "
-               "roughplastic)");
+               "roughplastic, mixture, blend)");
     }
     // Opaque surfaces are two-sided by default: a single-sided wall seen from behind
     // renders black, which is rarely what a hand-written scene means.

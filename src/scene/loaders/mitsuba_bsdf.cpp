@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "emlt/core/error.h"
 #include "emlt/scene/conductor_presets.h"
@@ -254,10 +255,76 @@ class BsdfReader {
     return nested(node, props, &ignored_textures);
   }
 
+  // The nested BSDFs of a mixturebsdf or blendbsdf, in the file's order. A nested mask or
+  // bump map is a property of the whole surface in emlt, not of one part of a sum.
+  std::vector<BsdfPtr> parts(pugi::xml_node node, Properties& props) {
+    std::vector<BsdfPtr> bsdfs;
+    for (pugi::xml_node child : props.objects()) {
+      const std::string kind = child.name();
+      if (kind != "bsdf" && kind != "ref") {
+        doc_.warn(child,
+                  "unsupported element <" + kind + "> inside " + doc_.describe(node) + " ignored");
+        continue;
+      }
+      const MaterialDesc part = read(child);
+      if (part.opacity || part.bump)
+        doc_.warn(child,
+                  "a mask or bump map inside " + doc_.describe(node) +
+                      " is not supported; its nested BSDF is used alone",
+                  Document::Warning::Approximated);
+      bsdfs.push_back(part.bsdf);
+    }
+    return bsdfs;
+  }
+
+  BsdfPtr mixture(pugi::xml_node node, Properties& props) {
+    const std::vector<BsdfPtr> bsdfs = parts(node, props);
+    if (!props.has("weights")) doc_.fail(node, "<bsdf type=\"mixturebsdf\"> needs 'weights'");
+    const pugi::xml_node weights_node = props.node_of("weights");
+    // Mitsuba separates the weights by spaces, commas or semicolons.
+    std::string text = props.get_string("weights", "");
+    for (char& c : text)
+      if (c == ';') c = ' ';
+    const std::vector<float> weights = doc_.to_floats(weights_node, text);
+    if (weights.empty()) doc_.fail(weights_node, "'weights' of a mixturebsdf lists no weight");
+    if (weights.size() != bsdfs.size())
+      doc_.fail(node, "mixturebsdf has " + std::to_string(bsdfs.size()) + " nested BSDFs but " +
+                          std::to_string(weights.size()) + " weights");
+    float total = 0.0f;
+    for (float w : weights) {
+      if (w < 0.0f) doc_.fail(weights_node, "'weights' of a mixturebsdf must not be negative");
+      total += w;
+    }
+    if (!(total > 0.0f))
+      doc_.fail(weights_node, "'weights' of a mixturebsdf must sum to more than 0");
+    const bool conserve = props.get_boolean("ensureEnergyConservation", true);
+    if (conserve && total > 1.0f)
+      doc_.warn(node,
+                "weights summing to " + std::to_string(total) +
+                    " divided by their sum to conserve energy, as Mitsuba does "
+                    "(ensureEnergyConservation)",
+                Document::Warning::Note);
+    return make_mixture(bsdfs, weights, conserve);
+  }
+
+  BsdfPtr blend(pugi::xml_node node, Properties& props) {
+    const std::vector<BsdfPtr> bsdfs = parts(node, props);
+    if (bsdfs.size() != 2)
+      doc_.fail(node, "blendbsdf needs exactly two nested BSDFs (it has " +
+                          std::to_string(bsdfs.size()) + ")");
+    // A number, or a texture given as <texture name="weight"> or <ref name="weight">.
+    TexturePtr weight = texture(props, "weight", Rgb(0.5f));
+    // Read by every Mitsuba BSDF; a blend's weights always sum to 1, so it changes nothing.
+    props.get_boolean("ensureEnergyConservation", true);
+    return make_blend(weight, bsdfs[0], bsdfs[1]);
+  }
+
   MaterialDesc build(const std::string& type, pugi::xml_node node, Properties& props) {
     if (type == "twosided" || type == "mask" || type == "bumpmap" || type == "coating" ||
         type == "normalmap")
       return wrapper(type, node, props);
+    if (type == "mixturebsdf") return MaterialDesc("", mixture(node, props));
+    if (type == "blendbsdf") return MaterialDesc("", blend(node, props));
     no_children(node, props);
     return MaterialDesc("", scattering(type, node, props));
   }
