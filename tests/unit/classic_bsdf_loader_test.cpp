@@ -11,54 +11,17 @@
 #include "emlt/scene/description.h"
 #include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/materials.h"
+#include "support/bsdf_loader_checks.h"
 #include "support/test_support.h"
 
 using namespace emlt;
 
+using test::expect_same_bsdf;
+using test::json_with_material;
+using test::subject;
+using test::xml_with_bsdf;
+
 namespace {
-
-std::string xml_with_bsdf(const std::string& bsdf) {
-  return R"(<?xml version="1.0"?>
-<scene version="0.6.0">
-  <sensor type="perspective">
-    <float name="fov" value="40"/>
-    <transform name="toWorld"><lookat origin="0,0,-5" target="0,0,0" up="0,1,0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film>
-  </sensor>
-  <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
-  )" + bsdf +
-         R"(
-  <shape type="sphere"><ref id="subject"/></shape>
-</scene>
-)";
-}
-
-std::string json_with_material(const std::string& material) {
-  return R"({"camera": {"lookat": {"origin": [0,0,-5], "target": [0,0,0], "up": [0,1,0]}, "fov": 40},
-  "materials": {"subject": )" +
-         material + R"(},
-  "shapes": [{"type": "rectangle", "emission": [1,1,1]}, {"type": "sphere", "material": "subject"}]})";
-}
-
-const MaterialDesc& subject(const SceneDescription& d) {
-  for (const MaterialDesc& m : d.materials)
-    if (m.name == "subject") return m;
-  throw std::runtime_error("no material named subject");
-}
-
-// The loaded BSDF and the expected one agree on value and density at random directions.
-void expect_same_bsdf(const Bsdf& loaded, const Bsdf& expected, const std::string& what) {
-  Rng rng(7, 0);
-  for (int n = 0; n < 200; ++n) {
-    const Vec3 wo = glm::normalize(Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform()));
-    const Vec3 wi = glm::normalize(Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform()));
-    const Rgb a = loaded.eval({}, wo, wi), b = expected.eval({}, wo, wi);
-    for (int c = 0; c < 3; ++c) ASSERT_NEAR(a[c], b[c], 1e-5f * (1.0f + b[c])) << what;
-    ASSERT_NEAR(loaded.pdf({}, wo, wi), expected.pdf({}, wo, wi),
-                1e-5f * (1.0f + expected.pdf({}, wo, wi)))
-        << what;
-  }
-}
 
 SceneDescription load_xml(const std::string& name, const std::string& bsdf) {
   const auto dir = test::scratch_dir("classic-bsdf-loader");

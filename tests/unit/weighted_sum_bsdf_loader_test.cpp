@@ -11,47 +11,17 @@
 #include "emlt/scene/description.h"
 #include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/materials.h"
+#include "support/bsdf_loader_checks.h"
 #include "support/test_support.h"
 
 using namespace emlt;
 
+using test::expect_same_bsdf;
+using test::json_with_material;
+using test::subject;
+using test::xml_with_bsdf;
+
 namespace {
-
-std::string xml_with_bsdf(const std::string& bsdf) {
-  return R"(<?xml version="1.0"?>
-<scene version="0.6.0">
-  <sensor type="perspective">
-    <float name="fov" value="40"/>
-    <transform name="toWorld"><lookat origin="0,0,-5" target="0,0,0" up="0,1,0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film>
-  </sensor>
-  <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
-  )" + bsdf +
-         R"(
-  <shape type="sphere"><ref id="subject"/></shape>
-</scene>
-)";
-}
-
-const MaterialDesc& subject(const SceneDescription& d) {
-  for (const MaterialDesc& m : d.materials)
-    if (m.name == "subject") return m;
-  throw std::runtime_error("no material named subject");
-}
-
-void expect_same_bsdf(const Bsdf& loaded, const Bsdf& expected, const std::string& what,
-                      const BsdfContext& ctx = {}) {
-  Rng rng(7, 0);
-  for (int n = 0; n < 200; ++n) {
-    const Vec3 wo = glm::normalize(Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform()));
-    const Vec3 wi = glm::normalize(Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform()));
-    const Rgb a = loaded.eval(ctx, wo, wi), b = expected.eval(ctx, wo, wi);
-    for (int c = 0; c < 3; ++c) ASSERT_NEAR(a[c], b[c], 1e-5f * (1.0f + b[c])) << what;
-    ASSERT_NEAR(loaded.pdf(ctx, wo, wi), expected.pdf(ctx, wo, wi),
-                1e-5f * (1.0f + expected.pdf(ctx, wo, wi)))
-        << what;
-  }
-}
 
 SceneDescription load(const std::string& name, const std::string& text) {
   const auto dir = test::scratch_dir("weighted-sum-loader");
