@@ -448,6 +448,29 @@ TEST(Loader, XmlParticleTracerHideEmittersAndBruteForce) {
                   .render.said("--hide-emitters") == "true");
 }
 
+// highQualityEdges samples just outside the image in Mitsuba, which changes the border
+// pixels under a filter wider than a pixel: approximated there (emlt's border pixels are
+// Mitsuba's without it), a note with a box filter, nothing when false.
+TEST(Loader, HighQualityEdgesIsApproximatedUnderAWideFilter) {
+  const auto dir = test::scratch_dir("high-quality-edges");
+  const auto film = [&](const std::string& name, const std::string& edges,
+                        const std::string& filter) {
+    return load_scene_description(write_file(dir, name, R"(<scene version="0.6.0">
+  <sensor type="perspective"><film type="hdrfilm"><integer name="width" value="8"/>
+    <integer name="height" value="8"/><boolean name="highQualityEdges" value=")" + edges +
+                                                           R"("/>)" + filter + R"(</film></sensor>
+  <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+</scene>)"));
+  };
+  EXPECT_EQ(film("gaussian.xml", "true", "").verdict(), "approximated: 1 item");
+  const SceneDescription box = film("box.xml", "true", R"(<rfilter type="box"/>)");
+  EXPECT_EQ(box.verdict(), "exact");
+  EXPECT_TRUE(any_contains(box.warnings, "'highQualityEdges' changes nothing with a box filter"));
+  const SceneDescription off = film("off.xml", "false", "");
+  EXPECT_EQ(off.verdict(), "exact");
+  EXPECT_TRUE(off.warnings.empty()) << off.warnings.front();
+}
+
 TEST(Loader, XmlSensorFilmSamplerAndIntegrator) {
   const auto dir = test::scratch_dir("sensor");
   const std::string xml = write_file(dir, "scene.xml", R"(<scene version="0.6.0">

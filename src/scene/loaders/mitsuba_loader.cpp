@@ -229,7 +229,8 @@ class MitsubaSceneReader {
     // Output encoding only; the renderer chooses its own from the output file name (an
     // ldrfilm's tone mapping included: emlt writes linear radiance and a PNG preview).
     props.ignore({"banner", "pixelFormat", "componentFormat", "fileFormat", "attachLog",
-                  "highQualityEdges", "tonemapMethod", "gamma", "exposure", "key", "burn"});
+                  "tonemapMethod", "gamma", "exposure", "key", "burn"});
+    const bool high_quality_edges = props.get_boolean("highQualityEdges", false);
     if (props.has("filename")) {  // not a Mitsuba film parameter; the output is named by -o
       props.ignore({"filename"});
       doc_.warn(node, "film parameter 'filename' ignored, as Mitsuba does (the output is -o)",
@@ -241,6 +242,17 @@ class MitsubaSceneReader {
         read_filter(child);
       else
         doc_.warn(child, "unsupported element " + doc_.describe(child) + " inside <film> ignored");
+    }
+    // Mitsuba then also samples just outside the image, so that a border pixel gets its
+    // filter's whole footprint; emlt normalises the footprint over the part inside the image,
+    // as Mitsuba does without it. A box filter lies within its pixel: nothing changes.
+    if (high_quality_edges) {
+      const bool box = desc_.camera.filter.kind == PixelFilterDesc::Kind::Box;
+      doc_.warn(node,
+                box ? "'highQualityEdges' changes nothing with a box filter"
+                    : "'highQualityEdges' is not supported: the border pixels are filtered over "
+                      "the part of their footprint inside the image, as Mitsuba does without it",
+                box ? Document::Warning::Note : Document::Warning::Approximated);
     }
     props.warn_unused();
   }
