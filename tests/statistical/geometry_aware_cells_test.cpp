@@ -98,9 +98,12 @@ TEST(GeometryAwareCellCone, TheTableReturnsTheKeysOwnCone) {
       ++wrong;
     // The same key under other limits, right after: served by the entry where it settles the
     // clamp, recomputed where not; either way the key's own value.
-    for (const double factor : {0.2, 3.0, 0.7}) {
-      const double lo = std::min(s.alpha_min * factor, 1.0),
-                   hi = std::max(s.alpha_max / factor, lo);
+    // (The last pair lowers only the floor, far: an entry at its floor must not serve it.)
+    for (const auto& [lo_factor, hi_factor] :
+         {std::pair{0.2, 5.0}, std::pair{3.0, 1.0 / 3.0}, std::pair{0.7, 1.0 / 0.7},
+          std::pair{1e-3, 1.0}}) {
+      const double lo = std::min(s.alpha_min * lo_factor, 1.0),
+                   hi = std::max(s.alpha_max * hi_factor, lo);
       if (geometry_aware::cell_cone_half_angle(*scene, *s.apex, *s.other, lo, hi, kFraction) !=
           geometry_aware::cell_key_cone(*scene, key, lo, hi))
         ++wrong;
