@@ -146,13 +146,8 @@ MaterialDesc JsonSceneReader::read_material(const json& spec, const std::string&
                 "diffuse_reflectance", "two_sided", "opacity", "bump"});
     const std::string name =
         m.contains("variant") ? string(m["variant"], where + ".variant") : "balanced";
-    WardVariant variant = WardVariant::Balanced;
-    if (name == "ward")
-      variant = WardVariant::Ward;
-    else if (name == "ward-duer")
-      variant = WardVariant::WardDuer;
-    else if (name != "balanced")
-      fail(where + ".variant", "expected \"ward\", \"ward-duer\" or \"balanced\"");
+    const std::optional<WardVariant> variant = parse_ward_variant(name);
+    if (!variant) fail(where + ".variant", "expected \"ward\", \"ward-duer\" or \"balanced\"");
     const float alpha =
         m.contains("alpha") ? number(m["alpha"], where + ".alpha", loader::kPositiveRange) : 0.1f;
     TexturePtr alpha_u = texture(m, "alpha_u", where, Rgb(alpha));
@@ -160,7 +155,7 @@ MaterialDesc JsonSceneReader::read_material(const json& spec, const std::string&
     for (const auto& [key, a] : {std::pair{"alpha_u", alpha_u}, std::pair{"alpha_v", alpha_v}})
       if (auto c = a->constant(); c && !(c->x > 0.0f)) fail(where + "." + key, "must be > 0");
     bsdf =
-        make_ward(variant, alpha_u, alpha_v, texture(m, "specular_reflectance", where, Rgb(0.2f)),
+        make_ward(*variant, alpha_u, alpha_v, texture(m, "specular_reflectance", where, Rgb(0.2f)),
                   texture(m, "diffuse_reflectance", where, Rgb(0.5f)));
   } else if (type == "difftrans") {
     check_keys(m, where, {"type", "transmittance", "opacity", "bump"});

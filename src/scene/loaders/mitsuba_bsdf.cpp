@@ -378,12 +378,8 @@ class BsdfReader {
     if (type == "ward") {
       std::string name = props.get_string("variant", "balanced");
       for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));  // as Mitsuba
-      WardVariant variant = WardVariant::Balanced;
-      if (name == "ward")
-        variant = WardVariant::Ward;
-      else if (name == "ward-duer")
-        variant = WardVariant::WardDuer;
-      else if (name != "balanced")
+      const std::optional<WardVariant> variant = parse_ward_variant(name);
+      if (!variant)
         doc_.fail(props.node_of("variant"),
                   "unknown ward variant '" + name + "' (ward, ward-duer or balanced)");
       // `alpha` (a number) is the default of both alphaU and alphaV, which may be textures.
@@ -397,7 +393,7 @@ class BsdfReader {
       TexturePtr specular = texture(props, "specularReflectance", Rgb(0.2f));
       TexturePtr diffuse = texture(props, "diffuseReflectance", Rgb(0.5f));
       conserve_energy(props, node, {&specular, &diffuse});
-      return make_ward(variant, alpha_u, alpha_v, specular, diffuse);
+      return make_ward(*variant, alpha_u, alpha_v, specular, diffuse);
     }
     if (type == "dielectric" || type == "thindielectric") {
       const float int_ior = ior(props, "intIOR", 1.5046f, node);

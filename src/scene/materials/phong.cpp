@@ -24,10 +24,7 @@ class Phong final : public Bsdf {
       : exponent_(std::move(exponent)),
         specular_(std::move(specular)),
         diffuse_(std::move(diffuse)) {
-    const float specular_weight = luminance(texture_average(specular_.texture()));
-    const float diffuse_weight = luminance(texture_average(diffuse_.texture()));
-    const float total = specular_weight + diffuse_weight;
-    specular_probability_ = total > 0.0f ? specular_weight / total : 0.5f;
+    specular_probability_ = specular_lobe_probability(specular_.texture(), diffuse_.texture());
   }
 
   Rgb eval(const BsdfContext& ctx, const Vec3& wo, const Vec3& wi) const override {

@@ -18,4 +18,13 @@ inline Rgb texture_average(const TexturePtr& texture) {
   return sum / float(kSide * kSide);
 }
 
+// How often a two-lobe BRDF (phong, ward) samples its specular lobe: the lobe's share of the
+// luminance of the two reflectances' averages, as Mitsuba chooses; half when both are black.
+inline float specular_lobe_probability(const TexturePtr& specular, const TexturePtr& diffuse) {
+  const float specular_weight = luminance(texture_average(specular));
+  const float diffuse_weight = luminance(texture_average(diffuse));
+  const float total = specular_weight + diffuse_weight;
+  return total > 0.0f ? specular_weight / total : 0.5f;
+}
+
 }  // namespace emlt

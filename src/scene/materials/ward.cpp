@@ -32,10 +32,7 @@ class Ward final : public Bsdf {
         alpha_v_(std::move(alpha_v)),
         specular_(std::move(specular)),
         diffuse_(std::move(diffuse)) {
-    const float specular_weight = luminance(texture_average(specular_.texture()));
-    const float diffuse_weight = luminance(texture_average(diffuse_.texture()));
-    const float total = specular_weight + diffuse_weight;
-    specular_probability_ = total > 0.0f ? specular_weight / total : 0.5f;
+    specular_probability_ = specular_lobe_probability(specular_.texture(), diffuse_.texture());
     isotropic_ = alpha_u_.is_constant() && alpha_v_.is_constant() &&
                  alpha_u_.constant_value() == alpha_v_.constant_value();
   }
@@ -161,6 +158,13 @@ class Ward final : public Bsdf {
 };
 
 }  // namespace
+
+std::optional<WardVariant> parse_ward_variant(const std::string& name) {
+  if (name == "ward") return WardVariant::Ward;
+  if (name == "ward-duer") return WardVariant::WardDuer;
+  if (name == "balanced") return WardVariant::Balanced;
+  return std::nullopt;
+}
 
 BsdfPtr make_ward(WardVariant variant, TexturePtr alpha_u, TexturePtr alpha_v,
                   TexturePtr specular_reflectance, TexturePtr diffuse_reflectance) {
