@@ -10,8 +10,9 @@ constexpr double kFallbackThetaMin = 1e-4, kFallbackThetaMax = 0.1;
 }
 
 bool EnvironmentPerturbation::applies_to(const Path& x, const MutationContext&) const {
-  return x.vertices.size() >= 3 && x.vertices[0].is_environment() && x.vertices[1].is_surface() &&
-         !x.vertices[1].delta;
+  // The sky only: a directional light's one direction cannot move.
+  return x.vertices.size() >= 3 && x.vertices[0].kind == VertexKind::Environment &&
+         x.vertices[1].is_surface() && !x.vertices[1].delta;
 }
 
 std::optional<Path> EnvironmentPerturbation::with_sky_direction(const Path& x,

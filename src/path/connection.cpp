@@ -82,6 +82,9 @@ Rgb connect_vertices(const Scene& scene, const PathVertex* y_prev, const PathVer
                      const PathVertex& z, const PathVertex* z_prev) {
   // The sky ends a path on the light side only; an escaped eye ray cannot scatter.
   if (z.is_environment() || (y.is_environment() && y_prev)) return Rgb(0.0f);
+  // A delta light seen straight from the lens: Mitsuba draws no point or directional light
+  // in the image, and no other strategy could sample this path.
+  if (!y_prev && y.is_delta_emitter() && z.is_camera()) return Rgb(0.0f);
   // Purely specular surfaces are never connected (their eval is zero anyway: skip early).
   const auto purely_delta = [](const PathVertex& v) { return v.bsdf && v.bsdf->is_purely_delta(); };
   if ((y_prev && purely_delta(y)) || (z_prev && purely_delta(z))) return Rgb(0.0f);
@@ -107,7 +110,8 @@ namespace {
 // from it through a Dirac lobe (a connection end).
 float pdf_along(const Scene& scene, const PathVertex* before, const PathVertex& from,
                 const PathVertex& to, const Segment& out, const Vec3* back, bool smooth) {
-  if (to.is_camera()) return 0.0f;  // no walk can hit the lens
+  // No walk can hit the lens or a delta light.
+  if (to.is_camera() || to.is_delta_emitter()) return 0.0f;
   const Vec3& w = out.w;
   if (from.is_camera()) {
     float pdf_position = 0.0f, pdf_direction = 0.0f;
@@ -166,6 +170,8 @@ float pdf_towards(const Scene& scene, const PathVertex* before, const PathVertex
 float pdf_light_origin(const Scene& scene, const PathVertex& v) {
   if (!v.light) return 0.0f;
   const float selection = scene.lights().selection_probability(*v.light);
+  // A delta light's one point or direction: a discrete choice, probability 1.
+  if (v.is_delta_emitter()) return selection;
   if (v.is_environment()) {
     return selection *
            static_cast<const EnvironmentLight*>(v.light)->pdf_direction(v.sky_direction);

@@ -7,6 +7,8 @@ namespace emlt {
 bool split_is_possible(std::span<const VertexDensity> path, int s) {
   const int n = int(path.size());
   if (s < 0 || s >= n) return false;  // t = 0 would need a walk to hit the lens
+  // No camera walk hits a delta light, and none is seen from the lens (connection.h).
+  if (path[0].delta_emitter && (s == 0 || (s == 1 && n == 2))) return false;
   if (s == 0) return true;            // the camera walk hits x0; its density decides
   if (path[size_t(s - 1)].delta || path[size_t(s)].delta) return false;
   // Light tracing from a sky direction straight into the lens is not a sampled strategy

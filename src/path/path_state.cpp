@@ -5,6 +5,8 @@
 #include <cstring>
 
 #include "emlt/core/error.h"
+#include "emlt/scene/directional_light.h"
+#include "emlt/scene/point_light.h"
 
 namespace emlt {
 
@@ -77,7 +79,8 @@ Path PathCodec::load(StateReader& in) const {
               glm::length(scene_.camera().position() - scene_.bounds_center()));
   for (PathVertex& v : path.vertices) {
     const uint8_t kind = in.get<uint8_t>();
-    if (kind > uint8_t(VertexKind::Camera)) throw StateError("a saved path vertex has no known kind");
+    if (kind > uint8_t(VertexKind::DistantEmitter))
+      throw StateError("a saved path vertex has no known kind");
     v.kind = VertexKind(kind);
     v.delta = in.get<uint8_t>() != 0;
     v.position = in.get<Vec3>();
@@ -108,17 +111,30 @@ Path PathCodec::load(StateReader& in) const {
                         std::isfinite(v.delta_probability) && is_finite(v.delta_value) &&
                         std::isfinite(v.delta_ior_ratio) && is_finite(v.raster);
     if (!finite) throw StateError("a saved path vertex holds a value that is not a number");
+    // A delta light's vertex is its light's one point or direction (and only such a
+    // light's vertex is of those kinds): mutations never move it.
+    const bool point = v.kind == VertexKind::PointEmitter;
+    const bool distant = v.kind == VertexKind::DistantEmitter;
+    bool light_ok = !v.light || !v.light->is_delta();
+    if (point)
+      light_ok = v.light && v.light->is_delta_position() &&
+                 v.position == static_cast<const PointLight*>(v.light)->position();
+    if (distant)
+      light_ok = v.light && v.light->is_delta_direction() &&
+                 v.sky_direction == static_cast<const DirectionalLight*>(v.light)->towards_light();
+    if (!light_ok) throw StateError("a saved path vertex does not match its delta light");
     // Mutations trace rays from these points along directions made of these vectors: a
     // normal of length 1e27 or a point far beyond the scene made rays Embree refuses (it
     // asserts), a vector of no length is normalised into NaN. Points lie within the scene's
-    // bounds or on the lens.
+    // bounds or on the lens; a point light has no directions, and may lie anywhere.
     const bool directions_ok =
         v.is_environment() ? is_unit(v.sky_direction)
-                           : is_unit(v.normal) && is_unit(v.shading.s) && is_unit(v.shading.t) &&
-                                 is_unit(v.shading.n);
+                           : point || (is_unit(v.normal) && is_unit(v.shading.s) &&
+                                       is_unit(v.shading.t) && is_unit(v.shading.n));
     if (!directions_ok)
       throw StateError("a saved path vertex has a normal or direction that is not of unit length");
-    if (!v.is_environment() && !(glm::length(v.position - scene_.bounds_center()) <= reach))
+    if (!v.is_environment() && !point &&
+        !(glm::length(v.position - scene_.bounds_center()) <= reach))
       throw StateError("a saved path vertex lies outside the scene");
   }
   // The shape every path of the chains has: an emitter or the sky first, the lens last,

@@ -131,9 +131,18 @@ int light_subpath(const Scene& scene, Sampler& rng, const WalkLimits& limits,
     return 0;
 
   PathVertex origin;
-  if (light->is_environment()) {
+  if (light->at_infinity()) {
     origin = make_environment_vertex(scene, -emission->ray.direction);
+    if (light->is_delta_direction()) {
+      origin.kind = VertexKind::DistantEmitter;
+      origin.light = light;
+    }
     origin.pdf_from_light = selection * emission->pdf_direction;
+  } else if (light->is_delta_position()) {
+    origin.kind = VertexKind::PointEmitter;
+    origin.position = emission->ray.origin;
+    origin.light = light;
+    origin.pdf_from_light = selection * emission->pdf_position;
   } else {
     origin.kind = VertexKind::Surface;
     origin.position = emission->ray.origin;
@@ -149,7 +158,8 @@ int light_subpath(const Scene& scene, Sampler& rng, const WalkLimits& limits,
   auto first = trace_to_vertex(scene, emission->ray);
   if (!first || first->is_environment()) return 1;
   // Le |cos| / (p_select p_position p_direction): f/p of the first segment.
-  const float cos_emission = light->is_environment()
+  // No cosine at the sky, a directional light or a point: none has a surface.
+  const float cos_emission = light->at_infinity() || light->is_delta_position()
                                  ? 1.0f
                                  : std::abs(glm::dot(emission->normal, emission->ray.direction));
   Rgb throughput = emission->radiance *
@@ -157,7 +167,7 @@ int light_subpath(const Scene& scene, Sampler& rng, const WalkLimits& limits,
   if (!keep_finite(throughput, invalid) || is_black(throughput)) return 1;
   first->throughput = throughput;
   first->pdf_from_light =
-      light->is_environment()
+      light->at_infinity()
           ? emission->pdf_position * abs_cos_at(*first, emission->ray.direction)
           : solid_angle_to_vertex_measure(emission->pdf_direction, origin, *first);
   subpath.push_back(*first);

@@ -34,14 +34,15 @@ Rgb sample_light_contribution(const Scene& scene, const SurfaceHit& hit, const V
   if (is_black(f)) return Rgb(0.0f);
 
   const bool unoccluded =
-      light->is_environment()
+      light->at_infinity()
           ? !scene.occluded(spawn_ray(hit.position, hit.geometric_normal, ls->wi))
           : scene.visible(hit.position, hit.geometric_normal, ls->position, ls->normal);
   if (!unoccluded) return Rgb(0.0f);
 
   const float light_pdf = selection * ls->pdf;
-  const float bsdf_pdf = hit.bsdf->pdf(ctx, wo_local, wi_local);
-  const float weight = mis_weight(heuristic, light_pdf, bsdf_pdf);
+  // BSDF sampling never finds a delta light: its light sample has the whole weight.
+  const float weight =
+      ls->delta ? 1.0f : mis_weight(heuristic, light_pdf, hit.bsdf->pdf(ctx, wo_local, wi_local));
   return f * std::abs(wi_local.z) * ls->radiance * (weight / light_pdf);
 }
 

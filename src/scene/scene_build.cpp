@@ -8,7 +8,9 @@
 #include <string>
 
 #include "emlt/core/error.h"
+#include "emlt/scene/directional_light.h"
 #include "emlt/scene/materials.h"
+#include "emlt/scene/point_light.h"
 #include "emlt/scene/scene.h"
 #include "emlt/scene/shape_builders.h"
 #include "emlt/scene/sphere_intersection.h"
@@ -263,10 +265,37 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc, const SceneBuildOptio
     s.stats_.has_environment = true;
     lights.push_back(std::move(environment));
   }
+  for (const PointLightDesc& point : d.point_lights) {
+    const auto finite_ok = [](const Rgb& c) {
+      return is_finite(c) && c.x >= 0.0f && c.y >= 0.0f && c.z >= 0.0f;
+    };
+    if (!is_finite(point.position) || !finite_ok(point.intensity))
+      throw file_error(d.source,
+                       "a point light's position and intensity must be finite (intensity >= 0)");
+    Frame frame;
+    frame.s = glm::normalize(point.orientation[0]);
+    frame.t = glm::normalize(point.orientation[1]);
+    frame.n = glm::normalize(point.orientation[2]);
+    std::optional<SpotProfile> spot;
+    if (point.spot) spot = SpotProfile{point.cutoff, point.beam_width, point.texture};
+    lights.push_back(std::make_unique<PointLight>(point.position, frame, point.intensity, spot,
+                                                  options.delta_light_faults));
+  }
+  for (const DirectionalLightDesc& directional : d.directional_lights) {
+    if (!is_finite(directional.direction) || !(glm::length(directional.direction) > 0.0f) ||
+        !is_finite(directional.irradiance) ||
+        std::min({directional.irradiance.x, directional.irradiance.y, directional.irradiance.z}) <
+            0.0f)
+      throw file_error(d.source,
+                       "a directional light needs a direction and a finite irradiance >= 0");
+    auto light = std::make_unique<DirectionalLight>(directional.direction, directional.irradiance);
+    light->set_scene_bounds(s.bounds_center_, s.bounds_radius_);
+    lights.push_back(std::move(light));
+  }
   Rgb total_power(0.0f);
   for (const LightPtr& light : lights) total_power += light->power();
   if (lights.empty() || !(max_component(total_power) > 0.0f))
-    throw file_error(d.source, "scene has no emitter (no emissive shape and no environment)");
+    throw file_error(d.source, "scene has no emitter (no emissive shape, light or environment)");
   s.lights_ = LightSet(std::move(lights));
 
   s.camera_ = std::make_unique<Camera>(d.camera);

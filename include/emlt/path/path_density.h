@@ -19,10 +19,12 @@ struct VertexDensity {
   bool delta = false;        // a Dirac interaction inside the path: no split may end here
   bool environment = false;  // x0 is the sky
   bool camera = false;
+  bool delta_emitter = false;  // x0 is on a point or directional light
 };
 
 inline VertexDensity density_of(const PathVertex& v) {
-  return {v.pdf_from_light, v.pdf_from_eye, v.delta, v.is_environment(), v.is_camera()};
+  return {v.pdf_from_light, v.pdf_from_eye, v.delta, v.is_environment(), v.is_camera(),
+          v.is_delta_emitter()};
 }
 
 // Whether the split (s light-side vertices) is a strategy BDPT can sample this path with.

@@ -36,6 +36,10 @@ enum class VertexKind : uint8_t {
   Surface,      // a point on geometry, including points on area emitters
   Environment,  // a direction to the sky: a point at infinity
   Camera,       // a point on the lens
+  // x0 on a light with no surface, which no walk can hit. Its density is discrete: the
+  // light sampling that picks the light picks the vertex with probability 1.
+  PointEmitter,    // a point light's position (no cosine at it)
+  DistantEmitter,  // a directional light's direction: a point at infinity, like the sky
 };
 
 struct PathVertex {
@@ -72,8 +76,15 @@ struct PathVertex {
   Vec2 raster{0.0f};  // camera vertices: raster position of the primary direction
 
   bool is_surface() const { return kind == VertexKind::Surface; }
-  bool is_environment() const { return kind == VertexKind::Environment; }
+  // At infinity: the sky or a directional light (measured in solid angle, no position).
+  bool is_environment() const {
+    return kind == VertexKind::Environment || kind == VertexKind::DistantEmitter;
+  }
   bool is_camera() const { return kind == VertexKind::Camera; }
+  // On a delta light: only light sampling makes it, so no strategy may end an eye walk there.
+  bool is_delta_emitter() const {
+    return kind == VertexKind::PointEmitter || kind == VertexKind::DistantEmitter;
+  }
   bool is_emitter() const { return light != nullptr; }
 };
 
@@ -113,9 +124,9 @@ inline Vec3 direction_between(const PathVertex& from, const PathVertex& to) {
 }
 
 // |cos| between world direction w and the vertex's geometric normal (camera: its axis;
-// environment: 1, the sky has no surface).
+// environment and point lights: 1, they have no surface).
 inline float abs_cos_at(const PathVertex& v, const Vec3& w) {
-  if (v.is_environment()) return 1.0f;
+  if (v.is_environment() || v.kind == VertexKind::PointEmitter) return 1.0f;
   return std::abs(glm::dot(v.normal, w));
 }
 

@@ -76,6 +76,22 @@ struct EnvironmentDesc {
   Mat4 to_world{1.0f};     // rotation of the map (directions only)
 };
 
+// Mitsuba 0.6's point and spot emitters (scene/point_light.h).
+struct PointLightDesc {
+  Vec3 position{0.0f};
+  Mat3 orientation{1.0f};  // columns: the light's x, y and z (the spot's axis), unit length
+  Rgb intensity{1.0f};     // W/sr
+  bool spot = false;
+  float cutoff = 0.0f, beam_width = 0.0f;  // radians (spot)
+  TexturePtr texture;                      // spot only; null: white
+};
+
+// Mitsuba 0.6's directional emitter (scene/directional_light.h).
+struct DirectionalLightDesc {
+  Vec3 direction{0.0f, 0.0f, 1.0f};  // the direction the light travels in
+  Rgb irradiance{1.0f};              // at normal incidence
+};
+
 struct CameraDesc {
   // Camera space: +z forward, +y up, +x to the image's left (Mitsuba's convention), so a
   // Mitsuba `toWorld` can be used unchanged. JSON `lookat` builds the same matrix.
@@ -116,6 +132,8 @@ struct SceneDescription {
   std::vector<MeshDesc> meshes;
   std::vector<SphereDesc> spheres;
   EnvironmentDesc environment;
+  std::vector<PointLightDesc> point_lights;
+  std::vector<DirectionalLightDesc> directional_lights;
   CameraDesc camera;
   SceneRenderRequest render;
   std::vector<std::string> warnings;

@@ -21,6 +21,10 @@ struct DirectLightSample {
   float distance = kInfinity;  // kInfinity for the environment
   Rgb radiance{0.0f};    // emitted radiance arriving at ref along -wi
   float pdf = 0.0f;      // solid angle density at ref (light selection not included)
+  // A delta light's one point or direction: `pdf` is the discrete probability 1 and
+  // `radiance` the irradiance it delivers at normal incidence; BSDF sampling can never
+  // find it, so it takes no MIS weight.
+  bool delta = false;
 };
 
 // A ray leaving a light, as light tracing starts it.
@@ -38,7 +42,15 @@ class Light {
 
   // Total emitted flux (used to choose lights in proportion to power).
   virtual Rgb power() const = 0;
+  // The scene's sky, which rays leaving the scene see.
   virtual bool is_environment() const { return false; }
+  // Delta lights (Mitsuba's point, spot and directional emitters): a position or a
+  // direction that only light sampling can pick, never a ray.
+  virtual bool is_delta_position() const { return false; }
+  virtual bool is_delta_direction() const { return false; }
+  bool is_delta() const { return is_delta_position() || is_delta_direction(); }
+  // A light at infinity: the sky, or a directional light. Its x0 is a direction.
+  bool at_infinity() const { return is_environment() || is_delta_direction(); }
 
   virtual std::optional<DirectLightSample> sample_direct(const Vec3& ref, const Vec2& u) const = 0;
   // Solid angle density at `ref` of sample_direct producing the point `p` (normal `n`)

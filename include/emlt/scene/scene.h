@@ -14,6 +14,7 @@
 #include "emlt/scene/description.h"
 #include "emlt/scene/direct_triangles.h"
 #include "emlt/scene/light_set.h"
+#include "emlt/scene/point_light.h"
 #include "emlt/scene/ray.h"
 #include "emlt/scene/surface_bvh.h"
 
@@ -53,6 +54,8 @@ struct SceneBuildOptions {
   // the few spheres are, instead of through Embree's BVH. Off: every ray goes through the
   // BVH (`emlt render --bvh-only`, for comparisons; images differ only by rounding).
   bool direct_triangles = true;
+  // Mistakes injected into the point lights, for the tests that must notice them.
+  DeltaLightFaults delta_light_faults{};
 };
 
 class Scene {

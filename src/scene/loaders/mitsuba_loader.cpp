@@ -62,8 +62,9 @@ class MitsubaSceneReader {
       if (kind == "default" || kind == "bsdf" || kind == "texture") continue;
       if (kind == "shape")
         read_shape(child);
-      else if (kind == "emitter")
-        read_environment(child);
+      else if (kind == "emitter") {
+        if (!mitsuba::read_delta_light(doc_, child, named_, desc_)) read_environment(child);
+      }
       else if (kind == "sensor") {
         if (has_sensor)
           doc_.warn(child, "only the first <sensor> is used");

@@ -133,6 +133,11 @@ MaterialDesc read_bsdf(const Document& doc, pugi::xml_node node, NamedObjects& n
 void read_integrator(const Document& doc, pugi::xml_node node, SceneRenderRequest& request);
 void read_sampler(const Document& doc, pugi::xml_node node, SceneRenderRequest& request);
 
+// A `point`, `spot` or `directional` <emitter> into `desc` (mitsuba_delta_lights.cpp);
+// false, reading nothing, for any other type.
+bool read_delta_light(const Document& doc, pugi::xml_node node, NamedObjects& named,
+                      SceneDescription& desc);
+
 // <texture> element (or <ref id=>) to a texture; declarations with an id are added to
 // `named`.
 TexturePtr read_texture(const Document& doc, pugi::xml_node node, NamedObjects& named);
