@@ -33,8 +33,10 @@ def verdict(emlt, scene, defines=()):
                             text=True)
     if result.returncode != 0:
         raise RuntimeError(f"emlt info {scene} failed: {result.stderr.strip()}")
-    lines = [l for l in result.stdout.splitlines() if l.startswith("verdict")]
-    return lines[-1].split(None, 1)[1] if lines else "(no verdict)", result.stderr
+    lines = result.stdout.splitlines()
+    verdicts = [l for l in lines if l.startswith("verdict")]
+    warnings = "\n".join(l.strip() for l in lines if ": line " in l)
+    return verdicts[-1].split(None, 1)[1] if verdicts else "(no verdict)", warnings
 
 
 def render(emlt, scene, out, defines=()):
