@@ -64,19 +64,29 @@ class BsdfReader {
 
   // Mitsuba's conductor parameters, divided by the exterior IOR like Mitsuba does.
   void conductor_ior(Properties& props, pugi::xml_node node, Rgb* eta, Rgb* k) {
-    if (props.has("eta") || props.has("k")) {
+    // Mitsuba 3 changed the default: no material is a perfect mirror (eta 0, k 1), not Cu;
+    // and it reads no exterior IOR (eta and k are relative to the outside as given).
+    const bool mitsuba3 = doc_.mitsuba3();
+    const bool no_material = mitsuba3 && props.get_string("material", "none") == "none";
+    if (props.has("eta") || props.has("k") || no_material) {
       *eta = props.get_color("eta", Rgb(0.0f));
       *k = props.get_color("k", Rgb(1.0f));
-      if (props.has("material"))
+      if (props.has("material") && !no_material)
         doc_.warn(node, "'material' ignored because eta/k are given", Document::Warning::Note);
       props.ignore({"material"});
     } else {
       const std::string material = props.get_string("material", "Cu");
       if (!conductor_preset(material, eta, k))
         doc_.fail(node, "unknown conductor material '" + material + "'");
+      if (mitsuba3)
+        doc_.warn(props.node_of("material"),
+                  "conductor material '" + material +
+                      "' given Mitsuba 0.6's RGB eta and k; Mitsuba 3 converts the measured "
+                      "spectra its own way (a few per cent apart)",
+                  Document::Warning::Approximated);
     }
     // Mitsuba's default exterior is "air" (1.000277), for named and explicit eta/k alike.
-    const float ext_eta = ior(props, "extEta", 1.000277f, node);
+    const float ext_eta = mitsuba3 ? 1.0f : ior(props, "extEta", 1.000277f, node);
     // Mitsuba's Fresnel term depends on eta^2 and k^2 only, so a negative component (the
     // red eta of the AlSb presets) acts as its magnitude; the conductor BSDFs would clamp
     // it to 0 instead.
@@ -89,6 +99,11 @@ class BsdfReader {
     props.note_sampling_only({"sampleVisible"}, "how Mitsuba samples the microfacet normals");
     std::string name = props.get_string("distribution", "beckmann");
     for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));  // as Mitsuba
+    if (doc_.mitsuba3() && name != "ggx" && name != "beckmann")
+      doc_.warn(props.node_of("distribution"),
+                "microfacet distribution '" + name +
+                    "' is not Mitsuba 3's (it has beckmann and ggx, and refuses this file); "
+                    "read as Mitsuba 0.6's");
     if (name == "ggx") return MicrofacetType::Ggx;
     if (name == "phong" || name == "as") return MicrofacetType::Phong;  // "as": Ashikhmin-Shirley
     if (name != "beckmann")
@@ -211,8 +226,12 @@ class BsdfReader {
     if (type == "twosided") {
       MaterialDesc inner = nested(node, props);
       if (inner.bsdf->lobes() & kLobeTransmission) {
-        doc_.warn(node, "<twosided> around a transmissive BSDF has no effect; left out",
-                  Document::Warning::Note);
+        if (doc_.mitsuba3())  // allow_transmission aside, Mitsuba 3 refuses it
+          doc_.warn(node,
+                    "<twosided> around a transmissive BSDF is refused by Mitsuba 3; left out");
+        else
+          doc_.warn(node, "<twosided> around a transmissive BSDF has no effect; left out",
+                    Document::Warning::Note);
         return inner;
       }
       inner.bsdf = make_two_sided(inner.bsdf);
@@ -239,6 +258,7 @@ class BsdfReader {
       for (pugi::xml_node t : textures)
         if (!height) height = read_texture(doc_, t, named_);
       if (!height) doc_.fail(node, "<bsdf type=\"bumpmap\"> needs a nested <texture>");
+      if (doc_.mitsuba3()) height = mitsuba3_bump_height(node, props, height);
       if (inner.bump)
         doc_.warn(node, "nested bump maps: only the outer one is used",
                   Document::Warning::Approximated);
@@ -253,6 +273,26 @@ class BsdfReader {
                   "distribution", "sampleVisible"});
     std::vector<pugi::xml_node> ignored_textures;
     return nested(node, props, &ignored_textures);
+  }
+
+  // Mitsuba 3's bumpmap scales the height by its `scale` (0.6 nests a scale texture), and
+  // by default darkens the shading where the bumped normal leans far from the true one
+  // (use_shadowing_function), which emlt does not.
+  TexturePtr mitsuba3_bump_height(pugi::xml_node node, Properties& props, TexturePtr height) {
+    // Mitsuba 3 also turns a bumped normal that faces away from the viewer back
+    // (flip_invalid_normals); emlt bends normals as 0.6 does.
+    const float scale = props.get_float("scale", 1.0f);
+    const bool shadowing = props.get_boolean("use_shadowing_function", true);
+    const bool flip = props.get_boolean("flip_invalid_normals", true);
+    if (shadowing || flip)
+      doc_.warn(node,
+                std::string("Mitsuba 3's bump map ") +
+                    (shadowing ? "shadowing function (use_shadowing_function)" : "") +
+                    (shadowing && flip ? " and " : "") +
+                    (flip ? "normal flipping (flip_invalid_normals)" : "") +
+                    " not supported; bumped as Mitsuba 0.6 bumps",
+                Document::Warning::Approximated);
+    return scale == 1.0f ? height : make_scale_texture(height, Rgb(scale));
   }
 
   // The nested BSDFs of a mixturebsdf or blendbsdf, in the file's order. A nested mask or
@@ -439,6 +479,16 @@ class BsdfReader {
       TexturePtr diffuse = texture(props, "diffuseReflectance", Rgb(0.5f));
       TexturePtr specular = texture(props, "specularReflectance", Rgb(1.0f));
       return make_rough_plastic(a, diffuse, specular, int_ior, ext_ior, nonlinear, dist);
+    }
+    if (type == "principled" && doc_.mitsuba3()) {
+      // Disney's diffuse lobe is not Lambertian (retro-reflection, sheen) and its specular
+      // lobe is not any one BSDF here: no parameter set of it maps exactly.
+      doc_.warn(node,
+                "<bsdf type=\"principled\"> is not supported; rendered as a diffuse of its "
+                "base_color (its other parameters ignored)");
+      TexturePtr base = texture(props, "base_color", Rgb(0.5f));
+      props.ignore_rest();  // one item for the whole BSDF
+      return make_lambertian(base);
     }
     doc_.warn(node, "unsupported BSDF type '" + type + "'; using a diffuse of reflectance 0.5");
     props.ignore({"specularReflectance", "exponent", "alpha", "alphaU", "alphaV"});

@@ -204,6 +204,12 @@ class MitsubaSceneReader {
       camera.fov_degrees = glm::degrees(2.0f * std::atan(18.0f / millimetres));
       camera.fov_axis = CameraDesc::FovAxis::X;
       diagonal = false;
+      // Mitsuba 3 changed this: its focal length spans the 36 x 24 mm frame's diagonal.
+      if (doc_.mitsuba3()) {
+        camera.fov_degrees =
+            glm::degrees(2.0f * std::atan(std::hypot(36.0f, 24.0f) / (2.0f * millimetres)));
+        diagonal = true;
+      }
     }
     if (diagonal) {
       // Convert the diagonal field of view to the horizontal one for this image aspect.
@@ -520,7 +526,8 @@ class MitsubaSceneReader {
     }
     Properties props(doc_, node);
     props.ignore({"cache"});
-    props.note_sampling_only({"samplingWeight"}, "how often Mitsuba samples this light");
+    props.note_sampling_only({"samplingWeight", "mis_compensation"},
+                             "how often Mitsuba samples this light");
     EnvironmentDesc& env = desc_.environment;
     if (type == "constant") {
       env.kind = EnvironmentDesc::Kind::Constant;

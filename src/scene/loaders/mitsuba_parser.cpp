@@ -10,6 +10,7 @@
 #include "emlt/scene/shape_builders.h"
 #include "emlt/scene/spectrum.h"
 #include "src/scene/loaders/loader_common.h"
+#include "src/scene/loaders/mitsuba3_names.h"
 
 namespace emlt::mitsuba {
 
@@ -52,6 +53,8 @@ Document::Document(std::string path, const SceneDefines& defines,
                                 ": " + result.description());
   }
   if (!scene()) throw file_error(path_, "not a Mitsuba scene (no <scene> root element)");
+  mitsuba3_ = is_mitsuba3_version(scene().attribute("version").as_string());
+  if (mitsuba3_) check_mitsuba3_plugins(scene());
 }
 
 int Document::line(pugi::xml_node node) const {
@@ -150,9 +153,14 @@ Properties::Properties(const Document& doc, pugi::xml_node owner) : doc_(doc), o
     const std::string kind = child.name();
     // A <ref> with a name passes a declared object as a parameter (a texture, mostly).
     if ((kValueKinds.count(kind) || kind == "ref") && child.attribute("name")) {
-      const std::string name = child.attribute("name").as_string();
+      const std::string spelled = child.attribute("name").as_string();
+      std::string name = spelled;
+      if (doc_.mitsuba3()) {
+        name = mitsuba3_key(owner.name(), owner.attribute("type").as_string(), spelled);
+        if (name.empty()) name = "mitsuba3:" + spelled;
+      }
       if (values_.count(name))
-        doc_.warn(child, "parameter '" + name + "' given twice; the last wins",
+        doc_.warn(child, "parameter '" + spelled + "' given twice; the last wins",
                   Document::Warning::Note);
       values_[name] = child;
     } else {
@@ -167,8 +175,8 @@ pugi::xml_node Properties::take(const std::string& name, std::initializer_list<c
   used_.insert(name);
   for (const char* kind : kinds)
     if (std::string(it->second.name()) == kind) return it->second;
-  doc_.fail(it->second, "parameter '" + name + "' of " + doc_.describe(owner_) + " cannot be a <" +
-                            it->second.name() + ">");
+  doc_.fail(it->second, "parameter '" + spelled(name) + "' of " + doc_.describe(owner_) +
+                            " cannot be a <" + it->second.name() + ">");
 }
 
 float Properties::get_float(const std::string& name, float fallback) {
@@ -184,10 +192,10 @@ int Properties::get_integer(const std::string& name, int fallback) {
   // The value itself in double precision, which holds every int exactly: single precision
   // rounds 16777217 to 16777216, which a range check would then let through.
   const double value = std::strtod(text.c_str(), nullptr);
-  if (value != std::floor(value)) doc_.fail(node, "'" + name + "' must be an integer");
+  if (value != std::floor(value)) doc_.fail(node, "'" + spelled(name) + "' must be an integer");
   // Converting a double beyond int's range is undefined.
   if (!(std::abs(value) < 2147483648.0))
-    doc_.fail(node, "'" + name + "' must be an integer within +-2^31 (about 2.1 billion)");
+    doc_.fail(node, "'" + spelled(name) + "' must be an integer within +-2^31 (about 2.1 billion)");
   return int(value);
 }
 
@@ -207,7 +215,13 @@ int Properties::get_integer(const std::string& name, int fallback,
 
 void Properties::out_of_range(const std::string& name, const char* words) const {
   const pugi::xml_node node = node_of(name);
-  doc_.fail(node, "'" + name + "' " + loader::refusal(words, doc_.attribute(node, "value")));
+  doc_.fail(node,
+            "'" + spelled(name) + "' " + loader::refusal(words, doc_.attribute(node, "value")));
+}
+
+std::string Properties::spelled(const std::string& name) const {
+  const auto it = values_.find(name);
+  return it == values_.end() ? name : it->second.attribute("name").as_string();
 }
 
 pugi::xml_node Properties::node_of(const std::string& name) const {
@@ -221,7 +235,7 @@ bool Properties::get_boolean(const std::string& name, bool fallback) {
   const std::string value = doc_.attribute(node, "value");
   if (value == "true") return true;
   if (value == "false") return false;
-  doc_.fail(node, "'" + name + "' must be true or false, not '" + value + "'");
+  doc_.fail(node, "'" + spelled(name) + "' must be true or false, not '" + value + "'");
 }
 
 std::string Properties::get_string(const std::string& name, const std::string& fallback) {
@@ -253,6 +267,7 @@ Rgb Properties::get_color(const std::string& name, const Rgb& fallback) {
     if (!is_finite(rgb)) doc_.fail(node, "'" + name + "' gives a NaN or infinite colour");
     return rgb;
   };
+  if (doc_.mitsuba3()) mitsuba3_colour_forms(node);
   if (kind == "blackbody") {
     // Temperature in kelvin, with an optional trailing 'K'.
     std::string temperature = doc_.attribute(node, "temperature");
@@ -323,6 +338,10 @@ Rgb Properties::get_color(const std::string& name, const Rgb& fallback) {
       doc_.fail(node, "'" + text +
                           "' is not a valid <spectrum> value (1 value, 3 values or "
                           "wavelength:value pairs)");
+    if (doc_.mitsuba3())
+      doc_.warn(node,
+                "a <spectrum> of 3 values is not Mitsuba 3's (which takes one value or "
+                "wavelength:value pairs, and refuses this file); read as Mitsuba 0.6's RGB");
   }
   Rgb c;
   if ((kind == "rgb" || kind == "srgb") && tokens.size() == 1 && tokens[0].size() == 7 &&
@@ -346,6 +365,14 @@ Rgb Properties::get_color(const std::string& name, const Rgb& fallback) {
       doc_.fail(node, "'" + text + "' is not a valid <" + kind + "> value");
   }
   if (kind == "srgb") c = Rgb(srgb_to_linear(c.x), srgb_to_linear(c.y), srgb_to_linear(c.z));
+  // Mitsuba 3's RGB variants give a uniform spectrum on an emitter the RGB of an equal-energy
+  // white (its XYZ of 1, 1, 1 in sRGB primaries: a purple-ish 1.20, 0.95, 0.91), so that
+  // they match its spectral variants; 0.6 and Mitsuba 3 elsewhere give the value itself.
+  if (doc_.mitsuba3() && kind == "spectrum" && tokens.size() == 1 &&
+      std::string(owner_.name()) == "emitter") {
+    const DVec3 white = spectrum::xyz_to_linear_rgb(DVec3(1.0));
+    c = Rgb(float(c.x * white.x), float(c.y * white.y), float(c.z * white.z));
+  }
   return c;
 }
 
@@ -425,6 +452,10 @@ Mat4 Properties::get_transform(const std::string& name) {
           doc_.fail(op, "<" + kind + "> needs '" + required + "'");
       const Vec3 origin = vec3_of(op, "origin"), target = vec3_of(op, "target");
       if (origin == target) doc_.fail(op, "<" + kind + ">: 'origin' and 'target' coincide");
+      if (kind == "lookAt" && doc_.mitsuba3())
+        doc_.warn(op,
+                  "<lookAt> is not a Mitsuba 3 element (it spells it <lookat> and refuses "
+                  "this file); read as <lookat>");
       Vec3 up(0.0f);
       if (doc_.has_attribute(op, "up") && !doc_.attribute(op, "up").empty()) up = vec3_of(op, "up");
       if (up == Vec3(0.0f)) up = mitsuba_default_up(origin, target);
@@ -468,7 +499,7 @@ void Properties::note_sampling_only(std::initializer_list<const char*> names,
       get_float(name, 0.0f);
     else
       take(name, {"string"});
-    listed += (listed.empty() ? "'" : ", '") + std::string(name) + "'";
+    listed += (listed.empty() ? "'" : ", '") + spelled(name) + "'";
     ++count;
   }
   if (count == 0) return;
@@ -480,10 +511,15 @@ void Properties::note_sampling_only(std::initializer_list<const char*> names,
 }
 
 void Properties::warn_unused() const {
-  for (const auto& [name, node] : values_)
-    if (!used_.count(name))
-      doc_.warn(node, "parameter '" + name + "' of " + doc_.describe(owner_) + " (line " +
-                          std::to_string(doc_.line(owner_)) + ") is not supported; ignored");
+  for (const auto& [name, node] : values_) {
+    if (used_.count(name)) continue;
+    const std::string where = "parameter '" + spelled(name) + "' of " + doc_.describe(owner_) +
+                              " (line " + std::to_string(doc_.line(owner_)) + ")";
+    if (name.rfind("mitsuba3:", 0) == 0)  // see values_
+      doc_.warn(node, where + " is not one Mitsuba 3 reads; ignored, as Mitsuba 3 does");
+    else
+      doc_.warn(node, where + " is not supported; ignored");
+  }
 }
 
 }  // namespace emlt::mitsuba

@@ -25,6 +25,10 @@ class Document {
 
   const std::string& path() const { return path_; }
   pugi::xml_node scene() const { return doc_.child("scene"); }
+  // Whether the file is in Mitsuba 3's dialect (<scene version="2.x" or "3.x">): its
+  // snake_case names are then read as the 0.6 ones they replace (mitsuba3_names.h), and the
+  // readers apply the meanings Mitsuba 3 changed (docs/compatibility.md, "Mitsuba 3").
+  bool mitsuba3() const { return mitsuba3_; }
   int line(pugi::xml_node node) const;
 
   // Attribute value with every `$name` replaced (defines override <default> values);
@@ -51,6 +55,9 @@ class Document {
   void add_default(const std::string& name, const std::string& value) { defaults_[name] = value; }
 
  private:
+  // Reports the plugins below `node` that Mitsuba 3 no longer has (mitsuba3_names.h).
+  void check_mitsuba3_plugins(pugi::xml_node node) const;
+
   std::string path_;
   std::string text_;
   pugi::xml_document doc_;
@@ -59,6 +66,7 @@ class Document {
   std::map<std::string, std::string> defaults_;
   std::vector<std::string>& warnings_;
   std::vector<Divergence>& divergences_;
+  bool mitsuba3_ = false;
 };
 
 // Objects declared with an id, for <ref id=...>.
@@ -101,6 +109,10 @@ class Properties {
   pugi::xml_node node_of(const std::string& name) const;
   // Marks parameters that change nothing in this renderer (e.g. a film's pixel format).
   void ignore(std::initializer_list<const char*> names);
+  // Marks every parameter used (an unsupported plugin reported once as a whole).
+  void ignore_rest() {
+    for (const auto& entry : values_) used_.insert(entry.first);
+  }
   // Parameters that change only how Mitsuba draws its samples (a sampler's seed, a rough
   // BSDF's sampleVisible), never the converged image: those present are checked to be of
   // one of `kinds` with a well-formed value, marked used and named in one note (no item of
@@ -108,16 +120,24 @@ class Properties {
   void note_sampling_only(std::initializer_list<const char*> names, const std::string& what);
   // Whether `name` has been read or ignored already.
   bool used(const std::string& name) const { return used_.count(name) != 0; }
+  // The parameter's name as the file spells it ("to_world" in a Mitsuba 3 file whose
+  // readers ask for "toWorld"), for messages.
+  std::string spelled(const std::string& name) const;
 
   const std::vector<pugi::xml_node>& objects() const { return objects_; }
   void warn_unused() const;
 
  private:
   pugi::xml_node take(const std::string& name, std::initializer_list<const char*> kinds);
+  // Reports the colour forms of 0.6 that a Mitsuba 3 file cannot use (<srgb>, #rrggbb ...).
+  void mitsuba3_colour_forms(pugi::xml_node node) const;
   [[noreturn]] void out_of_range(const std::string& name, const char* words) const;
 
   const Document& doc_;
   pugi::xml_node owner_;
+  // By the 0.6 name the readers ask for; in a Mitsuba 3 file a parameter Mitsuba 3 does
+  // not read is kept under a key no reader asks for ("mitsuba3:toWorld"), so that it is
+  // reported unused rather than given its 0.6 meaning.
   std::map<std::string, pugi::xml_node> values_;
   std::set<std::string> used_;
   std::vector<pugi::xml_node> objects_;

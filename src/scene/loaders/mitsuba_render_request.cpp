@@ -40,7 +40,17 @@ void read_integrator(const Document& doc, pugi::xml_node node, SceneRenderReques
     request.integrator = "mlt";
   else if (type == "ptracer")
     request.integrator = "ptracer";
-  else  // any unbiased or consistent integrator converges to the same image
+  else if (doc.mitsuba3() && (type == "volpath" || type == "volpathmis" || type == "prb" ||
+                              type == "prb_basic" || type == "prbvolpath")) {
+    // Mitsuba 3's path tracers with media or differentiation: without a medium (emlt has
+    // none; a medium is reported where it is named) each renders what `path` renders.
+    request.integrator = "pt";
+    doc.warn(node,
+             "integrator '" + type +
+                 "' rendered by emlt's path tracer (the same image "
+                 "without participating media)",
+             Document::Warning::Note);
+  } else  // any unbiased or consistent integrator converges to the same image
     doc.warn(node,
              "integrator type '" + type + "' is not supported; using '" +
                  (request.integrator.empty() ? RenderSettings().integrator : request.integrator) +
@@ -71,7 +81,15 @@ void read_integrator(const Document& doc, pugi::xml_node node, SceneRenderReques
                            "granularity"})
     if (props.has(name)) tuning.push_back(name);
   for (const std::string& name : tuning) props.ignore({name.c_str()});
-  if (type == "ptracer") {
+  if (type == "ptracer" && doc.mitsuba3()) {
+    // Mitsuba 3 changed this: its particle tracer reads hide_emitters (every integrator
+    // does), and emlt's draws the lights seen directly.
+    props.note_sampling_only({"samples_per_pass"}, "how Mitsuba 3 splits the work");
+    if (props.get_boolean("hideEmitters", false))
+      doc.warn(props.node_of("hideEmitters"),
+               "'hide_emitters' of a ptracer is not supported: emlt's particle tracer draws "
+               "the lights seen directly");
+  } else if (type == "ptracer") {
     // Mitsuba's particle tracer does not read hideEmitters (only its camera-side
     // integrators do): it draws the lights seen directly whatever the flag says.
     if (props.has("hideEmitters")) {
@@ -115,6 +133,8 @@ void read_sampler(const Document& doc, pugi::xml_node node, SceneRenderRequest& 
   // depth are read by none of them, and change nothing there either.
   props.note_sampling_only({"seed", "scramble", "dimension", "resolution", "depth"},
                            "the sample sequence");
+  // Mitsuba 3's stratified and multijitter jitter, orthogonal's strength: the same.
+  if (doc.mitsuba3()) props.note_sampling_only({"jitter", "strength"}, "the sample sequence");
   props.warn_unused();
 }
 

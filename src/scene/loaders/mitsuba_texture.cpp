@@ -12,7 +12,25 @@ namespace emlt::mitsuba {
 
 namespace {
 
-UvTransform uv_transform(Properties& props) {
+// Mitsuba 3's `to_uv`, a <transform> applied to (u, v, 1): the 2D part of the 4x4 matrix
+// the transform elements build (its x and y rows, with the translation column). emlt
+// scales and offsets uv per axis, so the matrix must have no rotation or shear.
+UvTransform mitsuba3_uv_transform(const Document& doc, Properties& props) {
+  UvTransform t;
+  if (!props.has("to_uv")) return t;
+  const pugi::xml_node node = props.node_of("to_uv");
+  const Mat4 m = props.get_transform("to_uv");  // glm: m[column][row]
+  if (m[1][0] != 0.0f || m[0][1] != 0.0f)
+    doc.warn(node,
+             "a rotated or sheared 'to_uv' is not supported; only its scale and "
+             "translation are applied");
+  t.scale = Vec2(m[0][0], m[1][1]);
+  t.offset = Vec2(m[3][0], m[3][1]);
+  return t;
+}
+
+UvTransform uv_transform(const Document& doc, Properties& props) {
+  if (doc.mitsuba3()) return mitsuba3_uv_transform(doc, props);
   const float uniform = props.get_float("uvscale", 1.0f);
   UvTransform t;
   t.scale = Vec2(props.get_float("uscale", uniform), props.get_float("vscale", uniform));
@@ -47,7 +65,14 @@ TexturePtr read_bitmap(const Document& doc, pugi::xml_node node, Properties& pro
   // a float file's linear): -1 is sRGB, any positive value g the curve v^g. 0, Mitsuba's
   // default, leaves the file's.
   std::optional<float> gamma;
-  if (props.has("gamma")) {
+  if (doc.mitsuba3()) {
+    // Mitsuba 3 knows two curves: an 8- or 16-bit file is sRGB (a PNG's gAMA chunk is not
+    // read) unless `raw` says its values are linear; a float file is linear.
+    const bool raw = props.get_boolean("raw", false);
+    if (is_stored_image(file)) gamma = raw ? 1.0f : kSrgbGamma;
+    // Storage precision and lookup acceleration: the same texels.
+    props.ignore({"format", "accel"});
+  } else if (props.has("gamma")) {
     const float value = props.get_float("gamma", 0.0f);
     if (value == kSrgbGamma || value > 0.0f)
       gamma = value;
@@ -58,7 +83,7 @@ TexturePtr read_bitmap(const Document& doc, pugi::xml_node node, Properties& pro
   // Filtering quality only: bilinear lookups averaged over many samples per pixel.
   props.ignore({"filterType", "maxAnisotropy", "cache"});
   const TextureWrap wrap = wrap_modes(doc, node, props);
-  const UvTransform transform = uv_transform(props);
+  const UvTransform transform = uv_transform(doc, props);
   std::string channel;
   if (props.has("channel")) {
     channel = props.get_string("channel", "");
@@ -109,7 +134,7 @@ TexturePtr read_texture(const Document& doc, pugi::xml_node node, NamedObjects& 
   } else if (type == "checkerboard") {
     const Rgb color0 = props.get_color("color0", Rgb(0.4f));
     const Rgb color1 = props.get_color("color1", Rgb(0.2f));
-    texture = make_checkerboard_texture(color0, color1, uv_transform(props));
+    texture = make_checkerboard_texture(color0, color1, uv_transform(doc, props));
   } else if (type == "scale") {
     const Rgb factor = props.get_color("scale", Rgb(1.0f));
     texture = make_scale_texture(nested_texture(doc, node, props, named), factor);
