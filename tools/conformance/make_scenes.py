@@ -775,6 +775,31 @@ def build():
                                      '<float name="scale" value="1.5"/><transform name="toWorld"><rotate y="1" angle="60"/></transform></emitter>\n',
                                walls=False), pt_bdpt)
 
+    # Mitsuba's daylight emitters rasterise their radiance into a lat-long map for a nested
+    # envmap; these check emlt's map of each (model, sun position, frame, scales). The sun
+    # stays out of view: only its light, and the sky, are seen.
+    floor = rect(WHITE, '<scale value="3"/><rotate x="1" angle="-90"/>')
+    s["light-sky"] = ("sky: Hosek-Wilkie model, turbidity, albedo, stretch, explicit sunDirection",
+                      scene(sphere('<bsdf type="roughconductor"><string name="material" value="Al"/><float name="alpha" value="0.05"/></bsdf>') + floor,
+                            light='  <emitter type="sky"><float name="turbidity" value="4.5"/><rgb name="albedo" value="0.1, 0.4, 0.8"/>'
+                                  '<float name="stretch" value="1.2"/><vector name="sunDirection" x="0.5" y="0.55" z="-0.4"/>'
+                                  '<integer name="resolution" value="128"/><float name="scale" value="3"/></emitter>\n',
+                            walls=False), pt_bdpt)
+    s["light-sun"] = ("sun: Preetham solar disk (sunRadiusScale, turbidity), explicit sunDirection",
+                      scene(sphere(WHITE, "-0.2, 0.45, 0", 0.45) + sphere(DIFFUSE % "0.8, 0.5, 0.2", "0.55, 0.2, 0.4", 0.2) + floor,
+                            light='  <emitter type="sun"><vector name="sunDirection" x="-0.6" y="0.7" z="0.3"/>'
+                                  '<float name="turbidity" value="5"/><float name="sunRadiusScale" value="4"/>'
+                                  '<integer name="resolution" value="128"/><float name="scale" value="0.5"/></emitter>\n',
+                            walls=False), pt_bdpt)
+    s["light-sunsky"] = ("sunsky: sun position from latitude/longitude/date/time, toWorld, scale/skyScale/sunScale",
+                         scene(sphere(WHITE, "-0.2, 0.45, 0", 0.45) + sphere(DIFFUSE % "0.2, 0.3, 0.8", "0.55, 0.2, 0.4", 0.2) + floor,
+                               light='  <emitter type="sunsky"><float name="latitude" value="48.2"/><float name="longitude" value="16.37"/>'
+                                     '<float name="timezone" value="1"/><integer name="year" value="2015"/><integer name="month" value="3"/>'
+                                     '<integer name="day" value="21"/><float name="hour" value="10"/><float name="minute" value="45"/>'
+                                     '<float name="turbidity" value="3.5"/><float name="scale" value="0.6"/><float name="skyScale" value="1.5"/>'
+                                     '<transform name="toWorld"><rotate y="1" angle="-70"/></transform></emitter>\n',
+                               walls=False), pt_bdpt)
+
     # --- the particle tracer: scenes above with <integrator type="ptracer">, whose references
     # are Mitsuba's ptracer images, not its path tracer's. They differ where a particle tracer
     # means something else: light reaching the camera only through a delta BSDF is black, and

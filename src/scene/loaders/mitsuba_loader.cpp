@@ -21,6 +21,7 @@
 #include "emlt/settings/settings.h"
 #include "src/scene/loaders/loader_common.h"
 #include "src/scene/loaders/mitsuba_parser.h"
+#include "src/scene/loaders/mitsuba_sky.h"
 
 namespace emlt {
 
@@ -515,6 +516,8 @@ class MitsubaSceneReader {
 
   void read_environment(pugi::xml_node node) {
     const std::string type = doc_.attribute(node, "type");
+    if (mitsuba::is_sky_emitter(type))
+      return mitsuba::read_sky_emitter(doc_, node, desc_.environment);
     if (type != "envmap" && type != "constant") {
       doc_.warn(node,
                 "unsupported emitter type '" + type + "' " + doc_.describe(node) + " ignored");
