@@ -24,6 +24,11 @@ int run_info(const InfoOptions& options) {
                                       : "Embree's BVH");
   fmt::print("area lights  {} emissive triangles\n", st.area_lights);
   fmt::print("environment  {}\n", st.has_environment ? "yes" : "no");
+  size_t spots = 0;
+  for (const PointLightDesc& light : d.point_lights) spots += light.spot;
+  if (!d.point_lights.empty() || !d.directional_lights.empty())
+    fmt::print("delta lights {} point, {} spot, {} directional\n", d.point_lights.size() - spots,
+               spots, d.directional_lights.size());
   fmt::print("materials    {}\n", d.materials.size());
   for (const auto& m : d.materials)
     fmt::print("  {:<20} {}\n", m.name, m.bsdf ? m.bsdf->name() : std::string("(none)"));

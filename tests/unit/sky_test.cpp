@@ -21,13 +21,6 @@ SceneDescription load_emitters(const std::string& test, const std::string& emitt
       test::write_file(dir, "scene.xml", "<scene version=\"0.6.0\">" + emitters + "</scene>"));
 }
 
-bool has_unsupported(const SceneDescription& desc, const std::string& words) {
-  for (const Divergence& d : desc.divergences)
-    if (d.kind == Divergence::Kind::Unsupported && d.message.find(words) != std::string::npos)
-      return true;
-  return false;
-}
-
 // Every probed texel of each case, to Mitsuba's storage precision: its envmap keeps half
 // floats (a few 1e-4 relative), and a probe's direction, a float off the texel centre,
 // leaks about 1e-6 of a neighbour into it (which matters only beside the sun).
@@ -114,25 +107,42 @@ TEST(MitsubaSky, RefusesWhatMitsubaRefuses) {
             std::string::npos);
 }
 
-TEST(MitsubaSky, DirectionalSunIsAnUnsupportedItem) {
-  const SceneDescription sun =
-      load_emitters("sky_directional_sun",
-                    "<emitter type=\"sun\"><float name=\"sunRadiusScale\" value=\"0\"/></emitter>");
+// sunRadiusScale 0 makes Mitsuba's sun a directional light: from the sun's direction,
+// with the sun's radiance times the solid angle of its disk. `sunDirection` is a world
+// direction (Mitsuba takes it into the emitter's frame and toWorld brings it back), so the
+// rotation must leave it where it is; a date and place would turn with toWorld.
+TEST(MitsubaSky, SunOfRadiusZeroIsADirectionalLight) {
+  const SceneDescription sun = load_emitters(
+      "sky_directional_sun",
+      "<emitter type=\"sun\"><float name=\"sunRadiusScale\" value=\"0\"/>"
+      "<vector name=\"sunDirection\" x=\"0\" y=\"1\" z=\"1\"/>"
+      "<transform name=\"toWorld\"><rotate y=\"1\" angle=\"90\"/></transform></emitter>");
   EXPECT_EQ(sun.environment.kind, EnvironmentDesc::Kind::None);
-  EXPECT_TRUE(has_unsupported(sun, "directional light"));
-  // sunsky keeps its sky; only its sun is missing.
+  EXPECT_TRUE(sun.divergences.empty());
+  ASSERT_EQ(sun.directional_lights.size(), 1u);
+  const Vec3 travel = sun.directional_lights[0].direction;
+  EXPECT_NEAR(travel.x, 0.0f, 1e-5f);
+  EXPECT_NEAR(travel.y, -std::sqrt(0.5f), 1e-5f);
+  EXPECT_NEAR(travel.z, -std::sqrt(0.5f), 1e-5f);
+  const double radius = kPi / 180.0 * sky::kSunApparentDiameterDegrees / 2.0;
+  const Rgb radiance = sky::sun_radiance(kPi / 4.0f, 3.0f);
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(sun.directional_lights[0].irradiance[c],
+                radiance[c] * 2.0 * kPi * (1.0 - std::cos(radius)), 1e-4 * radiance[c]);
+  // sunsky keeps its sky and adds the directional sun.
   const SceneDescription sunsky =
       load_emitters("sky_directional_sunsky",
                     "<emitter type=\"sunsky\"><float name=\"sunRadiusScale\" value=\"0\"/>"
                     "<integer name=\"resolution\" value=\"32\"/></emitter>");
   ASSERT_EQ(sunsky.environment.kind, EnvironmentDesc::Kind::Map);
-  EXPECT_TRUE(has_unsupported(sunsky, "only the sky is rendered"));
-  // Mitsuba accepts a directional sun beside a sky: so does this (with the sun refused).
+  EXPECT_EQ(sunsky.directional_lights.size(), 1u);
+  // Mitsuba accepts a directional sun beside a sky: so does this.
   const SceneDescription both =
       load_emitters("sky_directional_and_sky",
                     "<emitter type=\"sun\"><float name=\"sunRadiusScale\" value=\"0\"/></emitter>"
                     "<emitter type=\"sky\"><integer name=\"resolution\" value=\"16\"/></emitter>");
   EXPECT_EQ(both.environment.kind, EnvironmentDesc::Kind::Map);
+  EXPECT_EQ(both.directional_lights.size(), 1u);
 }
 
 // The disk's power does not depend on the map's resolution or on sunRadiusScale (what

@@ -36,12 +36,15 @@ RENAMED = {
     "sampleVisible": "sample_visible", "pixelFormat": "pixel_format",
     "fileFormat": "file_format", "componentFormat": "component_format",
     "highQualityEdges": "sample_border", "wrapMode": "wrap_mode", "filterType": "filter_type",
+    "cutoffAngle": "cutoff_angle", "beamWidth": "beam_width", "samplingWeight": "sampling_weight",
 }
 VALUE_TAGS = {"float", "integer", "boolean", "string", "rgb", "srgb", "spectrum", "blackbody",
               "point", "vector", "transform", "texture", "ref"}
 # Plugins of 0.6 that Mitsuba 3 does not have.
 DROPPED = {"bsdf": {"phong", "ward", "roughdiffuse", "difftrans", "mixturebsdf", "coating"},
-           "texture": {"scale"}, "integrator": {"bdpt", "mlt"}}
+           "texture": {"scale"}, "integrator": {"bdpt", "mlt"},
+           # Mitsuba 3 has no sky or sun, and its sunsky (3.6) is another model.
+           "emitter": {"sky", "sun"}}
 UV_PARAMS = ("uvscale", "uscale", "vscale", "uoffset", "voffset")
 
 
@@ -146,6 +149,8 @@ def rewrite(node, parent=None):
     tag, kind = node.tag, node.get("type")
     if kind in DROPPED.get(tag, ()):
         raise Skip(f"<{tag} type=\"{kind}\"> is not a Mitsuba 3 plugin")
+    if tag == "emitter" and kind == "sunsky":
+        raise Skip("Mitsuba 3's sunsky (3.6) is another sky model, with other parameters")
     if tag in ("srgb", "blackbody"):
         raise Skip(f"<{tag}> is not a Mitsuba 3 element")
     if tag == "spectrum":

@@ -800,6 +800,39 @@ def build():
                                      '<transform name="toWorld"><rotate y="1" angle="-70"/></transform></emitter>\n',
                                walls=False), pt_bdpt)
 
+    # Delta lights: no surface, found only by light sampling (never by a BSDF sample), never
+    # seen from the camera. Each light stays out of view.
+    point_light = ('  <emitter type="point"><point name="position" x="0.2" y="1.9" z="1.6"/>'
+                   '<rgb name="intensity" value="3, 2.5, 2"/></emitter>\n')
+    s["light-point"] = ("point light: intensity in W/sr, no cosine at the light, invisible",
+                        scene(sphere(WHITE, "-0.3, 0.35, 0", 0.35) +
+                              sphere(DIFFUSE % "0.8, 0.5, 0.2", "0.45, 0.25, -0.3", 0.25),
+                              light=point_light), pt_bdpt + ["mlt"])
+    spot = ('  <emitter type="spot"><transform name="toWorld"><lookat origin="0.6, 1.9, 1.2" '
+            'target="-0.2, 0, -0.3" up="0, 1, 0"/></transform><rgb name="intensity" value="9, 8, 6"/>'
+            '<float name="cutoffAngle" value="28"/><float name="beamWidth" value="16"/>%s</emitter>\n')
+    s["light-spot"] = ("spot light: cutoffAngle and beamWidth (falloff linear in angle), toWorld lookat",
+                       scene(sphere(WHITE, "-0.3, 0.35, 0", 0.35), light=spot % ""),
+                       pt_bdpt + ["mlt"])
+    s["light-spot-texture"] = ("spot light projecting a bitmap texture over its cone",
+                               scene(sphere(WHITE, "0.3, 0.3, -0.2", 0.3),
+                                     light=spot % ('<texture type="bitmap" name="texture">%s</texture>'
+                                                   % bitmap())), pt_bdpt)
+    s["light-directional"] = ("directional light: irradiance at normal incidence, 'direction', shadows",
+                              scene(sphere(WHITE, "-0.2, 0.45, 0", 0.45) +
+                                    sphere(DIFFUSE % "0.2, 0.3, 0.8", "0.55, 0.2, 0.4", 0.2) + floor,
+                                    light='  <emitter type="directional"><vector name="direction" '
+                                          'x="0.5" y="-1" z="-0.35"/><rgb name="irradiance" '
+                                          'value="2, 1.8, 1.5"/></emitter>\n',
+                                    walls=False), pt_bdpt + ["mlt"])
+    s["light-sun-directional"] = ("sun with sunRadiusScale 0: a directional light of the sun disk's irradiance",
+                                  scene(sphere(WHITE, "-0.2, 0.45, 0", 0.45) + floor,
+                                        light='  <emitter type="sun"><vector name="sunDirection" x="-0.6" '
+                                              'y="0.7" z="0.3"/><float name="turbidity" value="4"/>'
+                                              '<float name="sunRadiusScale" value="0"/>'
+                                              '<float name="scale" value="0.5"/></emitter>\n',
+                                        walls=False), pt_bdpt)
+
     # --- the particle tracer: scenes above with <integrator type="ptracer">, whose references
     # are Mitsuba's ptracer images, not its path tracer's. They differ where a particle tracer
     # means something else: light reaching the camera only through a delta BSDF is black, and
@@ -815,6 +848,8 @@ def build():
         "light-sphere": "ptracer from an emissive sphere",
         "light-constant": "ptracer under a constant environment, the sky seen directly drawn",
         "light-envmap": "ptracer under an envmap (rotated, scaled), the sky seen directly drawn",
+        "light-point": "ptracer from a point light",
+        "light-directional": "ptracer from a directional light (rays from a disk covering the scene)",
     }
     for base, convention in ptracer.items():
         xml = s[base][1].replace('<integrator type="path">', '<integrator type="ptracer">')

@@ -126,6 +126,7 @@ bool mitsuba06_only_plugin(std::string_view element, std::string_view type) {
   if (element == "integrator") return one_of(type, {"bdpt", "mlt"});
   if (element == "film") return type == "ldrfilm" || type == "mfilm";
   if (element == "sampler") return one_of(type, {"halton", "hammersley", "sobol"});
+  if (element == "emitter") return one_of(type, {"sky", "sun"});
   return false;
 }
 
@@ -139,6 +140,11 @@ void Document::check_mitsuba3_plugins(pugi::xml_node node) const {
     if (mitsuba06_only_plugin(child.name(), child.attribute("type").as_string()))
       warn(child, "Mitsuba 3 has no " + describe(child) +
                       " plugin (it refuses this file); read as Mitsuba 0.6's");
+    // Mitsuba 3.6 brought a sunsky of its own: another sky model, with other parameters.
+    if (std::string_view(child.name()) == "emitter" &&
+        std::string_view(child.attribute("type").as_string()) == "sunsky")
+      warn(child, "Mitsuba 3's <emitter type=\"sunsky\"> is another sky model than 0.6's, "
+                  "with other parameters; read as Mitsuba 0.6's");
     check_mitsuba3_plugins(child);
   }
 }

@@ -517,7 +517,7 @@ class MitsubaSceneReader {
   void read_environment(pugi::xml_node node) {
     const std::string type = doc_.attribute(node, "type");
     if (mitsuba::is_sky_emitter(type))
-      return mitsuba::read_sky_emitter(doc_, node, desc_.environment);
+      return mitsuba::read_sky_emitter(doc_, node, desc_);
     if (type != "envmap" && type != "constant") {
       doc_.warn(node,
                 "unsupported emitter type '" + type + "' " + doc_.describe(node) + " ignored");

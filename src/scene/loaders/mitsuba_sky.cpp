@@ -109,9 +109,18 @@ Rgb checked_sun_radiance(const Document& doc, pugi::xml_node node, const sky::Sk
   return radiance;
 }
 
-void refuse_directional(const Document& doc, pugi::xml_node node, const std::string& rest) {
-  doc.warn(node, "'sunRadiusScale' 0 makes the sun of " + doc.describe(node) +
-                     " a directional light, which emlt cannot render yet; " + rest);
+// Mitsuba's sun with sunRadiusScale 0: parallel light from the sun's (stretched) direction,
+// of the irradiance its disk would deliver, the radiance times the disk's solid angle (in
+// single precision, as Mitsuba computes it).
+DirectionalLightDesc directional_sun(const sky::SkyAngles& shown, const Rgb& radiance,
+                                     const Mat4& to_world) {
+  const float theta =
+      float(sky::kSunApparentDiameterDegrees * 0.5) * (3.14159265358979f / 180.0f);
+  const float solid_angle = 2.0f * 3.14159265358979f * (1.0f - std::cos(theta));
+  DirectionalLightDesc light;
+  light.direction = -glm::normalize(Mat3(to_world) * sky::direction_of(shown));
+  light.irradiance = radiance * solid_angle;
+  return light;
 }
 
 }  // namespace
@@ -120,7 +129,8 @@ bool is_sky_emitter(const std::string& type) {
   return type == "sky" || type == "sun" || type == "sunsky";
 }
 
-void read_sky_emitter(const Document& doc, pugi::xml_node node, EnvironmentDesc& env) {
+void read_sky_emitter(const Document& doc, pugi::xml_node node, SceneDescription& desc) {
+  EnvironmentDesc& env = desc.environment;
   const std::string type = doc.attribute(node, "type");
   // Each of these is an environment emitter in Mitsuba, which loads no scene with two
   // ("The scene may only contain one environment emitter"): a `sun` beside a `sky` is
@@ -162,11 +172,9 @@ void read_sky_emitter(const Document& doc, pugi::xml_node node, EnvironmentDesc&
     const sky::SkyAngles shown{sun.zenith * stretch, sun.azimuth};
     if (radius_scale > 0.0f) {
       sky::add_sun(map, shown, radiance, radius_scale);
-    } else if (type == "sun") {
-      refuse_directional(doc, node, "the emitter is ignored");
-      has_map = false;
     } else {
-      refuse_directional(doc, node, "only the sky is rendered");
+      desc.directional_lights.push_back(directional_sun(shown, radiance, to_world));
+      has_map = type == "sunsky";  // a `sun` is then the directional light alone
     }
   }
   if (has_map) {

@@ -9,9 +9,9 @@ namespace emlt::mitsuba {
 
 bool is_sky_emitter(const std::string& type);
 
-// Reads <emitter type="sky|sun|sunsky"> into `env` (a lat-long map with the emitter's
-// toWorld), or leaves `env` untouched where emlt cannot render it (a `sun` made a
-// directional light), saying so as an unsupported item.
-void read_sky_emitter(const Document& doc, pugi::xml_node node, EnvironmentDesc& env);
+// Reads <emitter type="sky|sun|sunsky"> into the scene's environment (a lat-long map with
+// the emitter's toWorld) and, where sunRadiusScale is 0, its sun into a directional light,
+// as Mitsuba does (the sun's radiance times the solid angle of its disk).
+void read_sky_emitter(const Document& doc, pugi::xml_node node, SceneDescription& desc);
 
 }  // namespace emlt::mitsuba
