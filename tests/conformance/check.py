@@ -44,7 +44,10 @@ except ModuleNotFoundError as error:  # run by hand without it: say how, not a t
 
 MEAN_TOLERANCE = 0.01
 ERROR_RATIO_LIMIT = 2.0
-DEFAULT_SPP = {"pt": 64, "bdpt": 32, "mlt": 64, "direct": 64, "ptracer": 64}
+DEFAULT_SPP = {"pt": 64, "bdpt": 32, "mlt": 64, "direct": 64, "ptracer": 64, "gamlt": 64,
+               "emlt": 64, "pssmlt": 64, "mmlt": 64}
+# Integrators whose budget is mutations per pixel (--mpp), not samples.
+MUTATION_BUDGET = ("mlt", "gamlt", "emlt", "pssmlt", "mmlt")
 
 
 def load_suite():
@@ -56,7 +59,7 @@ def render(emlt, scene, integrator, budget, seed, out, threads):
     """Renders one image; returns the warnings emlt printed."""
     args = [emlt, "render", os.path.join(HERE, "scenes", scene + ".xml"), "-o", out,
             "--integrator", integrator, "--seed", str(seed), "--quiet"]
-    args += ["--mpp", str(budget)] if integrator in ("mlt", "gamlt", "emlt") else ["--spp", str(budget)]
+    args += ["--mpp", str(budget)] if integrator in MUTATION_BUDGET else ["--spp", str(budget)]
     if threads:
         args += ["--threads", str(threads)]
     result = subprocess.run(args, capture_output=True, text=True)

@@ -801,13 +801,15 @@ def build():
                                walls=False), pt_bdpt)
 
     # Delta lights: no surface, found only by light sampling (never by a BSDF sample), never
-    # seen from the camera. Each light stays out of view.
+    # seen from the camera. Each light stays out of view. The point and the directional light
+    # go through every integrator (the path layer's delta vertices, each MCMC kernel).
+    every_integrator = ["pt", "bdpt", "mlt", "gamlt", "emlt", "pssmlt", "mmlt"]
     point_light = ('  <emitter type="point"><point name="position" x="0.2" y="1.9" z="1.6"/>'
                    '<rgb name="intensity" value="3, 2.5, 2"/></emitter>\n')
     s["light-point"] = ("point light: intensity in W/sr, no cosine at the light, invisible",
                         scene(sphere(WHITE, "-0.3, 0.35, 0", 0.35) +
                               sphere(DIFFUSE % "0.8, 0.5, 0.2", "0.45, 0.25, -0.3", 0.25),
-                              light=point_light), pt_bdpt + ["mlt"])
+                              light=point_light), every_integrator)
     spot = ('  <emitter type="spot"><transform name="toWorld"><lookat origin="0.6, 1.9, 1.2" '
             'target="-0.2, 0, -0.3" up="0, 1, 0"/></transform><rgb name="intensity" value="9, 8, 6"/>'
             '<float name="cutoffAngle" value="28"/><float name="beamWidth" value="16"/>%s</emitter>\n')
@@ -824,7 +826,7 @@ def build():
                                     light='  <emitter type="directional"><vector name="direction" '
                                           'x="0.5" y="-1" z="-0.35"/><rgb name="irradiance" '
                                           'value="2, 1.8, 1.5"/></emitter>\n',
-                                    walls=False), pt_bdpt + ["mlt"])
+                                    walls=False), every_integrator)
     s["light-sun-directional"] = ("sun with sunRadiusScale 0: a directional light of the sun disk's irradiance",
                                   scene(sphere(WHITE, "-0.2, 0.45, 0", 0.45) + floor,
                                         light='  <emitter type="sun"><vector name="sunDirection" x="-0.6" '
