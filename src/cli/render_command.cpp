@@ -147,6 +147,25 @@ int run_render(const CLI::App& command, RenderOptions& o) {
     if (!path_space_mcmc) throw Error("--aniso-map needs an MCMC integrator (mlt, gamlt or emlt)");
     check_output_path(settings.aniso_map_path);
   }
+  // A collimated beam lights the scene only through paths that light tracing makes: light
+  // sampling (the path tracer's, the direct integrator's, the MCMC integrators' separate
+  // direct image) never finds it.
+  if (!desc.collimated_lights.empty()) {
+    if (settings.integrator == "pt" || settings.integrator == "direct")
+      std::fprintf(stderr,
+                   "emlt: warning: %s cannot sample a collimated beam (nor can Mitsuba's path "
+                   "tracer): its light is missing; bdpt, ptracer and the MCMC integrators render it\n",
+                   settings.integrator.c_str());
+    else if (mcmc && settings.direct_separate && given("--direct"))
+      std::fprintf(stderr, "emlt: warning: with --direct separate the collimated beam's direct "
+                           "light is missing (light sampling cannot find it); --direct mlt "
+                           "renders it\n");
+    else if (mcmc && settings.direct_separate) {
+      settings.direct_separate = false;
+      std::fprintf(stderr, "emlt: note: a collimated beam: the direct light is rendered by the "
+                           "chains (--direct mlt), as light sampling cannot find the beam\n");
+    }
+  }
   if (settings.integrator == "emlt" && given("--chains"))
     std::fprintf(stderr, "emlt: warning: --chains is ignored; the chains are the two ensembles (--ensemble-size)\n");
   if (given("--gamlt-cone-cell") && settings.gamlt_cone_cells == 0.0)

@@ -6,7 +6,6 @@
 
 #include "emlt/core/error.h"
 #include "emlt/scene/directional_light.h"
-#include "emlt/scene/point_light.h"
 
 namespace emlt {
 
@@ -118,7 +117,7 @@ Path PathCodec::load(StateReader& in) const {
     bool light_ok = !v.light || !v.light->is_delta();
     if (point)
       light_ok = v.light && v.light->is_delta_position() &&
-                 v.position == static_cast<const PointLight*>(v.light)->position();
+                 v.position == v.light->delta_point();
     if (distant)
       light_ok = v.light && v.light->is_delta_direction() &&
                  v.sky_direction == static_cast<const DirectionalLight*>(v.light)->towards_light();

@@ -143,6 +143,9 @@ int light_subpath(const Scene& scene, Sampler& rng, const WalkLimits& limits,
     origin.position = emission->ray.origin;
     origin.light = light;
     origin.pdf_from_light = selection * emission->pdf_position;
+    // A beam (a point and a direction) emits through a Dirac lobe: no connection may end
+    // at its vertex, as none may at a specular bounce.
+    origin.delta = light->is_delta_direction();
   } else {
     origin.kind = VertexKind::Surface;
     origin.position = emission->ray.origin;

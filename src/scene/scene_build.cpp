@@ -8,6 +8,7 @@
 #include <string>
 
 #include "emlt/core/error.h"
+#include "emlt/scene/collimated_light.h"
 #include "emlt/scene/directional_light.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/point_light.h"
@@ -291,6 +292,13 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc, const SceneBuildOptio
     auto light = std::make_unique<DirectionalLight>(directional.direction, directional.irradiance);
     light->set_scene_bounds(s.bounds_center_, s.bounds_radius_);
     lights.push_back(std::move(light));
+  }
+  for (const CollimatedLightDesc& beam : d.collimated_lights) {
+    if (!is_finite(beam.origin) || !is_finite(beam.direction) ||
+        !(glm::length(beam.direction) > 0.0f) || !is_finite(beam.power) ||
+        std::min({beam.power.x, beam.power.y, beam.power.z}) < 0.0f)
+      throw file_error(d.source, "a collimated beam needs a finite origin, a direction and a power >= 0");
+    lights.push_back(std::make_unique<CollimatedLight>(beam.origin, beam.direction, beam.power));
   }
   Rgb total_power(0.0f);
   for (const LightPtr& light : lights) total_power += light->power();

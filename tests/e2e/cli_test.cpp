@@ -175,13 +175,13 @@ TEST(Cli, InfoGivesAFidelityVerdictAndStrictRefusesDivergences) {
   <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
 )" + body + "</scene>\n";
   };
-  // A Mitchell filter and a coating (rendered as its nested BSDF) are approximated; a
-  // collimated beam is not supported at all.
+  // A Mitchell filter and a coating (rendered as its nested BSDF) are approximated; an
+  // emitter type Mitsuba does not have is not supported at all.
   write_file(
       dir / "approx.xml",
       scene_with(R"(<rfilter type="mitchell"/>)",
                  R"(<shape type="sphere"><bsdf type="coating"><bsdf type="diffuse"/></bsdf></shape>
-  <emitter type="collimated"/>
+  <emitter type="laser"/>
 )"));
   write_file(dir / "exact.xml", scene_with(R"(<rfilter type="box"/>)", ""));
   std::string text;

@@ -15,6 +15,7 @@
 #include "emlt/path/connection.h"
 #include "emlt/path/path_density.h"
 #include "emlt/path/random_walk.h"
+#include "emlt/scene/collimated_light.h"
 #include "emlt/scene/directional_light.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/point_light.h"
@@ -76,6 +77,24 @@ std::unique_ptr<Scene> point_in_sphere(DeltaLightFaults faults = {}) {
   SceneBuildOptions options;
   options.delta_light_faults = faults;
   return Scene::build(point_in_sphere_description(false), options);
+}
+
+// The same sphere lit by a collimated beam of power 4 pi^2 from the centre, hitting the wall
+// behind the camera. The spot it lights is a Lambertian point source on the sphere, which
+// lights the whole sphere evenly (E = a P / (4 pi R^2): the chord's 1/d^2 and the two
+// cosines cancel), so paths of k >= 3 segments carry a^(k-1) / 4 everywhere, and the spot
+// itself is out of view.
+std::unique_ptr<Scene> beam_in_sphere() {
+  SceneDescription d = point_in_sphere_description(false);
+  d.point_lights.clear();
+  d.collimated_lights.push_back({Vec3(0.0f), Vec3(0.0f, 0.0f, -1.0f), Rgb(4.0f * kPi * kPi)});
+  return Scene::build(std::move(d));
+}
+
+double beam_sphere_radiance(int max_depth) {
+  double sum = 0.0;
+  for (int k = 3; k <= max_depth; ++k) sum += 0.25 * std::pow(double(kAlbedo), double(k - 3));
+  return sum;
 }
 
 double point_sphere_radiance(int max_depth) {
@@ -274,6 +293,23 @@ TEST(DeltaLightIntegrators, PointLightInASphereGivesTheExactRadiance) {
   const double direct = mean_of(render_with("direct", *scene, settings_for(16, -1, 5)));
   EXPECT_NEAR(direct, double(kAlbedo), 0.01 * kAlbedo) << "direct";
   for (const char* name : {"mlt", "gamlt", "emlt", "pssmlt", "mmlt"}) {
+    const double value = mean_of(render_with(name, *scene, chain_settings(400, depth, 5)));
+    EXPECT_NEAR(value, exact, 0.03 * exact) << name;
+  }
+}
+
+// Only light tracing finds a beam: the path tracer's image is black (as Mitsuba's), every
+// integrator with light subpaths gives the exact radiance.
+TEST(DeltaLightIntegrators, CollimatedBeamInASphereGivesTheExactRadianceByLightTracing) {
+  const auto scene = beam_in_sphere();
+  const int depth = 5;
+  const double exact = beam_sphere_radiance(depth);
+  EXPECT_EQ(mean_of(render_with("pt", *scene, settings_for(16, depth, 5))), 0.0);
+  for (const char* name : {"bdpt", "ptracer"}) {
+    const double value = mean_of(render_with(name, *scene, settings_for(1024, depth, 5)));
+    EXPECT_NEAR(value, exact, 0.02 * exact) << name;
+  }
+  for (const char* name : {"mlt", "gamlt", "emlt", "mmlt"}) {
     const double value = mean_of(render_with(name, *scene, chain_settings(400, depth, 5)));
     EXPECT_NEAR(value, exact, 0.03 * exact) << name;
   }

@@ -269,12 +269,12 @@ TEST(Loader, UnsupportedMitsubaElementsAreReportedWithNameAndLine) {
   const std::string xml = write_file(dir, "scene.xml", small_xml(R"(
   <shape type="heightfield"><string name="filename" value="x.exr"/></shape>
   <medium type="homogeneous" id="fog"/>
-  <emitter type="collimated"><rgb name="power" value="1"/></emitter>
+  <emitter type="laser"><rgb name="power" value="1"/></emitter>
   <shape type="cube"><bsdf type="hk"/><float name="wobble" value="2"/></shape>
   <shape type="sphere"><bsdf type="roughconductor"><string name="distribution" value="trowbridge"/></bsdf></shape>
   <shape type="disk"><bsdf type="coating"><bsdf type="conductor"><string name="material" value="Au"/></bsdf></bsdf></shape>)"));
   const SceneDescription desc = load_scene_description(xml);
-  for (const char* needle : {"'heightfield'", "<medium", "'collimated'", "'hk'", "'wobble'",
+  for (const char* needle : {"'heightfield'", "<medium", "'laser'", "'hk'", "'wobble'",
                              "distribution 'trowbridge'", "\"coating\""})
     EXPECT_TRUE(any_contains(desc.warnings, needle)) << needle;
   EXPECT_TRUE(any_contains(desc.warnings, "scene.xml: line 11:"))

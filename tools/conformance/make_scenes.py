@@ -835,6 +835,17 @@ def build():
                                               '<float name="scale" value="0.5"/></emitter>\n',
                                         walls=False), pt_bdpt)
 
+    # A collimated beam: one point, one direction, rendered only by light tracing (Mitsuba's
+    # path tracer draws nothing of it): against Mitsuba's ptracer, the beam hitting the back
+    # of the sphere (the spot, a single bright point, out of view), which lights the room.
+    s["light-collimated-ptracer"] = (
+        "collimated beam: power along one ray, only light tracing renders it",
+        scene(sphere(WHITE, "-0.3, 0.35, 0", 0.35),
+              light='  <emitter type="collimated"><transform name="toWorld"><lookat origin="-0.3, 1.9, -0.9" '
+                    'target="-0.3, 0.6, -0.25" up="0, 0, 1"/></transform><rgb name="power" value="6, 5, 4"/></emitter>\n',
+              integ=integrator(kind="ptracer")),
+        ["ptracer", "bdpt", "mlt"])
+
     # --- the particle tracer: scenes above with <integrator type="ptracer">, whose references
     # are Mitsuba's ptracer images, not its path tracer's. They differ where a particle tracer
     # means something else: light reaching the camera only through a delta BSDF is black, and

@@ -92,6 +92,13 @@ struct DirectionalLightDesc {
   Rgb irradiance{1.0f};              // at normal incidence
 };
 
+// Mitsuba 0.6's collimated emitter (scene/collimated_light.h).
+struct CollimatedLightDesc {
+  Vec3 origin{0.0f};
+  Vec3 direction{0.0f, 0.0f, 1.0f};  // the beam's
+  Rgb power{1.0f};                   // W
+};
+
 struct CameraDesc {
   // Camera space: +z forward, +y up, +x to the image's left (Mitsuba's convention), so a
   // Mitsuba `toWorld` can be used unchanged. JSON `lookat` builds the same matrix.
@@ -134,6 +141,7 @@ struct SceneDescription {
   EnvironmentDesc environment;
   std::vector<PointLightDesc> point_lights;
   std::vector<DirectionalLightDesc> directional_lights;
+  std::vector<CollimatedLightDesc> collimated_lights;
   CameraDesc camera;
   SceneRenderRequest render;
   std::vector<std::string> warnings;

@@ -50,7 +50,11 @@ class Light {
   virtual bool is_delta_direction() const { return false; }
   bool is_delta() const { return is_delta_position() || is_delta_direction(); }
   // A light at infinity: the sky, or a directional light. Its x0 is a direction.
-  bool at_infinity() const { return is_environment() || is_delta_direction(); }
+  bool at_infinity() const {
+    return is_environment() || (is_delta_direction() && !is_delta_position());
+  }
+  // A delta-position light's one point (its vertex x0 is there and nowhere else).
+  virtual Vec3 delta_point() const { return Vec3(0.0f); }
 
   virtual std::optional<DirectLightSample> sample_direct(const Vec3& ref, const Vec2& u) const = 0;
   // Solid angle density at `ref` of sample_direct producing the point `p` (normal `n`)

@@ -47,7 +47,7 @@ class PointLight final : public Light {
   // The intensity towards world direction w (n is ignored: there is no surface).
   Rgb emitted(const Vec3& n, const Vec3& w) const override;
 
-  const Vec3& position() const { return position_; }
+  Vec3 delta_point() const override { return position_; }
 
  private:
   Rgb intensity_towards(const Vec3& w_world) const;

@@ -1,6 +1,6 @@
-// Mitsuba 0.6's delta emitters: `point`, `spot` and `directional` (scene/point_light.h,
-// scene/directional_light.h), read with Mitsuba's parameters and defaults. In Mitsuba's
-// RGB build the D65 default of `intensity` and `irradiance` is (1, 1, 1).
+// Mitsuba 0.6's delta emitters: `point`, `spot`, `directional` and `collimated`
+// (scene/point_light.h, scene/directional_light.h, scene/collimated_light.h), read with Mitsuba's parameters and defaults. In Mitsuba's
+// RGB build the D65 default of `intensity`, `irradiance` and `power` is (1, 1, 1).
 #include <cmath>
 
 #include "src/scene/loaders/mitsuba_parser.h"
@@ -83,16 +83,33 @@ void read_directional(const Document& doc, pugi::xml_node node, Properties& prop
   desc.directional_lights.push_back(light);
 }
 
+// Mitsuba's beam leaves toWorld's origin along its z axis; it refuses a toWorld that scales.
+void read_collimated(const Document& doc, pugi::xml_node node, Properties& props,
+                     SceneDescription& desc) {
+  const Mat4 m = props.get_transform("toWorld");
+  for (int i = 0; i < 3; ++i)
+    if (std::abs(glm::length(Vec3(m[i])) - 1.0f) > 1e-4f)
+      doc.fail(node, "a collimated beam's 'toWorld' must not scale (Mitsuba refuses it too)");
+  CollimatedLightDesc beam;
+  beam.origin = Vec3(m[3]);
+  beam.direction = glm::normalize(Mat3(m) * Vec3(0.0f, 0.0f, 1.0f));
+  beam.power = props.get_color("power", Rgb(1.0f));
+  desc.collimated_lights.push_back(beam);
+}
+
 }  // namespace
 
 bool read_delta_light(const Document& doc, pugi::xml_node node, NamedObjects& named,
                       SceneDescription& desc) {
   const std::string type = doc.attribute(node, "type");
-  if (type != "point" && type != "spot" && type != "directional") return false;
+  if (type != "point" && type != "spot" && type != "directional" && type != "collimated")
+    return false;
   Properties props(doc, node);
   props.note_sampling_only({"samplingWeight"}, "how often Mitsuba samples this light");
   if (type == "directional")
     read_directional(doc, node, props, desc);
+  else if (type == "collimated")
+    read_collimated(doc, node, props, desc);
   else
     read_point(doc, node, props, type == "spot", named, desc);
   for (pugi::xml_node child : props.objects())

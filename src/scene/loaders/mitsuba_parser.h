@@ -153,7 +153,8 @@ MaterialDesc read_bsdf(const Document& doc, pugi::xml_node node, NamedObjects& n
 void read_integrator(const Document& doc, pugi::xml_node node, SceneRenderRequest& request);
 void read_sampler(const Document& doc, pugi::xml_node node, SceneRenderRequest& request);
 
-// A `point`, `spot` or `directional` <emitter> into `desc` (mitsuba_delta_lights.cpp);
+// A `point`, `spot`, `directional` or `collimated` <emitter> into `desc`
+// (mitsuba_delta_lights.cpp);
 // false, reading nothing, for any other type.
 bool read_delta_light(const Document& doc, pugi::xml_node node, NamedObjects& named,
                       SceneDescription& desc);
