@@ -616,8 +616,8 @@ TEST(Loader, FilmFilterFollowsMitsubaDefaultsAndJsonOptIn) {
   EXPECT_EQ(json.camera.filter.kind, PixelFilterDesc::Kind::Tent);
   EXPECT_FLOAT_EQ(json.camera.filter.radius, 1.5f);
   const std::string bad =
-      write_file(dir, "bad.json", small_json(R"(, "filter": {"type": "mitchell"})", ""));
-  EXPECT_NE(load_and_build_error(bad).find("bad.json: camera.filter.type: unknown filter 'mitchell'"),
+      write_file(dir, "bad.json", small_json(R"(, "filter": {"type": "sinc"})", ""));
+  EXPECT_NE(load_and_build_error(bad).find("bad.json: camera.filter.type: unknown filter 'sinc'"),
             std::string::npos)
       << load_and_build_error(bad);
 }

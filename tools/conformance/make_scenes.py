@@ -309,10 +309,14 @@ def room(walls=True):
                    '    %s\n  </shape>\n' % (t, DIFFUSE % c) for c, t in pieces)
 
 
-def sensor(width=64, height=64, fov=50, fov_axis=None, transform=None, rfilter="box"):
+def sensor(width=64, height=64, fov=50, fov_axis=None, transform=None, rfilter="box",
+           rfilter_params=""):
     transform = transform or '<lookat origin="0, 1, 3.4" target="0, 0.9, 0" up="0, 1, 0"/>'
     axis = '\n    <string name="fovAxis" value="%s"/>' % fov_axis if fov_axis else ""
-    filt = '\n      <rfilter type="%s"/>' % rfilter if rfilter else ""
+    filt = ""
+    if rfilter:
+        filt = ('\n      <rfilter type="%s">%s</rfilter>' % (rfilter, rfilter_params) if rfilter_params
+                else '\n      <rfilter type="%s"/>' % rfilter)
     return f"""  <sensor type="perspective">
     <float name="fov" value="{fov}"/>{axis}
     <transform name="toWorld">{transform}</transform>
@@ -714,6 +718,18 @@ def build():
                              pt_bdpt)
     s["film-gaussian"] = ("the film's default reconstruction filter (gaussian)",
                           scene(sphere(WHITE), cam=sensor(rfilter=None)), pt_bdpt + ["mlt"])
+    # Filters with negative lobes, tabulated as Mitsuba tabulates them: the ceiling light seen
+    # directly is an edge of about 30:1, which rings; the room fills the frame, so the border
+    # pixels' renormalisation shows too.
+    s["film-mitchell"] = ("mitchell filter, B 0.2 and C 0.6 (negative lobes)",
+                          scene(sphere(WHITE), cam=sensor(rfilter="mitchell", rfilter_params=
+                                '<float name="B" value="0.2"/><float name="C" value="0.6"/>')),
+                          pt_bdpt + ["mlt"])
+    s["film-catmullrom"] = ("catmullrom filter (negative lobes)",
+                            scene(sphere(WHITE), cam=sensor(rfilter="catmullrom")), pt_bdpt + ["mlt"])
+    s["film-lanczos"] = ("lanczos filter, 2 lobes (negative lobes)",
+                         scene(sphere(WHITE), cam=sensor(rfilter="lanczos", rfilter_params=
+                               '<integer name="lobes" value="2"/>')), pt_bdpt + ["mlt"])
 
     # --- shapes and lights
     s["shape-sphere-disk-cube"] = ("sphere, disk and cube",

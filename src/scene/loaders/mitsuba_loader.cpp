@@ -268,14 +268,21 @@ class MitsubaSceneReader {
       filter.radius = props.get_float("radius", 1.0f, loader::kFilterRadiusRange);
     } else if (type == "gaussian") {
       filter.stddev = props.get_float("stddev", 0.5f, loader::kFilterStddevRange);
+    } else if (type == "mitchell") {
+      filter.kind = PixelFilterDesc::Kind::Mitchell;
+      filter.b = props.get_float("B", 1.0f / 3.0f);
+      filter.c = props.get_float("C", 1.0f / 3.0f);
+    } else if (type == "catmullrom") {
+      filter.kind = PixelFilterDesc::Kind::CatmullRom;
+    } else if (type == "lanczos") {
+      filter.kind = PixelFilterDesc::Kind::Lanczos;
+      filter.lobes = props.get_integer("lobes", 3, loader::kFilterLobesRange);
     } else {
-      // Mitchell-Netravali, Catmull-Rom and Lanczos have negative lobes, which neither
-      // filter importance sampling nor non-negative splats can represent.
       doc_.warn(node,
-                "reconstruction filter " + doc_.describe(node) +
+                "unknown reconstruction filter " + doc_.describe(node) +
                     " approximated by Mitsuba's default gaussian (stddev 0.5)",
                 Document::Warning::Approximated);
-      props.ignore({"B", "C", "lobes", "radius"});
+      props.ignore({"B", "C", "lobes", "radius", "stddev"});
     }
     props.warn_unused();
   }
