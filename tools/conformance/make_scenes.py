@@ -276,6 +276,10 @@ def write_assets():
     ])
     write_ply(os.path.join(ASSETS, "ball_ascii.ply"), sphere_p, sphere_n,
               [t for t in sphere_t], binary=False)
+    # A panel whose vertex normals lean 60 degrees off its face towards +x (strictNormals):
+    # directions below the panel but above its shading plane are where the modes differ.
+    lean = (math.sin(math.radians(60)), 0, math.cos(math.radians(60)))
+    write_obj(os.path.join(ASSETS, "panel_normals_lean.obj"), panel, [lean] * 4, [], [(1, 2, 3, 4)])
     prism = [(-1, 0, -1), (1, 0, -1), (1, 0, 1), (-1, 0, 1), (0, 1.5, 0)]
     write_ply(os.path.join(ASSETS, "pyramid_binary.ply"), prism, None,
               [(0, 1, 2, 3), (0, 4, 1), (1, 4, 2), (2, 4, 3), (3, 4, 0)], binary=True)
@@ -331,10 +335,12 @@ def sensor(width=64, height=64, fov=50, fov_axis=None, transform=None, rfilter="
 """
 
 
-def integrator(kind="path", max_depth=6, rr_depth=None, hide_emitters=False):
+def integrator(kind="path", max_depth=6, rr_depth=None, hide_emitters=False, strict_normals=None):
     extra = '\n    <integer name="rrDepth" value="%d"/>' % rr_depth if rr_depth is not None else ""
     if hide_emitters:
         extra += '\n    <boolean name="hideEmitters" value="true"/>'
+    if strict_normals is not None:
+        extra += '\n    <boolean name="strictNormals" value="%s"/>' % str(strict_normals).lower()
     return (f'  <integrator type="{kind}">\n    <integer name="maxDepth" value="{max_depth}"/>'
             f'{extra}\n  </integrator>\n')
 
@@ -730,6 +736,18 @@ def build():
     s["film-lanczos"] = ("lanczos filter, 2 lobes (negative lobes)",
                          scene(sphere(WHITE), cam=sensor(rfilter="lanczos", rfilter_params=
                                '<integer name="lobes" value="2"/>')), pt_bdpt + ["mlt"])
+
+    # --- shading normals: a level panel above the floor whose vertex normals lean 60 degrees
+    # towards the green wall. strictNormals true drops the directions that the geometric and
+    # the shading normal put on different sides; false lets the shading normal alone decide,
+    # so the panel also gathers light from below it (a leak). On a closed convex mesh the two
+    # agree: such directions end inside the mesh, or the one-sided BSDF turns them away.
+    leaning = obj("panel_normals_lean.obj", DIFFUSE % "0.8, 0.8, 0.8",
+                  '<scale value="0.55"/><rotate x="1" angle="-90"/><translate y="0.45" z="0.1"/>')
+    s["normals-strict"] = ("strictNormals true: no light through a panel's leaning shading normals",
+                           scene(leaning, integ=integrator(strict_normals=True)), pt_bdpt + ["mlt"])
+    s["normals-loose"] = ("strictNormals false (Mitsuba's default): the shading normal decides",
+                          scene(leaning, integ=integrator(strict_normals=False)), pt_bdpt + ["mlt"])
 
     # --- shapes and lights
     s["shape-sphere-disk-cube"] = ("sphere, disk and cube",

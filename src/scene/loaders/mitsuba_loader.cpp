@@ -40,6 +40,9 @@ class MitsubaSceneReader {
   MitsubaSceneReader(const std::string& path, const SceneDefines& defines)
       : doc_(path, defines, desc_.warnings, desc_.divergences) {
     desc_.source = path;
+    // Without an <integrator> Mitsuba renders with its path tracer, whose strictNormals is
+    // false by default.
+    desc_.strict_normals = false;
   }
 
   SceneDescription read() {
@@ -71,7 +74,7 @@ class MitsubaSceneReader {
           read_sensor(child);
         has_sensor = true;
       } else if (kind == "integrator")
-        mitsuba::read_integrator(doc_, child, desc_.render);
+        desc_.strict_normals = mitsuba::read_integrator(doc_, child, desc_.render);
       else if (kind == "medium" && !referenced(doc_.attribute(child, "id")))
         // A medium only acts where a shape or sensor names it; exporters leave unused ones.
         doc_.warn(child,
