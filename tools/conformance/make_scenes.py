@@ -664,6 +664,20 @@ def build():
                                         '<rgb name="color0" value="0.1, 0.2, 0.7"/><rgb name="color1" value="0.8, 0.7, 0.1"/>'
                                         '<float name="uscale" value="4"/><float name="vscale" value="3"/></texture></bsdf>',
                                         PANEL)), pt_bdpt)
+    # gridtexture (colours, lineWidth, uvscale, uoffset), and a checkerboard whose negative
+    # uoffset puts u = 0 inside the panel: Mitsuba truncates the cell index towards zero, so
+    # the two cells beside u = 0 share a colour.
+    s["tex-grid"] = ("gridtexture, and a checkerboard across u = 0",
+                     scene(rect('<bsdf type="diffuse"><texture type="gridtexture" name="reflectance">'
+                                '<rgb name="color0" value="0.1, 0.3, 0.7"/><rgb name="color1" value="0.9, 0.8, 0.2"/>'
+                                '<float name="lineWidth" value="0.08"/><float name="uvscale" value="3"/>'
+                                '<float name="uoffset" value="0.3"/></texture></bsdf>',
+                                '<scale x="0.45" y="0.45"/><translate x="-0.48" y="0.8" z="-0.2"/>') +
+                           rect('<bsdf type="diffuse"><texture type="checkerboard" name="reflectance">'
+                                '<rgb name="color0" value="0.1, 0.2, 0.7"/><rgb name="color1" value="0.8, 0.7, 0.1"/>'
+                                '<float name="uscale" value="1.5"/><float name="uoffset" value="-0.75"/>'
+                                '<float name="vscale" value="2"/></texture></bsdf>',
+                                '<scale x="0.45" y="0.45"/><translate x="0.48" y="0.8" z="-0.2"/>')), pt_bdpt)
     s["tex-sphere-uv"] = ("a bitmap on a sphere uses Mitsuba's sphere parametrisation",
                           scene(sphere(TEXTURED % bitmap()), cam=sensor()), pt_bdpt)
 
