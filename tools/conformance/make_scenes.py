@@ -849,6 +849,13 @@ def build():
         "ptracer splats through the gaussian filter: border pixels keep only the footprint inside",
         scene(sphere(WHITE), cam=sensor(fov=28, rfilter=None), integ=integrator(kind="ptracer")),
         ["ptracer"])
+    # The same through a filter with negative lobes: the splats carry the signed table.
+    s["film-mitchell-border-ptracer"] = (
+        "ptracer splats through a mitchell filter (B 0.2, C 0.6): signed weights, no renormalisation",
+        scene(sphere(WHITE), cam=sensor(fov=28, rfilter="mitchell",
+                                        rfilter_params='<float name="B" value="0.2"/><float name="C" value="0.6"/>'),
+              integ=integrator(kind="ptracer")),
+        ["ptracer"])
     return s
 
 
