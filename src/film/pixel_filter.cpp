@@ -1,9 +1,9 @@
 #include "emlt/film/pixel_filter.h"
 
-#include "emlt/film/filter_lobes.h"
-
 #include <algorithm>
 #include <cmath>
+
+#include "emlt/film/filter_lobes.h"
 
 namespace emlt {
 
@@ -107,10 +107,10 @@ PixelFilter::PixelFilter(const PixelFilterDesc& desc, int width, int height)
     ratio.assign(size_t(size), 0.0f);
     for (int i = 0; i < size; ++i) {
       const float centre = float(i) + 0.5f;
-      const double inside = cdf(cumulative_, false, float(size) - centre) -
-                            cdf(cumulative_, false, -centre);
-      const double inside_abs = cdf(cumulative_abs_, true, float(size) - centre) -
-                                cdf(cumulative_abs_, true, -centre);
+      const double inside =
+          cdf(cumulative_, false, float(size) - centre) - cdf(cumulative_, false, -centre);
+      const double inside_abs =
+          cdf(cumulative_abs_, true, float(size) - centre) - cdf(cumulative_abs_, true, -centre);
       if (!(inside > 0.0)) continue;
       inv[size_t(i)] = float(1.0 / inside);
       ratio[size_t(i)] = float(inside_abs / inside);

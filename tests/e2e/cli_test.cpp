@@ -204,9 +204,8 @@ TEST(Cli, InfoGivesAFidelityVerdictAndStrictRefusesDivergences) {
             std::string::npos)
       << text;
   fs::remove(out);
-  expect_clean_failure(
-      "render --strict " + (dir / "approx.xml").string() + " -o " + out.string(),
-      "approx.xml: line 4: 'highQualityEdges' is not supported", out);
+  expect_clean_failure("render --strict " + (dir / "approx.xml").string() + " -o " + out.string(),
+                       "approx.xml: line 4: 'highQualityEdges' is not supported", out);
   expect_clean_failure("info --strict " + (dir / "approx.xml").string(),
                        "refused by --strict; 2 more", out);
 }

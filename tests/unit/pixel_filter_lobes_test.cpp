@@ -56,7 +56,9 @@ double catmull_rom_formula(double x) {
   if (x < 2.0) return -0.5 * x * x * x + 2.5 * x * x - 4.0 * x + 2.0;
   return 0.0;
 }
-double sinc(double x) { return x == 0.0 ? 1.0 : std::sin(M_PI * x) / (M_PI * x); }
+double sinc(double x) {
+  return x == 0.0 ? 1.0 : std::sin(M_PI * x) / (M_PI * x);
+}
 double lanczos_formula(int lobes, double x) {
   return std::abs(x) < lobes ? sinc(x) * sinc(x / lobes) : 0.0;
 }
@@ -72,9 +74,12 @@ const std::vector<Case>& cases() {
        [](const PixelFilterDesc& d, double x) { return mitchell_formula(d.b, d.c, x); }},
       {mitchell(1.0f / 3.0f, 1.0f / 3.0f), 2.0f,
        [](const PixelFilterDesc& d, double x) { return mitchell_formula(d.b, d.c, x); }},
-      {catmull_rom(), 2.0f, [](const PixelFilterDesc&, double x) { return catmull_rom_formula(x); }},
-      {lanczos(2), 2.0f, [](const PixelFilterDesc& d, double x) { return lanczos_formula(d.lobes, x); }},
-      {lanczos(3), 3.0f, [](const PixelFilterDesc& d, double x) { return lanczos_formula(d.lobes, x); }},
+      {catmull_rom(), 2.0f,
+       [](const PixelFilterDesc&, double x) { return catmull_rom_formula(x); }},
+      {lanczos(2), 2.0f,
+       [](const PixelFilterDesc& d, double x) { return lanczos_formula(d.lobes, x); }},
+      {lanczos(3), 3.0f,
+       [](const PixelFilterDesc& d, double x) { return lanczos_formula(d.lobes, x); }},
   };
   return all;
 }
@@ -137,13 +142,13 @@ TEST(PixelFilterLobes, EveryFootprintIntegratesToOneInsideTheImage) {
       double integral = 0.0, negative = 0.0;
       for (int j = 0; j < height * steps; ++j)
         for (int i = 0; i < width * steps; ++i) {
-          const float w = weight_at(
-              filter, Vec2((float(i) + 0.5f) / steps, (float(j) + 0.5f) / steps), target);
+          const float w =
+              weight_at(filter, Vec2((float(i) + 0.5f) / steps, (float(j) + 0.5f) / steps), target);
           integral += w;
           negative += std::min(w, 0.0f);
         }
-      EXPECT_NEAR(integral / (steps * steps), 1.0, 1e-4) << describe(c.desc) << " pixel " << x
-                                                        << "," << y;
+      EXPECT_NEAR(integral / (steps * steps), 1.0, 1e-4)
+          << describe(c.desc) << " pixel " << x << "," << y;
       EXPECT_LT(negative, 0.0) << describe(c.desc) << ": negative splat weights are kept";
     }
   }
@@ -179,10 +184,9 @@ TEST(PixelFilterLobes, WeightedSamplesOfAPixelHaveTheSplatWeightsAsExpectation) 
           const int sub = 31;
           for (int j = 0; j < sub; ++j)
             for (int i = 0; i < sub; ++i)
-              expected += weight_at(filter,
-                                    Vec2((cx + (i + 0.5f) / sub) / cells,
-                                         (cy + (j + 0.5f) / sub) / cells),
-                                    target);
+              expected += weight_at(
+                  filter, Vec2((cx + (i + 0.5f) / sub) / cells, (cy + (j + 0.5f) / sub) / cells),
+                  target);
           expected /= double(sub * sub * cells * cells);
           const auto& [sum, sum2] = sums[{cx, cy}];
           const double mean = sum / samples;
@@ -245,7 +249,8 @@ TEST(PixelFilterLobes, MitsubaFiltersAreReadExactly) {
   EXPECT_EQ(l.camera.filter.kind, PixelFilterDesc::Kind::Lanczos);
   EXPECT_EQ(l.camera.filter.lobes, 2);
   EXPECT_EQ(load("l3.xml", "<rfilter type=\"lanczos\"/>").camera.filter.lobes, 3);
-  EXPECT_THROW(load("bad.xml", "<rfilter type=\"lanczos\"><integer name=\"lobes\" value=\"0\"/>"
-                               "</rfilter>"),
+  EXPECT_THROW(load("bad.xml",
+                    "<rfilter type=\"lanczos\"><integer name=\"lobes\" value=\"0\"/>"
+                    "</rfilter>"),
                Error);
 }

@@ -6,7 +6,8 @@
 // double RGB were 0.8 GB at 1920 x 1080 and 3.2 GB at 4K, whatever the thread count).
 //
 // Range and resolution. A splat is weight * F / f*, at most 14 per unit of weight in size
-// (negative only where a reconstruction filter's negative lobe weighs it) (F / luminance(F) is largest for pure blue, 1 / 0.0722), and all splats of a render
+// (F / luminance(F) is largest for pure blue, 1 / 0.0722; negative only where a
+// reconstruction filter's negative lobe weighs it), and all splats of a render
 // carry one unit of weight per mutation (plus the chains' weight not yet splatted). A pixel
 // holds 2^39 = 5.5e11 units before its sum could overflow, i.e. 4e10 mutations' worth of
 // weight landing in that one pixel; an overflow is detected and reported rather than
@@ -36,8 +37,8 @@ class alignas(64) FixedPointFilm {
   explicit FixedPointFilm(size_t pixels, double units_per_value = kUnitsPerValue)
       : sums_(3 * pixels, 0), units_per_value_(units_per_value) {}
 
-  // Adds a finite value (negative under a filter's negative lobe). `shared`: other threads add to this film at the same
-  // time (atomic additions); otherwise plain ones.
+  // Adds a finite value (negative under a filter's negative lobe). `shared`: other threads
+  // add to this film at the same time (atomic additions); otherwise plain ones.
   void add(size_t pixel, const DVec3& value, bool shared) {
     int64_t* sum = &sums_[3 * pixel];
     bool overflow = false;
@@ -100,7 +101,6 @@ class alignas(64) FixedPointFilm {
   }
 
  private:
-
   int64_t to_units(double value, bool& overflow) const {
     // A single value beyond the range (or not a number) counts as an overflow by itself.
     // Rounded to the nearest unit on both sides of zero (a cast alone would round negative

@@ -93,8 +93,8 @@ bool read_integrator(const Document& doc, pugi::xml_node node, SceneRenderReques
   // Mitsuba's path, direct and volumetric path tracers read strictNormals (default false);
   // its other integrators ignore it, treating shading normals strictly (the bidirectional
   // ones say so; the particle tracer, too, drops what the two normals disagree on).
-  const bool reads_strict = type == "path" || type == "direct" || type == "volpath" ||
-                            type == "volpath_simple";
+  const bool reads_strict =
+      type == "path" || type == "direct" || type == "volpath" || type == "volpath_simple";
   bool strict = true;
   if (reads_strict) {
     strict = props.get_boolean("strictNormals", false);

@@ -55,8 +55,7 @@ class CheckerboardTexture final : public Texture {
 
 class GridTexture final : public Texture {
  public:
-  GridTexture(const Rgb& color0, const Rgb& color1, float line_width,
-              const UvTransform& transform)
+  GridTexture(const Rgb& color0, const Rgb& color1, float line_width, const UvTransform& transform)
       : color0_(color0), color1_(color1), line_width_(line_width), transform_(transform) {}
 
   // The distance to the nearest whole u and v, each measured as Mitsuba measures it: the
@@ -68,7 +67,7 @@ class GridTexture final : public Texture {
       return f > 0.5f ? f - 1.0f : f;
     };
     return std::abs(offset(p.x)) < line_width_ || std::abs(offset(p.y)) < line_width_ ? color1_
-                                                                                        : color0_;
+                                                                                      : color0_;
   }
   Vec2 gradient_step() const override {
     return Vec2(1e-3f) / glm::max(glm::abs(transform_.scale), Vec2(1e-6f));
