@@ -33,6 +33,7 @@ int strategy_image_count() {
 struct SampleScratch {
   PathVertices light, camera;
   VertexDensity densities[kMaxPathVertices];
+  float filter_weight = 1.0f;  // the pixel sample's filter weight, for camera-side strategies
 };
 
 // One pixel sample of BDPT for the pass runner; with strategy images, it also keeps each
@@ -70,8 +71,10 @@ class BdptStep final : public PixelSampleStep {
     // Same stream and first draws as the path tracer's.
     const Vec2 jitter = rng.uniform2();
     const Vec2 u_lens = rng.uniform2();
-    const Vec2 raster = scene_.camera().filter().sample(x, y, jitter);
+    const FilterSample pixel_sample = scene_.camera().filter().sample(x, y, jitter);
+    const Vec2 raster = pixel_sample.raster;
     thread_local SampleScratch scratch;
+    scratch.filter_weight = pixel_sample.weight;
     DVec3* strategy_pixel =
         strategy_images_ ? &strategy_sums_[size_t(y) * size_t(scene_.camera().width()) + size_t(x)]
                          : nullptr;
@@ -142,8 +145,9 @@ class BdptStep final : public PixelSampleStep {
       });
       return;
     }
-    pixel += DVec3(value);
-    if (strategy >= 0) strategy_pixel[size_t(strategy) * pixels_] += DVec3(value);
+    const DVec3 weighted = DVec3(value) * double(scratch.filter_weight);
+    pixel += weighted;
+    if (strategy >= 0) strategy_pixel[size_t(strategy) * pixels_] += weighted;
   }
 
   const Scene& scene_;

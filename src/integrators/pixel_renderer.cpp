@@ -16,9 +16,12 @@ class CameraRayStep final : public PixelSampleStep {
   void sample(int x, int y, Rng& rng, DVec3& pixel_sum, TileOutput& out) override {
     const Vec2 jitter = rng.uniform2();
     const Vec2 u_lens = rng.uniform2();
-    const Ray ray = camera_.generate_ray(camera_.filter().sample(x, y, jitter), u_lens);
+    const FilterSample pixel = camera_.filter().sample(x, y, jitter);
+    const Ray ray = camera_.generate_ray(pixel.raster, u_lens);
     Rgb value = radiance_(ray, rng);
-    if (out.invalid.keep(value)) pixel_sum += DVec3(value);
+    // The filter's weight (negative in a negative lobe) after the check, as Mitsuba weighs
+    // only valid, non-negative radiance.
+    if (out.invalid.keep(value)) pixel_sum += DVec3(value) * double(pixel.weight);
   }
 
  private:

@@ -4,10 +4,11 @@ namespace emlt {
 
 namespace {
 
-// The geometric and the shading normal must put w on the same side; otherwise an
-// interpolated normal would let light through the surface.
-bool consistent_side(const PathVertex& v, const Vec3& w_world, const Vec3& w_local) {
-  return glm::dot(v.normal, w_world) * w_local.z > 0.0f;
+// Under strict normals the geometric and the shading normal must put w on the same side;
+// otherwise an interpolated normal would let light through the surface.
+bool consistent_side(const Scene& scene, const PathVertex& v, const Vec3& w_world,
+                     const Vec3& w_local) {
+  return scene.sides_agree(v.normal, w_world, w_local.z);
 }
 
 // Surfaces are offset along their normal for shadow rays; lens points are not.
@@ -34,7 +35,8 @@ Rgb smooth_factor_along(const Scene& scene, const PathVertex& v, const Vec3* w_l
   }
   if (!v.is_surface() || !v.bsdf) return Rgb(0.0f);
   const Vec3 eye_local = v.shading.to_local(*w_eye), light_local = v.shading.to_local(*w_light);
-  if (!consistent_side(v, *w_eye, eye_local) || !consistent_side(v, *w_light, light_local))
+  if (!consistent_side(scene, v, *w_eye, eye_local) ||
+      !consistent_side(scene, v, *w_light, light_local))
     return Rgb(0.0f);
   const float cos_geometric = std::abs(glm::dot(v.normal, *w_light));
   if (!(cos_geometric > 0.0f)) return Rgb(0.0f);
@@ -140,7 +142,8 @@ float pdf_along(const Scene& scene, const PathVertex* before, const PathVertex& 
                                                          std::abs(glm::dot(from.normal, w)));
   } else {
     const Vec3 before_local = from.shading.to_local(w_before), to_local = from.shading.to_local(w);
-    if (!consistent_side(from, w_before, before_local) || !consistent_side(from, w, to_local))
+    if (!consistent_side(scene, from, w_before, before_local) ||
+        !consistent_side(scene, from, w, to_local))
       return 0.0f;
     pdf = from.bsdf->pdf(BsdfContext{from.uv, TransportMode::Radiance}, before_local, to_local);
   }

@@ -35,13 +35,13 @@ int walk(const Scene& scene, Sampler& rng, TransportMode mode, int steps, int rr
     const Segment back = segment_between(v, previous);
     const Vec3& wo = back.w;
     const Vec3 wo_local = v.shading.to_local(wo);
-    if (glm::dot(v.normal, wo) * wo_local.z <= 0.0f) break;
+    if (!scene.sides_agree(v.normal, wo, wo_local.z)) break;
     const float u_lobe = rng.uniform();
     const Vec2 u_direction = rng.uniform2();
     const auto bs = v.bsdf->sample(BsdfContext{v.uv, mode}, wo_local, u_lobe, u_direction);
     if (!bs || is_black(bs->weight) || !(bs->pdf > 0.0f)) break;
     const Vec3 wi = v.shading.to_world(bs->wi);
-    if (glm::dot(v.normal, wi) * bs->wi.z <= 0.0f) break;
+    if (!scene.sides_agree(v.normal, wi, bs->wi.z)) break;
 
     v.delta = bs->is_delta();
 
@@ -67,7 +67,7 @@ int walk(const Scene& scene, Sampler& rng, TransportMode mode, int steps, int rr
     const Segment out = segment_between(v, *next);
     const Vec3& segment = out.w;
     const Vec3 segment_local = v.shading.to_local(segment);
-    if (glm::dot(v.normal, segment) * segment_local.z <= 0.0f) break;
+    if (!scene.sides_agree(v.normal, segment, segment_local.z)) break;
     const float cos_wo_shading = std::abs(wo_local.z),
                 cos_wo_geometric = std::abs(glm::dot(v.normal, wo));
     const float cos_segment_shading = std::abs(segment_local.z);

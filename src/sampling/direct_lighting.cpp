@@ -7,10 +7,11 @@ namespace emlt {
 
 namespace {
 
-// Light from the lower geometric hemisphere must not reach the upper one through an
-// interpolated shading normal, and vice versa.
-bool consistent_sides(const SurfaceHit& hit, const Vec3& w_world, const Vec3& w_local) {
-  return glm::dot(hit.geometric_normal, w_world) * w_local.z > 0.0f;
+// Under strict normals, light from the lower geometric hemisphere must not reach the upper
+// one through an interpolated shading normal, and vice versa.
+bool consistent_sides(const Scene& scene, const SurfaceHit& hit, const Vec3& w_world,
+                      const Vec3& w_local) {
+  return scene.sides_agree(hit.geometric_normal, w_world, w_local.z);
 }
 
 }  // namespace
@@ -27,7 +28,8 @@ Rgb sample_light_contribution(const Scene& scene, const SurfaceHit& hit, const V
   if (!ls || ls->pdf <= 0.0f || is_black(ls->radiance)) return Rgb(0.0f);
 
   const Vec3 wo_local = hit.shading.to_local(wo), wi_local = hit.shading.to_local(ls->wi);
-  if (!consistent_sides(hit, ls->wi, wi_local) || !consistent_sides(hit, wo, wo_local))
+  if (!consistent_sides(scene, hit, ls->wi, wi_local) ||
+      !consistent_sides(scene, hit, wo, wo_local))
     return Rgb(0.0f);
   const BsdfContext ctx{hit.uv, mode};
   const Rgb f = hit.bsdf->eval(ctx, wo_local, wi_local);
@@ -72,6 +74,9 @@ Rgb weighted_emission(const Scene& scene, const Vec3& from, const Vec3& directio
 
 Rgb estimate_direct_lighting(const Scene& scene, const SurfaceHit& hit, const Vec3& wo, Rng& rng,
                              const DirectLightingOptions& options) {
+  // Under strict normals an arrival the two normals disagree on reflects nothing (Mitsuba's
+  // direct integrator skips the point); the light samples would be zero, the BSDF's not.
+  if (!consistent_sides(scene, hit, wo, hit.shading.to_local(wo))) return Rgb(0.0f);
   const int n = glm::max(options.samples, 1);
   std::vector<Vec2> light_points, bsdf_points;
   if (options.point_set == DirectPointSet::Fibonacci) {
@@ -94,7 +99,7 @@ Rgb estimate_direct_lighting(const Scene& scene, const SurfaceHit& hit, const Ve
     const auto bs = hit.bsdf->sample(ctx, wo_local, u_lobe, point(bsdf_points, i));
     if (!bs || is_black(bs->weight)) continue;
     const Vec3 wi = hit.shading.to_world(bs->wi);
-    if (!consistent_sides(hit, wi, bs->wi)) continue;
+    if (!consistent_sides(scene, hit, wi, bs->wi)) continue;
     SurfaceHit next;
     const bool found = scene.intersect(spawn_ray(hit.position, hit.geometric_normal, wi), next);
     total += bs->weight * weighted_emission(scene, hit.position, wi, found ? &next : nullptr,

@@ -69,5 +69,7 @@ inline constexpr RealRange kFilterRadiusRange{0.0f, true, 64.0f, false,
                                               "a positive number of pixels, at most 64"};
 inline constexpr RealRange kFilterStddevRange{0.0f, true, 16.0f, false,
                                               "a positive number of pixels, at most 16"};
+// A Lanczos filter's lobes are its radius in pixels: the same bound.
+inline constexpr IntegerRange kFilterLobesRange{1, 64, "a whole number from 1 to 64"};
 
 }  // namespace emlt::loader

@@ -135,7 +135,7 @@ def write_table(results, path):
 
 CATEGORIES = {"orient": "orientation", "depth": "path depth", "bsdf": "BSDFs", "tex": "textures",
               "spectrum": "spectra", "camera": "camera", "film": "film filter", "shape": "shapes",
-              "light": "lights", "transform": "transforms"}
+              "light": "lights", "transform": "transforms", "normals": "shading normals"}
 
 
 def write_summary(results, path):

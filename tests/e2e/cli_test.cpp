@@ -175,11 +175,11 @@ TEST(Cli, InfoGivesAFidelityVerdictAndStrictRefusesDivergences) {
   <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
 )" + body + "</scene>\n";
   };
-  // A Mitchell filter and a coating (rendered as its nested BSDF) are approximated; an
-  // emitter type Mitsuba does not have is not supported at all.
+  // High-quality edges under a Gaussian filter and a coating (rendered as its nested BSDF)
+  // are approximated; an emitter type Mitsuba does not have is not supported at all.
   write_file(
       dir / "approx.xml",
-      scene_with(R"(<rfilter type="mitchell"/>)",
+      scene_with(R"(<boolean name="highQualityEdges" value="true"/>)",
                  R"(<shape type="sphere"><bsdf type="coating"><bsdf type="diffuse"/></bsdf></shape>
   <emitter type="laser"/>
 )"));
@@ -204,9 +204,8 @@ TEST(Cli, InfoGivesAFidelityVerdictAndStrictRefusesDivergences) {
             std::string::npos)
       << text;
   fs::remove(out);
-  expect_clean_failure(
-      "render --strict " + (dir / "approx.xml").string() + " -o " + out.string(),
-      "approx.xml: line 4: reconstruction filter <rfilter type=\"mitchell\"> approximated", out);
+  expect_clean_failure("render --strict " + (dir / "approx.xml").string() + " -o " + out.string(),
+                       "approx.xml: line 4: 'highQualityEdges' is not supported", out);
   expect_clean_failure("info --strict " + (dir / "approx.xml").string(),
                        "refused by --strict; 2 more", out);
 }

@@ -616,8 +616,8 @@ TEST(Loader, FilmFilterFollowsMitsubaDefaultsAndJsonOptIn) {
   EXPECT_EQ(json.camera.filter.kind, PixelFilterDesc::Kind::Tent);
   EXPECT_FLOAT_EQ(json.camera.filter.radius, 1.5f);
   const std::string bad =
-      write_file(dir, "bad.json", small_json(R"(, "filter": {"type": "mitchell"})", ""));
-  EXPECT_NE(load_and_build_error(bad).find("bad.json: camera.filter.type: unknown filter 'mitchell'"),
+      write_file(dir, "bad.json", small_json(R"(, "filter": {"type": "sinc"})", ""));
+  EXPECT_NE(load_and_build_error(bad).find("bad.json: camera.filter.type: unknown filter 'sinc'"),
             std::string::npos)
       << load_and_build_error(bad);
 }
@@ -638,12 +638,32 @@ TEST(Loader, MitsubaSettingsThatChangeNoImageKeepTheVerdictExact) {
   EXPECT_EQ(exact.verdict(), "exact");
   EXPECT_EQ(exact.render.integrator, "mlt");
   EXPECT_TRUE(any_contains(exact.warnings, "nearClip 0.1 and farClip 100 are not applied"));
-  // Switched on, strictNormals changes the image: unsupported.
-  xml.replace(xml.find("name=\"strictNormals\" value=\"false\""),
-              std::string("name=\"strictNormals\" value=\"false\"").size(),
-              "name=\"strictNormals\" value=\"true\"");
-  EXPECT_EQ(load_scene_description(write_file(dir, "strict.xml", xml)).verdict(),
-            "unsupported: 1 item");
+  // Mitsuba's MLT does not read strictNormals and treats shading normals strictly, as emlt
+  // does then; the parameter is a note.
+  EXPECT_TRUE(exact.strict_normals);
+  EXPECT_TRUE(any_contains(exact.warnings, "'strictNormals' is not a parameter of Mitsuba's mlt"));
+}
+
+// The path and direct integrators read strictNormals (default false), and emlt renders
+// either: the scene stays exact and the description says which.
+TEST(Loader, MitsubaStrictNormalsIsReadByThePathAndDirectIntegrators) {
+  const auto dir = test::scratch_dir("strict-normals");
+  const auto with = [&](const std::string& name, const std::string& integrator) {
+    std::string xml = small_xml("");
+    xml.replace(xml.find("<sensor"), 0, integrator + "\n");
+    return load_scene_description(write_file(dir, name, xml));
+  };
+  const SceneDescription none = with("none.xml", "");
+  EXPECT_FALSE(none.strict_normals);  // Mitsuba's default integrator is its path tracer
+  const SceneDescription path = with("path.xml", "<integrator type=\"path\"/>");
+  EXPECT_FALSE(path.strict_normals);
+  const SceneDescription strict = with(
+      "strict.xml",
+      "<integrator type=\"direct\"><boolean name=\"strictNormals\" value=\"true\"/></integrator>");
+  EXPECT_TRUE(strict.strict_normals);
+  EXPECT_EQ(strict.verdict(), "exact");
+  EXPECT_TRUE(with("bdpt.xml", "<integrator type=\"bdpt\"/>").strict_normals);
+  EXPECT_TRUE(with("ptracer.xml", "<integrator type=\"ptracer\"/>").strict_normals);
 }
 
 // What steers only how Mitsuba samples (a sampler's seed and sequence, a rough BSDF's

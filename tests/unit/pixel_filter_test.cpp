@@ -35,7 +35,8 @@ PixelFilterDesc gaussian(float stddev = 0.5f) {
 TEST(PixelFilter, BoxKeepsTheUniformJitterAndOnePixel) {
   const PixelFilter box(PixelFilterDesc{}, 8, 4);
   EXPECT_TRUE(box.is_box());
-  EXPECT_EQ(box.sample(3, 2, Vec2(0.25f, 0.75f)), Vec2(3.25f, 2.75f));
+  EXPECT_EQ(box.sample(3, 2, Vec2(0.25f, 0.75f)).raster, Vec2(3.25f, 2.75f));
+  EXPECT_EQ(box.sample(3, 2, Vec2(0.25f, 0.75f)).weight, 1.0f);
   int visits = 0;
   box.splat(Vec2(3.5f, 1.2f), [&](uint32_t pixel, float w) {
     EXPECT_EQ(pixel, 1u * 8u + 3u);
@@ -146,7 +147,7 @@ TEST(PixelFilter, SamplesOfAPixelAreDistributedAsItsSplatWeights) {
     std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
     const int samples = 400000;
     for (int k = 0; k < samples; ++k) {
-      const Vec2 p = filter.sample(x, y, Vec2(uniform(rng), uniform(rng)));
+      const Vec2 p = filter.sample(x, y, Vec2(uniform(rng), uniform(rng))).raster;
       ASSERT_TRUE(p.x >= 0.0f && p.y >= 0.0f && p.x <= float(width) && p.y <= float(height));
       ++counts[{int(p.x * cells), int(p.y * cells)}];
     }

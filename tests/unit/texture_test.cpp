@@ -231,7 +231,11 @@ TEST(Checkerboard, MitsubaCellLayoutAndUvScale) {
   EXPECT_EQ(t->eval(Vec2(0.6f, 0.1f)), c1);
   EXPECT_EQ(t->eval(Vec2(0.1f, 0.6f)), c1);
   EXPECT_EQ(t->eval(Vec2(0.6f, 0.6f)), c0);
-  EXPECT_EQ(t->eval(Vec2(-0.1f, 0.1f)), c1);  // cells keep their size across zero
+  // Mitsuba truncates the cell index towards zero: the cells beside u = 0 share a colour
+  // (a flooring index would give c1 at u = -0.1), and the band past it is c1 again.
+  EXPECT_EQ(t->eval(Vec2(-0.1f, 0.1f)), c0);
+  EXPECT_EQ(t->eval(Vec2(-0.6f, 0.1f)), c1);
+  EXPECT_EQ(t->eval(Vec2(-0.6f, -0.6f)), c0);
   UvTransform four;
   four.scale = Vec2(4.0f);
   const TexturePtr fine = make_checkerboard_texture(c0, c1, four);
@@ -363,3 +367,21 @@ TEST(DefaultUvs, TexturedMeshWithoutUvsGetsAPlanarProjectionAndAWarning) {
 }
 
 }  // namespace
+
+TEST(GridTexture, MitsubaLinesAlongWholeUv) {
+  const Rgb c0(0.2f), c1(0.4f);
+  const TexturePtr t = make_grid_texture(c0, c1, 0.01f);
+  EXPECT_EQ(t->eval(Vec2(0.5f, 0.5f)), c0);
+  EXPECT_EQ(t->eval(Vec2(0.005f, 0.5f)), c1);   // beside u = 0
+  EXPECT_EQ(t->eval(Vec2(0.5f, 0.995f)), c1);   // beside v = 1, from below
+  EXPECT_EQ(t->eval(Vec2(-2.004f, 0.3f)), c1);  // any whole u, negative too
+  EXPECT_EQ(t->eval(Vec2(0.02f, 0.98f)), c0);
+  // The line's half-width is in uv units after the transform (Mitsuba's uvscale/uoffset).
+  UvTransform transform;
+  transform.scale = Vec2(4.0f);
+  transform.offset = Vec2(0.1f, 0.0f);
+  const TexturePtr wide = make_grid_texture(c0, c1, 0.1f, transform);
+  EXPECT_EQ(wide->eval(Vec2(0.22f, 0.1f)), c1);  // 4 * 0.22 + 0.1 = 0.98: beside u = 1
+  EXPECT_EQ(wide->eval(Vec2(0.1f, 0.1f)), c0);   // 0.5, 0.4
+  EXPECT_EQ(wide->eval(Vec2(0.1f, 0.26f)), c1);  // v: 1.04
+}

@@ -276,6 +276,10 @@ def write_assets():
     ])
     write_ply(os.path.join(ASSETS, "ball_ascii.ply"), sphere_p, sphere_n,
               [t for t in sphere_t], binary=False)
+    # A panel whose vertex normals lean 60 degrees off its face towards +x (strictNormals):
+    # directions below the panel but above its shading plane are where the modes differ.
+    lean = (math.sin(math.radians(60)), 0, math.cos(math.radians(60)))
+    write_obj(os.path.join(ASSETS, "panel_normals_lean.obj"), panel, [lean] * 4, [], [(1, 2, 3, 4)])
     prism = [(-1, 0, -1), (1, 0, -1), (1, 0, 1), (-1, 0, 1), (0, 1.5, 0)]
     write_ply(os.path.join(ASSETS, "pyramid_binary.ply"), prism, None,
               [(0, 1, 2, 3), (0, 4, 1), (1, 4, 2), (2, 4, 3), (3, 4, 0)], binary=True)
@@ -309,10 +313,14 @@ def room(walls=True):
                    '    %s\n  </shape>\n' % (t, DIFFUSE % c) for c, t in pieces)
 
 
-def sensor(width=64, height=64, fov=50, fov_axis=None, transform=None, rfilter="box"):
+def sensor(width=64, height=64, fov=50, fov_axis=None, transform=None, rfilter="box",
+           rfilter_params=""):
     transform = transform or '<lookat origin="0, 1, 3.4" target="0, 0.9, 0" up="0, 1, 0"/>'
     axis = '\n    <string name="fovAxis" value="%s"/>' % fov_axis if fov_axis else ""
-    filt = '\n      <rfilter type="%s"/>' % rfilter if rfilter else ""
+    filt = ""
+    if rfilter:
+        filt = ('\n      <rfilter type="%s">%s</rfilter>' % (rfilter, rfilter_params) if rfilter_params
+                else '\n      <rfilter type="%s"/>' % rfilter)
     return f"""  <sensor type="perspective">
     <float name="fov" value="{fov}"/>{axis}
     <transform name="toWorld">{transform}</transform>
@@ -327,10 +335,12 @@ def sensor(width=64, height=64, fov=50, fov_axis=None, transform=None, rfilter="
 """
 
 
-def integrator(kind="path", max_depth=6, rr_depth=None, hide_emitters=False):
+def integrator(kind="path", max_depth=6, rr_depth=None, hide_emitters=False, strict_normals=None):
     extra = '\n    <integer name="rrDepth" value="%d"/>' % rr_depth if rr_depth is not None else ""
     if hide_emitters:
         extra += '\n    <boolean name="hideEmitters" value="true"/>'
+    if strict_normals is not None:
+        extra += '\n    <boolean name="strictNormals" value="%s"/>' % str(strict_normals).lower()
     return (f'  <integrator type="{kind}">\n    <integer name="maxDepth" value="{max_depth}"/>'
             f'{extra}\n  </integrator>\n')
 
@@ -654,6 +664,20 @@ def build():
                                         '<rgb name="color0" value="0.1, 0.2, 0.7"/><rgb name="color1" value="0.8, 0.7, 0.1"/>'
                                         '<float name="uscale" value="4"/><float name="vscale" value="3"/></texture></bsdf>',
                                         PANEL)), pt_bdpt)
+    # gridtexture (colours, lineWidth, uvscale, uoffset), and a checkerboard whose negative
+    # uoffset puts u = 0 inside the panel: Mitsuba truncates the cell index towards zero, so
+    # the two cells beside u = 0 share a colour.
+    s["tex-grid"] = ("gridtexture, and a checkerboard across u = 0",
+                     scene(rect('<bsdf type="diffuse"><texture type="gridtexture" name="reflectance">'
+                                '<rgb name="color0" value="0.1, 0.3, 0.7"/><rgb name="color1" value="0.9, 0.8, 0.2"/>'
+                                '<float name="lineWidth" value="0.08"/><float name="uvscale" value="3"/>'
+                                '<float name="uoffset" value="0.3"/></texture></bsdf>',
+                                '<scale x="0.45" y="0.45"/><translate x="-0.48" y="0.8" z="-0.2"/>') +
+                           rect('<bsdf type="diffuse"><texture type="checkerboard" name="reflectance">'
+                                '<rgb name="color0" value="0.1, 0.2, 0.7"/><rgb name="color1" value="0.8, 0.7, 0.1"/>'
+                                '<float name="uscale" value="1.5"/><float name="uoffset" value="-0.75"/>'
+                                '<float name="vscale" value="2"/></texture></bsdf>',
+                                '<scale x="0.45" y="0.45"/><translate x="0.48" y="0.8" z="-0.2"/>')), pt_bdpt)
     s["tex-sphere-uv"] = ("a bitmap on a sphere uses Mitsuba's sphere parametrisation",
                           scene(sphere(TEXTURED % bitmap()), cam=sensor()), pt_bdpt)
 
@@ -714,6 +738,30 @@ def build():
                              pt_bdpt)
     s["film-gaussian"] = ("the film's default reconstruction filter (gaussian)",
                           scene(sphere(WHITE), cam=sensor(rfilter=None)), pt_bdpt + ["mlt"])
+    # Filters with negative lobes, tabulated as Mitsuba tabulates them: the ceiling light seen
+    # directly is an edge of about 30:1, which rings; the room fills the frame, so the border
+    # pixels' renormalisation shows too.
+    s["film-mitchell"] = ("mitchell filter, B 0.2 and C 0.6 (negative lobes)",
+                          scene(sphere(WHITE), cam=sensor(rfilter="mitchell", rfilter_params=
+                                '<float name="B" value="0.2"/><float name="C" value="0.6"/>')),
+                          pt_bdpt + ["mlt"])
+    s["film-catmullrom"] = ("catmullrom filter (negative lobes)",
+                            scene(sphere(WHITE), cam=sensor(rfilter="catmullrom")), pt_bdpt + ["mlt"])
+    s["film-lanczos"] = ("lanczos filter, 2 lobes (negative lobes)",
+                         scene(sphere(WHITE), cam=sensor(rfilter="lanczos", rfilter_params=
+                               '<integer name="lobes" value="2"/>')), pt_bdpt + ["mlt"])
+
+    # --- shading normals: a level panel above the floor whose vertex normals lean 60 degrees
+    # towards the green wall. strictNormals true drops the directions that the geometric and
+    # the shading normal put on different sides; false lets the shading normal alone decide,
+    # so the panel also gathers light from below it (a leak). On a closed convex mesh the two
+    # agree: such directions end inside the mesh, or the one-sided BSDF turns them away.
+    leaning = obj("panel_normals_lean.obj", DIFFUSE % "0.8, 0.8, 0.8",
+                  '<scale value="0.55"/><rotate x="1" angle="-90"/><translate y="0.45" z="0.1"/>')
+    s["normals-strict"] = ("strictNormals true: no light through a panel's leaning shading normals",
+                           scene(leaning, integ=integrator(strict_normals=True)), pt_bdpt + ["mlt"])
+    s["normals-loose"] = ("strictNormals false (Mitsuba's default): the shading normal decides",
+                          scene(leaning, integ=integrator(strict_normals=False)), pt_bdpt + ["mlt"])
 
     # --- shapes and lights
     s["shape-sphere-disk-cube"] = ("sphere, disk and cube",
@@ -873,6 +921,13 @@ def build():
     s["film-gaussian-border-ptracer"] = (
         "ptracer splats through the gaussian filter: border pixels keep only the footprint inside",
         scene(sphere(WHITE), cam=sensor(fov=28, rfilter=None), integ=integrator(kind="ptracer")),
+        ["ptracer"])
+    # The same through a filter with negative lobes: the splats carry the signed table.
+    s["film-mitchell-border-ptracer"] = (
+        "ptracer splats through a mitchell filter (B 0.2, C 0.6): signed weights, no renormalisation",
+        scene(sphere(WHITE), cam=sensor(fov=28, rfilter="mitchell",
+                                        rfilter_params='<float name="B" value="0.2"/><float name="C" value="0.6"/>'),
+              integ=integrator(kind="ptracer")),
         ["ptracer"])
     return s
 

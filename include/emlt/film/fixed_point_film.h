@@ -5,8 +5,9 @@
 // driver keep one film per thread instead of one per fixed block of chains (16 films of
 // double RGB were 0.8 GB at 1920 x 1080 and 3.2 GB at 4K, whatever the thread count).
 //
-// Range and resolution. A splat is weight * F / f*, non-negative, at most 14 per unit of
-// weight (F / luminance(F) is largest for pure blue, 1 / 0.0722), and all splats of a render
+// Range and resolution. A splat is weight * F / f*, at most 14 per unit of weight in size
+// (F / luminance(F) is largest for pure blue, 1 / 0.0722; negative only where a
+// reconstruction filter's negative lobe weighs it), and all splats of a render
 // carry one unit of weight per mutation (plus the chains' weight not yet splatted). A pixel
 // holds 2^39 = 5.5e11 units before its sum could overflow, i.e. 4e10 mutations' worth of
 // weight landing in that one pixel; an overflow is detected and reported rather than
@@ -15,6 +16,7 @@
 #include <algorithm>
 #include <atomic>
 #include <climits>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -35,8 +37,8 @@ class alignas(64) FixedPointFilm {
   explicit FixedPointFilm(size_t pixels, double units_per_value = kUnitsPerValue)
       : sums_(3 * pixels, 0), units_per_value_(units_per_value) {}
 
-  // Adds a finite, non-negative value. `shared`: other threads add to this film at the same
-  // time (atomic additions); otherwise plain ones.
+  // Adds a finite value (negative under a filter's negative lobe). `shared`: other threads
+  // add to this film at the same time (atomic additions); otherwise plain ones.
   void add(size_t pixel, const DVec3& value, bool shared) {
     int64_t* sum = &sums_[3 * pixel];
     bool overflow = false;
@@ -46,7 +48,8 @@ class alignas(64) FixedPointFilm {
       for (int c = 0; c < 3; ++c) {
         const int64_t before =
             std::atomic_ref<int64_t>(sum[c]).fetch_add(units[c], std::memory_order_relaxed);
-        overflow |= before > kMaxUnits - units[c];
+        int64_t after;
+        overflow |= __builtin_add_overflow(before, units[c], &after);
       }
       if (overflow) std::atomic_ref<int64_t>(overflows_).fetch_add(1, std::memory_order_relaxed);
     } else {
@@ -98,12 +101,12 @@ class alignas(64) FixedPointFilm {
   }
 
  private:
-  static constexpr int64_t kMaxUnits = INT64_MAX;
-
   int64_t to_units(double value, bool& overflow) const {
     // A single value beyond the range (or not a number) counts as an overflow by itself.
-    const double scaled = value * units_per_value_ + 0.5;
-    if (scaled < 9.0e18) return int64_t(scaled);
+    // Rounded to the nearest unit on both sides of zero (a cast alone would round negative
+    // splats towards zero and bias them).
+    const double scaled = std::floor(value * units_per_value_ + 0.5);
+    if (std::abs(scaled) < 9.0e18) return int64_t(scaled);
     overflow = true;
     return 0;
   }

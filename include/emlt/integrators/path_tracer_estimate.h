@@ -49,6 +49,10 @@ Rgb path_tracer_estimate(const Scene& scene, const RenderSettings& settings, con
     if (settings.max_depth >= 0 && segments >= settings.max_depth) break;
 
     const Vec3 wo = -ray.direction;
+    // Under strict normals the path ends where the two normals disagree on its arrival
+    // (Mitsuba's path tracer); the light sample below would be zero, the BSDF's not.
+    const Vec3 wo_local = hit.shading.to_local(wo);
+    if (!scene.sides_agree(hit.geometric_normal, wo, wo_local.z)) break;
     const float u_select = rng.uniform();
     const Vec2 u_light = rng.uniform2();
     if (segments + 1 >= min_segments) {
@@ -59,14 +63,14 @@ Rgb path_tracer_estimate(const Scene& scene, const RenderSettings& settings, con
       if (longest && !is_black(light)) *longest = segments + 1;
     }
 
-    const Vec3 wo_local = hit.shading.to_local(wo);
     const float u_lobe = rng.uniform();
     const auto bs = hit.bsdf->sample(BsdfContext{hit.uv, TransportMode::Radiance}, wo_local, u_lobe,
                                      rng.uniform2());
     if (!bs || is_black(bs->weight)) break;
     const Vec3 wi = hit.shading.to_world(bs->wi);
-    // A direction on the wrong side of the geometric surface would leak light.
-    if (glm::dot(hit.geometric_normal, wi) * bs->wi.z <= 0.0f) break;
+    // Under strict normals, a direction on the wrong side of the geometric surface would
+    // leak light.
+    if (!scene.sides_agree(hit.geometric_normal, wi, bs->wi.z)) break;
     throughput *= bs->weight;
     previous_position = hit.position;
     previous_pdf = bs->pdf;

@@ -152,6 +152,12 @@ struct SceneDescription {
   // Every file the scene was made from: the scene file, its includes, meshes, textures,
   // maps and spectra, in the order read (a checkpoint fingerprints their contents).
   std::vector<std::string> input_files;
+  // Whether a direction that the geometric and the shading normal put on opposite sides of a
+  // surface carries no light (Mitsuba's strictNormals true, and what its bidirectional
+  // integrators always do). Off, the shading normal alone decides, as Mitsuba's path and
+  // direct integrators do by default: light may leak through a coarse mesh's surface.
+  // Every integrator reads it through the path and direct-lighting code they share.
+  bool strict_normals = true;
 
   // "exact", or "approximated: N items, unsupported: M items" (either part alone when
   // the other count is zero).

@@ -109,6 +109,13 @@ class Scene {
   // The description as built, less its meshes' vertex and index arrays, which the scene's
   // geometry took over (each MeshDesc keeps its name, material and emission).
   const SceneDescription& description() const { return desc_; }
+  // Whether a direction may carry light at a surface point whose geometric normal is n:
+  // under strict normals (SceneDescription::strict_normals) only when n and the shading
+  // normal put it on the same side (w_local_z: its shading-frame z); otherwise always, the
+  // BSDF deciding by the shading normal alone.
+  bool sides_agree(const Vec3& n, const Vec3& w_world, float w_local_z) const {
+    return !desc_.strict_normals || glm::dot(n, w_world) * w_local_z > 0.0f;
+  }
   const std::vector<std::string>& warnings() const { return desc_.warnings; }
   const SceneStats& stats() const { return stats_; }
   Vec3 bounds_center() const { return bounds_center_; }

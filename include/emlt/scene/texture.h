@@ -85,4 +85,9 @@ TexturePtr make_scale_texture(TexturePtr inner, const Rgb& factor);
 TexturePtr make_checkerboard_texture(const Rgb& color0, const Rgb& color1,
                                      const UvTransform& transform = {});
 
+// Mitsuba's `gridtexture`: color1 on lines of half-width `line_width` (in uv units) along
+// every whole u and v after the uv transform, color0 between them.
+TexturePtr make_grid_texture(const Rgb& color0, const Rgb& color1, float line_width,
+                             const UvTransform& transform = {});
+
 }  // namespace emlt

@@ -8,6 +8,7 @@
 #include "emlt/core/cluster.h"
 #include "emlt/core/error.h"
 #include "emlt/core/interruption.h"
+#include "emlt/film/filter_lobes.h"
 #include "emlt/run/snapshot.h"
 #include "emlt/scene/scene.h"
 
@@ -201,7 +202,9 @@ void MltChains::load(StateReader& in) {
                     next_checkpoint_ <= (1ull << 40) && is_checkpoint(timed_rounds_) &&
                     timed_rounds_ <= (1ull << 40) && std::isfinite(stats_.b) && stats_.b > 0.0 &&
                     std::isfinite(alpha_sum);
-  for (const int64_t u : units) consistent &= u >= 0;
+  // A filter's negative lobes may leave a pixel's sum below zero.
+  const bool signed_sums = has_negative_lobes(setup_.scene.description().camera.filter);
+  for (const int64_t u : units) consistent &= u >= 0 || signed_sums;
   if (consistent && sweep_.active) {
     // A sweep is all the chains (MLT) or one half (EMLT).
     consistent = ensemble ? sweep_.first == half * ensemble_size && sweep_.count == ensemble_size

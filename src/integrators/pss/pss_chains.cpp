@@ -6,6 +6,7 @@
 #include "emlt/core/cluster.h"
 #include "emlt/core/error.h"
 #include "emlt/core/interruption.h"
+#include "emlt/film/filter_lobes.h"
 #include "emlt/scene/scene.h"
 
 namespace emlt {
@@ -170,8 +171,9 @@ void PssChains::load(StateReader& in) {
   for (uint64_t c = first; c < end; ++c) chains_[size_t(c)].load(in, width_, height_);
   sweeper_.load_stats(in);
   const std::vector<int64_t> units = in.get_vector<int64_t>(3 * pixels_);
+  const bool signed_sums = has_negative_lobes(setup_.scene.description().camera.filter);
   for (const int64_t u : units)
-    if (u < 0) throw StateError("the saved film is inconsistent");
+    if (u < 0 && !signed_sums) throw StateError("the saved film is inconsistent");
   sweeper_.load_film_units(units);
   steps_done_ = in.get<uint64_t>();
   sweep_active_ = in.get<uint8_t>();

@@ -164,17 +164,27 @@ void JsonSceneReader::read_camera(const json& c) {
 }
 
 PixelFilterDesc JsonSceneReader::filter(const json& f, const std::string& where) {
-  check_keys(f, where, {"type", "stddev", "radius"});
+  check_keys(f, where, {"type", "stddev", "radius", "b", "c", "lobes"});
   PixelFilterDesc desc;
   const std::string type = f.contains("type") ? string(f["type"], where + ".type") : "box";
   if (type == "gaussian")
     desc.kind = PixelFilterDesc::Kind::Gaussian;
   else if (type == "tent")
     desc.kind = PixelFilterDesc::Kind::Tent;
+  else if (type == "mitchell")
+    desc.kind = PixelFilterDesc::Kind::Mitchell;
+  else if (type == "catmullrom")
+    desc.kind = PixelFilterDesc::Kind::CatmullRom;
+  else if (type == "lanczos")
+    desc.kind = PixelFilterDesc::Kind::Lanczos;
   else if (type != "box")
-    fail(where + ".type", "unknown filter '" + type + "' (box, gaussian, tent)");
+    fail(where + ".type",
+         "unknown filter '" + type + "' (box, gaussian, tent, mitchell, catmullrom, lanczos)");
   desc.stddev = number(f, "stddev", where, desc.stddev, loader::kFilterStddevRange);
   desc.radius = number(f, "radius", where, desc.radius, loader::kFilterRadiusRange);
+  desc.b = number(f, "b", where, desc.b);
+  desc.c = number(f, "c", where, desc.c);
+  desc.lobes = integer(f, "lobes", where, desc.lobes, loader::kFilterLobesRange);
   return desc;
 }
 

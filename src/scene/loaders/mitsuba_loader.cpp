@@ -41,6 +41,9 @@ class MitsubaSceneReader {
   MitsubaSceneReader(const std::string& path, const SceneDefines& defines)
       : doc_(path, defines, desc_.warnings, desc_.divergences) {
     desc_.source = path;
+    // Without an <integrator> Mitsuba renders with its path tracer, whose strictNormals is
+    // false by default.
+    desc_.strict_normals = false;
   }
 
   SceneDescription read() {
@@ -73,7 +76,7 @@ class MitsubaSceneReader {
           read_sensor(child);
         has_sensor = true;
       } else if (kind == "integrator")
-        mitsuba::read_integrator(doc_, child, desc_.render);
+        desc_.strict_normals = mitsuba::read_integrator(doc_, child, desc_.render);
       else if (kind == "medium" && !referenced(doc_.attribute(child, "id")))
         // A medium only acts where a shape or sensor names it; exporters leave unused ones.
         doc_.warn(child,
@@ -276,14 +279,21 @@ class MitsubaSceneReader {
       filter.radius = props.get_float("radius", 1.0f, loader::kFilterRadiusRange);
     } else if (type == "gaussian") {
       filter.stddev = props.get_float("stddev", 0.5f, loader::kFilterStddevRange);
+    } else if (type == "mitchell") {
+      filter.kind = PixelFilterDesc::Kind::Mitchell;
+      filter.b = props.get_float("B", 1.0f / 3.0f);
+      filter.c = props.get_float("C", 1.0f / 3.0f);
+    } else if (type == "catmullrom") {
+      filter.kind = PixelFilterDesc::Kind::CatmullRom;
+    } else if (type == "lanczos") {
+      filter.kind = PixelFilterDesc::Kind::Lanczos;
+      filter.lobes = props.get_integer("lobes", 3, loader::kFilterLobesRange);
     } else {
-      // Mitchell-Netravali, Catmull-Rom and Lanczos have negative lobes, which neither
-      // filter importance sampling nor non-negative splats can represent.
       doc_.warn(node,
-                "reconstruction filter " + doc_.describe(node) +
+                "unknown reconstruction filter " + doc_.describe(node) +
                     " approximated by Mitsuba's default gaussian (stddev 0.5)",
                 Document::Warning::Approximated);
-      props.ignore({"B", "C", "lobes", "radius"});
+      props.ignore({"B", "C", "lobes", "radius", "stddev"});
     }
     props.warn_unused();
   }

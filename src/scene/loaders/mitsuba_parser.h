@@ -150,7 +150,9 @@ MaterialDesc read_bsdf(const Document& doc, pugi::xml_node node, NamedObjects& n
                        std::vector<std::string>& warnings);
 
 // <integrator> and <sampler> to what they say about rendering (mitsuba_render_request.cpp).
-void read_integrator(const Document& doc, pugi::xml_node node, SceneRenderRequest& request);
+// read_integrator returns whether the integrator treats shading normals strictly
+// (SceneDescription::strict_normals).
+bool read_integrator(const Document& doc, pugi::xml_node node, SceneRenderRequest& request);
 void read_sampler(const Document& doc, pugi::xml_node node, SceneRenderRequest& request);
 
 // A `point`, `spot`, `directional` or `collimated` <emitter> into `desc`

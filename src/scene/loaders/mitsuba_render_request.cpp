@@ -27,7 +27,7 @@ void read_scene_file_options(Properties& props, MitsubaElement element,
 
 }  // namespace
 
-void read_integrator(const Document& doc, pugi::xml_node node, SceneRenderRequest& request) {
+bool read_integrator(const Document& doc, pugi::xml_node node, SceneRenderRequest& request) {
   const std::string type = doc.attribute(node, "type");
   Properties props(doc, node);
   if (type == "path")
@@ -108,10 +108,21 @@ void read_integrator(const Document& doc, pugi::xml_node node, SceneRenderReques
                "that hit the camera's aperture: a perspective camera's image is black)");
   }
   read_scene_file_options(props, MitsubaElement::Integrator, request);
-  // A switch whose default is what emlt does; switched on, it changes the image and is
-  // reported as unsupported.
-  if (props.get_boolean("strictNormals", false))
-    doc.warn(node, "'strictNormals' is not supported; rendered as if false");
+  // Mitsuba's path, direct and volumetric path tracers read strictNormals (default false);
+  // its other integrators ignore it, treating shading normals strictly (the bidirectional
+  // ones say so; the particle tracer, too, drops what the two normals disagree on).
+  const bool reads_strict =
+      type == "path" || type == "direct" || type == "volpath" || type == "volpath_simple";
+  bool strict = true;
+  if (reads_strict) {
+    strict = props.get_boolean("strictNormals", false);
+  } else if (props.has("strictNormals")) {
+    props.ignore({"strictNormals"});
+    doc.warn(node,
+             "'strictNormals' is not a parameter of Mitsuba's " + type +
+                 ", which treats shading normals strictly; ignored, as Mitsuba does",
+             Document::Warning::Note);
+  }
   if (!tuning.empty()) {
     std::string names;
     for (const std::string& name : tuning) names += (names.empty() ? "'" : ", '") + name + "'";
@@ -123,6 +134,7 @@ void read_integrator(const Document& doc, pugi::xml_node node, SceneRenderReques
     doc.warn(child,
              "unsupported element <" + std::string(child.name()) + "> inside <integrator> ignored");
   props.warn_unused();
+  return strict;
 }
 
 void read_sampler(const Document& doc, pugi::xml_node node, SceneRenderRequest& request) {

@@ -1,4 +1,4 @@
-// Mitsuba 0.6 <texture> elements: bitmap, checkerboard, scale, and references to
+// Mitsuba 0.6 <texture> elements: bitmap, checkerboard, gridtexture, scale, and references to
 // textures declared with an id.
 #include <fmt/core.h>
 
@@ -135,6 +135,11 @@ TexturePtr read_texture(const Document& doc, pugi::xml_node node, NamedObjects& 
     const Rgb color0 = props.get_color("color0", Rgb(0.4f));
     const Rgb color1 = props.get_color("color1", Rgb(0.2f));
     texture = make_checkerboard_texture(color0, color1, uv_transform(doc, props));
+  } else if (type == "gridtexture") {
+    const Rgb color0 = props.get_color("color0", Rgb(0.2f));
+    const Rgb color1 = props.get_color("color1", Rgb(0.4f));
+    const float line_width = props.get_float("lineWidth", 0.01f);
+    texture = make_grid_texture(color0, color1, line_width, uv_transform(doc, props));
   } else if (type == "scale") {
     const Rgb factor = props.get_color("scale", Rgb(1.0f));
     texture = make_scale_texture(nested_texture(doc, node, props, named), factor);
