@@ -175,12 +175,12 @@ TEST(Cli, InfoGivesAFidelityVerdictAndStrictRefusesDivergences) {
   <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
 )" + body + "</scene>\n";
   };
-  // A Mitchell filter and a coating (rendered as its nested BSDF) are approximated; a
-  // collimated beam is not supported at all.
+  // A Mitchell filter and an anisotropic rough plastic (rendered with the mean roughness)
+  // are approximated; a collimated beam is not supported at all.
   write_file(
       dir / "approx.xml",
       scene_with(R"(<rfilter type="mitchell"/>)",
-                 R"(<shape type="sphere"><bsdf type="coating"><bsdf type="diffuse"/></bsdf></shape>
+                 R"(<shape type="sphere"><bsdf type="roughplastic"><float name="alphaU" value="0.1"/><float name="alphaV" value="0.3"/></bsdf></shape>
   <emitter type="collimated"/>
 )"));
   write_file(dir / "exact.xml", scene_with(R"(<rfilter type="box"/>)", ""));
