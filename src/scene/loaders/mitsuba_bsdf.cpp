@@ -286,8 +286,9 @@ class BsdfReader {
       for (pugi::xml_node child : t.children())
         gamma |= std::string(child.attribute("name").as_string()) == "gamma";
       if (!doc_.mitsuba3() && std::string(t.attribute("type").as_string()) == "bitmap" && !gamma)
-        doc_.fail(t, "a bitmap normal map needs an explicit 'gamma' (Mitsuba refuses it without; "
-                     "usually <float name=\"gamma\" value=\"1\"/>)");
+        doc_.fail(t,
+                  "a bitmap normal map needs an explicit 'gamma' (Mitsuba refuses it without; "
+                  "usually <float name=\"gamma\" value=\"1\"/>)");
       normals = read_texture(doc_, t, named_);
     }
     if (!normals) doc_.fail(node, "<bsdf type=\"normalmap\"> needs a nested <texture>");
@@ -317,7 +318,7 @@ class BsdfReader {
   // reads sigmaA and (rough) alpha as numbers or textures, specularReflectance as a colour
   // only, and refuses an anisotropic roughness and equal IORs.
   MaterialDesc coating(const std::string& type, pugi::xml_node node, Properties& props) {
-    const float int_ior = ior(props, "intIOR", 1.5046f, node);  // bk7
+    const float int_ior = ior(props, "intIOR", 1.5046f, node);    // bk7
     const float ext_ior = ior(props, "extIOR", 1.000277f, node);  // air
     if (int_ior == ext_ior) doc_.fail(node, "intIOR and extIOR of a coating must differ");
     const float thickness = props.get_float("thickness", 1.0f);
@@ -339,10 +340,9 @@ class BsdfReader {
                 "a mask or bump map inside " + doc_.describe(node) +
                     " applies to the whole surface, coating included",
                 Document::Warning::Approximated);
-    inner.bsdf = a ? make_rough_coating(inner.bsdf, a, dist, int_ior, ext_ior, thickness,
-                                        sigma_a, specular_value)
-                   : make_coating(inner.bsdf, int_ior, ext_ior, thickness, sigma_a,
-                                  specular_value);
+    inner.bsdf = a ? make_rough_coating(inner.bsdf, a, dist, int_ior, ext_ior, thickness, sigma_a,
+                                        specular_value)
+                   : make_coating(inner.bsdf, int_ior, ext_ior, thickness, sigma_a, specular_value);
     return inner;
   }
 
