@@ -175,12 +175,13 @@ TEST(Cli, InfoGivesAFidelityVerdictAndStrictRefusesDivergences) {
   <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
 )" + body + "</scene>\n";
   };
-  // High-quality edges under a Gaussian filter and a coating (rendered as its nested BSDF)
-  // are approximated; an emitter type Mitsuba does not have is not supported at all.
+  // High-quality edges under a Gaussian filter and an anisotropic rough plastic (rendered
+  // with the mean roughness) are approximated; an emitter type Mitsuba does not have is not
+  // supported at all.
   write_file(
       dir / "approx.xml",
       scene_with(R"(<boolean name="highQualityEdges" value="true"/>)",
-                 R"(<shape type="sphere"><bsdf type="coating"><bsdf type="diffuse"/></bsdf></shape>
+                 R"(<shape type="sphere"><bsdf type="roughplastic"><float name="alphaU" value="0.1"/><float name="alphaV" value="0.3"/></bsdf></shape>
   <emitter type="laser"/>
 )"));
   write_file(dir / "exact.xml", scene_with(R"(<rfilter type="box"/>)", ""));

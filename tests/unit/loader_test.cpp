@@ -272,10 +272,10 @@ TEST(Loader, UnsupportedMitsubaElementsAreReportedWithNameAndLine) {
   <emitter type="laser"><rgb name="power" value="1"/></emitter>
   <shape type="cube"><bsdf type="hk"/><float name="wobble" value="2"/></shape>
   <shape type="sphere"><bsdf type="roughconductor"><string name="distribution" value="trowbridge"/></bsdf></shape>
-  <shape type="disk"><bsdf type="coating"><bsdf type="conductor"><string name="material" value="Au"/></bsdf></bsdf></shape>)"));
+  <shape type="disk"><bsdf type="roughplastic"><float name="alphaU" value="0.1"/><float name="alphaV" value="0.3"/></bsdf></shape>)"));
   const SceneDescription desc = load_scene_description(xml);
   for (const char* needle : {"'heightfield'", "<medium", "'laser'", "'hk'", "'wobble'",
-                             "distribution 'trowbridge'", "\"coating\""})
+                             "distribution 'trowbridge'", "anisotropic roughness"})
     EXPECT_TRUE(any_contains(desc.warnings, needle)) << needle;
   EXPECT_TRUE(any_contains(desc.warnings, "scene.xml: line 11:"))
       << desc.warnings.front();       // the heightfield shape

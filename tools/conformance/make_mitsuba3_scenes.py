@@ -41,7 +41,8 @@ RENAMED = {
 VALUE_TAGS = {"float", "integer", "boolean", "string", "rgb", "srgb", "spectrum", "blackbody",
               "point", "vector", "transform", "texture", "ref"}
 # Plugins of 0.6 that Mitsuba 3 does not have.
-DROPPED = {"bsdf": {"phong", "ward", "roughdiffuse", "difftrans", "mixturebsdf", "coating"},
+DROPPED = {"bsdf": {"phong", "ward", "roughdiffuse", "difftrans", "mixturebsdf", "coating",
+                    "roughcoating"},
            "texture": {"scale"}, "integrator": {"bdpt", "mlt"},
            # Mitsuba 3 has no sky or sun, and its sunsky (3.6) is another model.
            "emitter": {"sky", "sun"}}
@@ -167,6 +168,11 @@ def rewrite(node, parent=None):
         conductor_as_eta_k(node)
     if tag == "string" and node.get("name") == "distribution" and node.get("value") not in ("beckmann", "ggx"):
         raise Skip(f"microfacet distribution '{node.get('value')}' (Mitsuba 3 has beckmann and ggx)")
+    if tag == "bsdf" and kind == "normalmap":
+        # 0.6's normal map neither turns normals facing away from the viewer nor darkens
+        # the shading where they lean: Mitsuba 3 does both unless told not to.
+        for name in ("flip_invalid_normals", "use_shadowing_function"):
+            node.insert(0, ET.Element("boolean", {"name": name, "value": "false"}))
     if tag == "texture" and kind == "bitmap":
         rewrite_bitmap(node)
     if tag == "texture" and kind in ("bitmap", "checkerboard"):

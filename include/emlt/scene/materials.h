@@ -89,6 +89,25 @@ BsdfPtr make_rough_plastic(TexturePtr alpha, TexturePtr diffuse_reflectance,
                            TexturePtr specular_reflectance, float int_ior = 1.49f,
                            float ext_ior = 1.000277f, bool nonlinear = false,
                            MicrofacetType distribution = MicrofacetType::Ggx);
+// Mitsuba's `coating`: a smooth dielectric layer (int_ior inside it, ext_ior outside) of
+// some thickness, absorbing by sigma_a per unit of it (may be a texture; null: none), over
+// `nested`, in Mitsuba's model rather than a layered simulation: a delta reflection of
+// specular_reflectance times the Fresnel term, and the nested BSDF at the refracted
+// directions times the transmittance in and out, the absorption along both paths through
+// the layer and 1 / eta^2. Both sides see the same layer.
+BsdfPtr make_coating(BsdfPtr nested, float int_ior = 1.5046f, float ext_ior = 1.000277f,
+                     float thickness = 1.0f, TexturePtr sigma_a = nullptr,
+                     const Rgb& specular_reflectance = Rgb(1.0f));
+// Mitsuba's `roughcoating`: the same with a rough interface (a microfacet reflection lobe,
+// and the rough transmittance of the boundary in place of 1 - F); `alpha` may be a texture.
+BsdfPtr make_rough_coating(BsdfPtr nested, TexturePtr alpha,
+                           MicrofacetType distribution = MicrofacetType::Beckmann,
+                           float int_ior = 1.5046f, float ext_ior = 1.000277f,
+                           float thickness = 1.0f, TexturePtr sigma_a = nullptr,
+                           const Rgb& specular_reflectance = Rgb(1.0f));
+// Mitsuba's `normalmap`: `normals` holds (n + 1) / 2 of a normal in the surface's tangent
+// space (x along dp/du, z the shading normal), which the nested BSDF sees as its normal.
+BsdfPtr make_normal_map(BsdfPtr nested, TexturePtr normals);
 BsdfPtr make_two_sided(BsdfPtr inner);
 // Mitsuba's `mixturebsdf`: sum_i weights_i f_i, each part sampled in proportion to its
 // weight. With `ensure_energy_conservation` (Mitsuba's default) weights summing to more than

@@ -119,9 +119,10 @@ bool mitsuba06_only_plugin(std::string_view element, std::string_view type) {
   // integrators path, direct, ptracer, volpath and AOV-like ones; its films hdrfilm and
   // specfilm; its samplers independent, stratified, multijitter, orthogonal and ldsampler).
   // Listed are those the 0.6 readers render without an item of their own: the 0.6 plugins
-  // emlt lacks too (coating, pssmlt ...) are reported by the readers already.
+  // emlt lacks too (pssmlt ...) are reported by the readers already.
   if (element == "bsdf")
-    return one_of(type, {"phong", "ward", "roughdiffuse", "difftrans", "mixturebsdf"});
+    return one_of(type, {"phong", "ward", "roughdiffuse", "difftrans", "mixturebsdf", "coating",
+                         "roughcoating"});
   if (element == "texture") return type == "scale";
   if (element == "integrator") return one_of(type, {"bdpt", "mlt"});
   if (element == "film") return type == "ldrfilm" || type == "mfilm";

@@ -2,7 +2,8 @@
 // (diffuse reflectance 0.5, intIOR bk7 for dielectrics, polypropylene for plastics, Cu
 // conductors, alpha 0.1, Beckmann distribution) so that a scene renders like it does in
 // Mitsuba. `mask` and `bumpmap` become the material's opacity and bump textures;
-// `coating` falls back to its nested BSDF with a warning.
+// `coating` and `roughcoating` wrap their nested BSDF in Mitsuba's layer model, and
+// `normalmap` in a wrapper that tilts the frame it sees.
 #include <cctype>
 #include <initializer_list>
 #include <optional>
@@ -266,13 +267,83 @@ class BsdfReader {
       inner.textured = true;
       return inner;
     }
-    // coating / normalmap
-    doc_.warn(node, "<bsdf type=\"" + type + "\"> is not supported; using its nested BSDF alone",
-              Document::Warning::Approximated);
-    props.ignore({"thickness", "intIOR", "extIOR", "sigmaA", "specularReflectance", "alpha",
-                  "distribution", "sampleVisible"});
-    std::vector<pugi::xml_node> ignored_textures;
-    return nested(node, props, &ignored_textures);
+    if (type == "coating" || type == "roughcoating") return coating(type, node, props);
+    return normal_map(node, props);
+  }
+
+  // Mitsuba's `normalmap`: its one texture (of any name) holds tangent-space normals.
+  MaterialDesc normal_map(pugi::xml_node node, Properties& props) {
+    std::vector<pugi::xml_node> textures;
+    MaterialDesc inner = nested(node, props, &textures);
+    TexturePtr normals;
+    for (const char* kind : {"texture", "ref"})
+      for (const std::string& name : props.names_of_kind(kind))
+        if (!normals) normals = props.get_texture(name, Rgb(0.0f), named_);
+    for (pugi::xml_node t : textures) {
+      if (normals) break;
+      // Mitsuba 0.6 refuses a bitmap read with its default curve: normals are linear.
+      bool gamma = false;
+      for (pugi::xml_node child : t.children())
+        gamma |= std::string(child.attribute("name").as_string()) == "gamma";
+      if (!doc_.mitsuba3() && std::string(t.attribute("type").as_string()) == "bitmap" && !gamma)
+        doc_.fail(t,
+                  "a bitmap normal map needs an explicit 'gamma' (Mitsuba refuses it without; "
+                  "usually <float name=\"gamma\" value=\"1\"/>)");
+      normals = read_texture(doc_, t, named_);
+    }
+    if (!normals) doc_.fail(node, "<bsdf type=\"normalmap\"> needs a nested <texture>");
+    if (doc_.mitsuba3()) {
+      // Mitsuba 3 by default turns a normal facing away from the viewer and darkens the
+      // shading where the normal leans far from the true one; emlt does as 0.6 does.
+      const bool flip = props.get_boolean("flip_invalid_normals", true);
+      const bool shadowing = props.get_boolean("use_shadowing_function", true);
+      if (flip || shadowing)
+        doc_.warn(node,
+                  std::string("Mitsuba 3's normal map ") +
+                      (shadowing ? "shadowing function (use_shadowing_function)" : "") +
+                      (shadowing && flip ? " and " : "") +
+                      (flip ? "normal flipping (flip_invalid_normals)" : "") +
+                      " not supported; perturbed as Mitsuba 0.6 does",
+                  Document::Warning::Approximated);
+    }
+    if (inner.bump)
+      doc_.warn(node, "a bump map inside a normal map: both tilt the normal, the bump first",
+                Document::Warning::Approximated);
+    inner.bsdf = make_normal_map(inner.bsdf, normals);
+    inner.textured = true;
+    return inner;
+  }
+
+  // Mitsuba's `coating` and `roughcoating`: a dielectric layer over the nested BSDF. Mitsuba
+  // reads sigmaA and (rough) alpha as numbers or textures, specularReflectance as a colour
+  // only, and refuses an anisotropic roughness and equal IORs.
+  MaterialDesc coating(const std::string& type, pugi::xml_node node, Properties& props) {
+    const float int_ior = ior(props, "intIOR", 1.5046f, node);    // bk7
+    const float ext_ior = ior(props, "extIOR", 1.000277f, node);  // air
+    if (int_ior == ext_ior) doc_.fail(node, "intIOR and extIOR of a coating must differ");
+    const float thickness = props.get_float("thickness", 1.0f);
+    TexturePtr sigma_a = texture(props, "sigmaA", Rgb(0.0f));
+    TexturePtr specular = make_constant_texture(props.get_color("specularReflectance", Rgb(1.0f)));
+    conserve_energy(props, node, {&specular});
+    const Rgb specular_value = *specular->constant();
+    MicrofacetType dist = MicrofacetType::Beckmann;
+    TexturePtr a;
+    if (type == "roughcoating") {
+      dist = distribution(props, node);
+      if (props.has("alphaU") || props.has("alphaV"))
+        doc_.fail(node, "roughcoating does not support an anisotropic roughness (alphaU/alphaV)");
+      a = alpha(props, node);
+    }
+    MaterialDesc inner = nested(node, props);
+    if (inner.opacity || inner.bump)
+      doc_.warn(node,
+                "a mask or bump map inside " + doc_.describe(node) +
+                    " applies to the whole surface, coating included",
+                Document::Warning::Approximated);
+    inner.bsdf = a ? make_rough_coating(inner.bsdf, a, dist, int_ior, ext_ior, thickness, sigma_a,
+                                        specular_value)
+                   : make_coating(inner.bsdf, int_ior, ext_ior, thickness, sigma_a, specular_value);
+    return inner;
   }
 
   // Mitsuba 3's bumpmap scales the height by its `scale` (0.6 nests a scale texture), and
@@ -361,7 +432,7 @@ class BsdfReader {
 
   MaterialDesc build(const std::string& type, pugi::xml_node node, Properties& props) {
     if (type == "twosided" || type == "mask" || type == "bumpmap" || type == "coating" ||
-        type == "normalmap")
+        type == "roughcoating" || type == "normalmap")
       return wrapper(type, node, props);
     if (type == "mixturebsdf") return MaterialDesc("", mixture(node, props));
     if (type == "blendbsdf") return MaterialDesc("", blend(node, props));
