@@ -120,7 +120,8 @@ def plain(latex):
     text = re.sub(r"\\(?:vspace|hspace)\{[^}]*\}", "", text)
     text = re.sub(r"\\(?:code|texttt|emph|textbf|mbox|pluginref|mathrm|text)\{([^}]*)\}", r"\1",
                   text)
-    text = text.replace("\\showbreak", "").replace("\\_", "_").replace("$", "")
+    for markup, meant in (("\\showbreak", ""), ("\\_", "_"), ("\\&", "&"), ("$", "")):
+        text = text.replace(markup, meant)
     text = re.sub(r"\\([A-Za-z]+)", r"\1", text)
     text = text.replace("{", "").replace("}", "")
     return " ".join(text.split())
