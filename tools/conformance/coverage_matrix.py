@@ -227,7 +227,8 @@ def render(data, table, uses):
         "differs from what the loader says). Every plugin and parameter of Mitsuba 0.6 "
         "as its source at commit [`%s`](%s/tree/%s) lists them "
         "([tools/conformance/mitsuba06_plugins.json](../tools/conformance/mitsuba06_plugins.json), "
-        "extracted by [extract_mitsuba_plugins.py](../tools/conformance/extract_mitsuba_plugins.py)), "
+        "extracted by "
+        "[extract_mitsuba_plugins.py](../tools/conformance/extract_mitsuba_plugins.py)), "
         "each marked by what emlt's loader says about a probe scene that uses it "
         "([coverage_matrix.py](../tools/conformance/coverage_matrix.py)):"
         % (COMMAND, data["commit"][:12], data["mitsuba"], data["commit"]),

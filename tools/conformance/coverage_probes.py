@@ -48,7 +48,8 @@ NEEDS = {
     ("medium", "heterogeneous"): (
         [], '<volume type="constvolume" name="density"><float name="value" value="1"/></volume>'),
     ("volume", "gridvolume"): ([("string", "filename", "density.vol")], ""),
-    ("volume", "volcache"): ([], '<volume type="constvolume"><float name="value" value="1"/></volume>'),
+    ("volume", "volcache"): (
+        [], '<volume type="constvolume"><float name="value" value="1"/></volume>'),
     ("volume", "hgridvolume"): ([("string", "filename", "density.vol")], ""),
 }
 # Elements beside the probe that it refers to: an instance's shape group, and the reverse.
@@ -130,7 +131,6 @@ VALUES = {
     (None, "shadingSamples"): [("integer", "1")],
     (None, "samplingDensity"): [("float", "1")],
     (None, "voxelWidth"): [("float", "0.1")],
-    (None, "channel"): [("string", "r")],
     ("homogeneous", "channel"): [("integer", "0")],
     (None, "repeatU"): [("float", "1")],
     (None, "repeatV"): [("float", "1")],
@@ -212,7 +212,7 @@ def value_variants(category, plugin, param):
             variants.append((kind, ", ".join(value) if len(value) == 3 else "0, 0, 1"))
         elif kind == "texture":
             variants.append(("texture", None))
-    # One variant per kind of element: the first of each.
+    # Each (element, value) once: a parameter typed "float or texture" twice in the manual.
     seen, unique = set(), []
     for element, value in variants:
         if (element, value) not in seen:

@@ -64,8 +64,6 @@ BASES = {
     "Texture2D": [("src/librender/texture.cpp",
                    ["uoffset", "voffset", "uvscale", "uscale", "vscale"])],
 }
-# Subclasses the class line shows in place of the base that reads the parameters.
-BASE_ALIASES = {"ProjectiveCamera": "ProjectiveCamera", "PerspectiveCamera": "PerspectiveCamera"}
 
 # Documentation types (Mitsuba's LaTeX macros) -> the XML element a scene gives them as.
 DOC_TYPES = {
