@@ -27,6 +27,7 @@ struct InfoOptions {
   std::string scene;
   std::vector<std::string> defines;
   bool strict = false;
+  bool json = false;  // warnings with their kinds, for tools (tools/conformance/coverage_matrix.py)
 };
 
 void add_render_options(CLI::App& command, RenderOptions& options);

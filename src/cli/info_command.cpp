@@ -1,5 +1,7 @@
 #include <fmt/core.h>
 
+#include <nlohmann/json.hpp>
+
 #include "cli/commands.h"
 #include "cli/fidelity.h"
 #include "emlt/run/scene_settings.h"
@@ -8,12 +10,41 @@
 
 namespace emlt::cli {
 
+namespace {
+
+// `emlt info --json`: each warning with its kind, so that a tool can tell a note (emlt does
+// as the file means) from an approximated or unsupported item without parsing sentences.
+// A warning is a divergence of that kind when the loader recorded it as one (same text).
+void print_json(const SceneDescription& d, const std::vector<std::string>& warnings) {
+  std::vector<bool> matched(d.divergences.size(), false);
+  nlohmann::json list = nlohmann::json::array();
+  for (const std::string& warning : warnings) {
+    std::string kind = "note";
+    for (size_t i = 0; i < d.divergences.size(); ++i) {
+      if (matched[i] || d.divergences[i].message != warning) continue;
+      matched[i] = true;
+      kind = d.divergences[i].kind == Divergence::Kind::Approximated ? "approximated"
+                                                                     : "unsupported";
+      break;
+    }
+    list.push_back({{"kind", kind}, {"message", warning}});
+  }
+  const nlohmann::json out = {{"scene", d.source}, {"warnings", list}, {"verdict", d.verdict()}};
+  fmt::print("{}\n", out.dump(1));
+}
+
+}  // namespace
+
 int run_info(const InfoOptions& options) {
   SceneDescription loaded = load_scene_description(options.scene, parse_defines(options.defines));
   refuse_divergences_if_strict(loaded, options.strict);
   const auto scene = Scene::build(std::move(loaded));
   const SceneStats& st = scene->stats();
   const SceneDescription& d = scene->description();
+  if (options.json) {
+    print_json(d, scene->warnings());
+    return 0;
+  }
   fmt::print("scene        {}\n", d.source);
   fmt::print("image        {}x{}\n", scene->camera().width(), scene->camera().height());
   fmt::print("triangles    {} ({} degenerate dropped) in {} meshes\n", st.triangles,

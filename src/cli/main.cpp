@@ -37,6 +37,9 @@ int run(int argc, char** argv) {
   info->add_option("-D", info_options.defines, "Scene parameter, name=value (repeatable)");
   info->add_flag("--strict", info_options.strict,
                  "Fail if the scene uses anything emlt approximates or cannot honour");
+  info->add_flag("--json", info_options.json,
+                 "Print the warnings, each with its kind (note, approximated, unsupported), "
+                 "and the verdict as one JSON object");
 
   emlt::cli::CompareOptions compare_options;
   CLI::App* compare = app.add_subcommand("compare", "Error metrics of images against a reference");

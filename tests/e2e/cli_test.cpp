@@ -6,6 +6,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -209,6 +210,35 @@ TEST(Cli, InfoGivesAFidelityVerdictAndStrictRefusesDivergences) {
                        "approx.xml: line 4: 'highQualityEdges' is not supported", out);
   expect_clean_failure("info --strict " + (dir / "approx.xml").string(),
                        "refused by --strict; 2 more", out);
+}
+
+// `emlt info --json` gives each warning its kind, as the verdict counts them; a note (here
+// a sampler's seed, which steers only sampling) is a warning but no item.
+TEST(Cli, InfoJsonGivesEachWarningItsKind) {
+  const fs::path dir = test::scratch_dir("info-json");
+  write_file(dir / "scene.xml", R"(<scene version="0.6.0">
+  <sensor type="perspective"><float name="fov" value="40"/>
+    <sampler type="independent"><integer name="seed" value="3"/></sampler>
+    <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/>
+      <rfilter type="mitchell"/></film>
+  </sensor>
+  <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+  <emitter type="collimated"/>
+</scene>
+)");
+  std::string text;
+  ASSERT_EQ(0, test::run_command(emlt_cmd("info --json " + (dir / "scene.xml").string()), &text))
+      << text;
+  const nlohmann::json j = nlohmann::json::parse(text);
+  EXPECT_EQ(j["verdict"], "approximated: 1 item, unsupported: 1 item") << text;
+  std::map<std::string, int> kinds;
+  for (const auto& w : j["warnings"]) ++kinds[w["kind"].get<std::string>()];
+  EXPECT_EQ(kinds["approximated"], 1) << text;
+  EXPECT_EQ(kinds["unsupported"], 1) << text;
+  EXPECT_EQ(kinds["note"], 1) << text;
+  for (const auto& w : j["warnings"])
+    if (w["kind"] == "note")
+      EXPECT_NE(w["message"].get<std::string>().find("'seed'"), std::string::npos) << text;
 }
 
 TEST(CliBadInput, MissingSceneFile) {
