@@ -236,9 +236,10 @@ TEST(Cli, InfoJsonGivesEachWarningItsKind) {
   EXPECT_EQ(kinds["approximated"], 1) << text;
   EXPECT_EQ(kinds["unsupported"], 1) << text;
   EXPECT_EQ(kinds["note"], 1) << text;
-  for (const auto& w : j["warnings"])
-    if (w["kind"] == "note")
-      EXPECT_NE(w["message"].get<std::string>().find("'seed'"), std::string::npos) << text;
+  for (const auto& w : j["warnings"]) {
+    if (w["kind"] != "note") continue;
+    EXPECT_NE(w["message"].get<std::string>().find("'seed'"), std::string::npos) << text;
+  }
 }
 
 TEST(CliBadInput, MissingSceneFile) {

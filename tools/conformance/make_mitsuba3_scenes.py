@@ -43,7 +43,7 @@ VALUE_TAGS = {"float", "integer", "boolean", "string", "rgb", "srgb", "spectrum"
 # Plugins of 0.6 that Mitsuba 3 does not have.
 DROPPED = {"bsdf": {"phong", "ward", "roughdiffuse", "difftrans", "mixturebsdf", "coating",
                     "roughcoating"},
-           "texture": {"scale"}, "integrator": {"bdpt", "mlt"},
+           "texture": {"scale", "gridtexture"}, "integrator": {"bdpt", "mlt"},
            # Mitsuba 3 has no sky or sun, and its sunsky (3.6) is another model.
            "emitter": {"sky", "sun"}}
 UV_PARAMS = ("uvscale", "uscale", "vscale", "uoffset", "voffset")
@@ -150,6 +150,8 @@ def rewrite(node, parent=None):
     tag, kind = node.tag, node.get("type")
     if kind in DROPPED.get(tag, ()):
         raise Skip(f"<{tag} type=\"{kind}\"> is not a Mitsuba 3 plugin")
+    if node.get("name") == "strictNormals":
+        raise Skip("Mitsuba 3's integrators have no strictNormals")
     if tag == "emitter" and kind == "sunsky":
         raise Skip("Mitsuba 3's sunsky (3.6) is another sky model, with other parameters")
     if tag in ("srgb", "blackbody"):

@@ -23,6 +23,9 @@ bool one_of(std::string_view value, std::initializer_list<std::string_view> list
 constexpr std::pair<std::string_view, std::string_view> kRenamed[] = {
     // scene objects and transforms
     {"to_world", "toWorld"},
+    // the Mitchell-Netravali filter keeps its capitals in Mitsuba 3
+    {"B", "B"},
+    {"C", "C"},
     // integrators (MonteCarloIntegrator and Integrator, direct)
     {"max_depth", "maxDepth"},
     {"rr_depth", "rrDepth"},
@@ -123,7 +126,7 @@ bool mitsuba06_only_plugin(std::string_view element, std::string_view type) {
   if (element == "bsdf")
     return one_of(type, {"phong", "ward", "roughdiffuse", "difftrans", "mixturebsdf", "coating",
                          "roughcoating"});
-  if (element == "texture") return type == "scale";
+  if (element == "texture") return type == "scale" || type == "gridtexture";
   if (element == "integrator") return one_of(type, {"bdpt", "mlt"});
   if (element == "film") return type == "ldrfilm" || type == "mfilm";
   if (element == "sampler") return one_of(type, {"halton", "hammersley", "sobol"});
