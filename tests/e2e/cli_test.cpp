@@ -220,10 +220,10 @@ TEST(Cli, InfoJsonGivesEachWarningItsKind) {
   <sensor type="perspective"><float name="fov" value="40"/>
     <sampler type="independent"><integer name="seed" value="3"/></sampler>
     <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/>
-      <rfilter type="mitchell"/></film>
+      <boolean name="highQualityEdges" value="true"/></film>
   </sensor>
   <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
-  <emitter type="collimated"/>
+  <emitter type="laser"/>
 </scene>
 )");
   std::string text;
