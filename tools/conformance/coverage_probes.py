@@ -18,6 +18,9 @@ ASSETS = "tests/conformance/scenes/assets"
 DIFFUSE = '<bsdf type="diffuse"/>'
 CHECKER = '<texture type="checkerboard"/>'
 BITMAP = '<texture type="bitmap"><string name="filename" value="assets/grid.png"/></texture>'
+# Mitsuba refuses a bitmap normal map whose gamma is not given (its texels are not colours).
+LINEAR_BITMAP = ('<texture type="bitmap"><string name="filename" value="assets/grid.png"/>'
+                 '<float name="gamma" value="1"/></texture>')
 
 # What a plugin needs to be valid in Mitsuba, beside the parameter probed: (parameters as
 # (element, name, value), nested XML). A parameter probed replaces its entry here.
@@ -29,7 +32,7 @@ NEEDS = {
     ("bsdf", "coating"): ([], DIFFUSE),
     ("bsdf", "roughcoating"): ([], DIFFUSE),
     ("bsdf", "bumpmap"): ([], BITMAP + DIFFUSE),
-    ("bsdf", "normalmap"): ([], BITMAP + DIFFUSE),
+    ("bsdf", "normalmap"): ([], LINEAR_BITMAP + DIFFUSE),
     ("bsdf", "irawan"): ([("string", "filename", "cloth.wvp")], ""),
     ("emitter", "envmap"): ([("string", "filename", "assets/sky.exr")], ""),
     ("texture", "bitmap"): ([("string", "filename", "assets/grid.png")], ""),
