@@ -12,7 +12,8 @@ Camera::Camera(const CameraDesc& desc)
       height_(desc.height),
       filter_(desc.filter, desc.width, desc.height),
       aperture_radius_(desc.aperture_radius),
-      focus_distance_(desc.focus_distance) {
+      focus_distance_(desc.focus_distance),
+      orthographic_(desc.projection == CameraDesc::Projection::Orthographic) {
   const Mat4& m = desc.to_world;
   // Camera space has +x pointing to the image's left, so the image's right is -x.
   right_ = -glm::normalize(Vec3(m[0]));
@@ -38,6 +39,15 @@ Camera::Camera(const CameraDesc& desc)
     tan_half_x_ = tan_half * aspect;
   }
   image_plane_area_ = 4.0f * tan_half_x_ * tan_half_y_;
+  if (orthographic_) {
+    // Mitsuba's orthographic film spans x in [-1, 1] and y in [-1/aspect, 1/aspect] of
+    // camera space, on the z = 0 plane; to_world's scale sizes it (so m's columns are not
+    // normalised here). The image's right is camera -x, its top +y.
+    aperture_radius_ = 0.0f;
+    ortho_centre_ = Vec3(m[3]);
+    ortho_half_right_ = -Vec3(m[0]);
+    ortho_half_up_ = Vec3(m[1]) / aspect;
+  }
 
   // Angles between the centre's ray and its neighbours one pixel right and down, each as
   // atan2(|a x b|, a . b) in double, which stays accurate for the tiny angles involved.
@@ -58,6 +68,7 @@ Vec3 Camera::film_direction_local(const Vec2& raster) const {
 }
 
 Ray Camera::generate_ray(const Vec2& raster, const Vec2& u_lens) const {
+  if (orthographic_) return generate_ray_from_lens_point(raster, position_);
   const Vec3 local = film_direction_local(raster);
   const Vec3 through = local.x * right_ + local.y * up_ + forward_;  // z = 1 plane, world
   Ray ray;
@@ -75,6 +86,11 @@ Ray Camera::generate_ray(const Vec2& raster, const Vec2& u_lens) const {
 }
 
 Ray Camera::generate_ray_from_lens_point(const Vec2& raster, const Vec3& lens_point) const {
+  if (orthographic_) {  // the film point is the ray's origin: no lens point to keep
+    const float ndc_x = 2.0f * raster.x / float(width_) - 1.0f;
+    const float ndc_y = 1.0f - 2.0f * raster.y / float(height_);
+    return {ortho_centre_ + ndc_x * ortho_half_right_ + ndc_y * ortho_half_up_, forward_};
+  }
   const Vec3 local = film_direction_local(raster);
   const Vec3 through = local.x * right_ + local.y * up_ + forward_;
   Ray ray;
@@ -89,6 +105,8 @@ Ray Camera::generate_ray_from_lens_point(const Vec2& raster, const Vec3& lens_po
 }
 
 std::optional<Vec2> Camera::raster_position(const Vec3& p, const Vec3& w) const {
+  // An orthographic camera sees a single direction: no sampled direction lands on its film.
+  if (orthographic_) return std::nullopt;
   const float cos_theta = glm::dot(w, forward_);
   if (cos_theta <= 0.0f) return std::nullopt;
   // Where the ray crosses the focus plane, seen from the lens centre, fixes the pixel.
@@ -117,6 +135,10 @@ float Camera::importance_on_film(float cos_theta) const {
 }
 
 void Camera::pdf_emission(const Vec3& w, float* pdf_position, float* pdf_direction) const {
+  if (orthographic_) {  // not part of the path layer (see is_orthographic): no density
+    *pdf_position = *pdf_direction = 0.0f;
+    return;
+  }
   const float cos_theta = glm::dot(w, forward_);
   const float lens_area = is_pinhole() ? 1.0f : kPi * aperture_radius_ * aperture_radius_;
   *pdf_position = 1.0f / lens_area;
@@ -125,6 +147,7 @@ void Camera::pdf_emission(const Vec3& w, float* pdf_position, float* pdf_directi
 }
 
 std::optional<CameraDirectSample> Camera::sample_direct(const Vec3& ref, const Vec2& u_lens) const {
+  if (orthographic_) return std::nullopt;  // a delta in direction: no connection reaches it
   CameraDirectSample s;
   const Vec2 disk = is_pinhole() ? Vec2(0.0f)
                                  : square_to_uniform_disk_concentric(u_lens) * aperture_radius_;

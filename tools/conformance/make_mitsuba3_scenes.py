@@ -37,6 +37,8 @@ RENAMED = {
     "fileFormat": "file_format", "componentFormat": "component_format",
     "highQualityEdges": "sample_border", "wrapMode": "wrap_mode", "filterType": "filter_type",
     "cutoffAngle": "cutoff_angle", "beamWidth": "beam_width", "samplingWeight": "sampling_weight",
+    "apertureRadius": "aperture_radius", "focusDistance": "focus_distance",
+    "emitterSamples": "emitter_samples", "bsdfSamples": "bsdf_samples",
 }
 VALUE_TAGS = {"float", "integer", "boolean", "string", "rgb", "srgb", "spectrum", "blackbody",
               "point", "vector", "transform", "texture", "ref"}
@@ -44,6 +46,8 @@ VALUE_TAGS = {"float", "integer", "boolean", "string", "rgb", "srgb", "spectrum"
 DROPPED = {"bsdf": {"phong", "ward", "roughdiffuse", "difftrans", "mixturebsdf", "coating",
                     "roughcoating"},
            "texture": {"scale", "gridtexture"}, "integrator": {"bdpt", "mlt"},
+           # Mitsuba 3's films are hdrfilm and specfilm; its samplers have no QMC sequences.
+           "film": {"ldrfilm", "mfilm", "tiledhdrfilm"}, "sampler": {"halton", "hammersley", "sobol"},
            # Mitsuba 3 has no sky or sun, and its sunsky (3.6) is another model.
            "emitter": {"sky", "sun"}}
 UV_PARAMS = ("uvscale", "uscale", "vscale", "uoffset", "voffset")

@@ -326,23 +326,29 @@ def room(walls=True):
                    '    %s\n  </shape>\n' % (t, DIFFUSE % c) for c, t in pieces)
 
 
+HDR_PFM = ('\n      <string name="pixelFormat" value="rgb"/>'
+           '\n      <string name="fileFormat" value="pfm"/>')
+
+
 def sensor(width=64, height=64, fov=50, fov_axis=None, transform=None, rfilter="box",
-           rfilter_params=""):
+           rfilter_params="", kind="perspective", params=None, sampler="independent",
+           film="hdrfilm", film_params=HDR_PFM):
+    """The camera: a perspective one unless `kind` says otherwise; `params` replaces the
+    fov (an orthographic camera has none), `film_params` the film's output format."""
     transform = transform or '<lookat origin="0, 1, 3.4" target="0, 0.9, 0" up="0, 1, 0"/>'
     axis = '\n    <string name="fovAxis" value="%s"/>' % fov_axis if fov_axis else ""
+    if params is None:
+        params = f'\n    <float name="fov" value="{fov}"/>{axis}'
     filt = ""
     if rfilter:
         filt = ('\n      <rfilter type="%s">%s</rfilter>' % (rfilter, rfilter_params) if rfilter_params
                 else '\n      <rfilter type="%s"/>' % rfilter)
-    return f"""  <sensor type="perspective">
-    <float name="fov" value="{fov}"/>{axis}
+    return f"""  <sensor type="{kind}">{params}
     <transform name="toWorld">{transform}</transform>
-    <sampler type="independent"><integer name="sampleCount" value="$spp"/></sampler>
-    <film type="hdrfilm">
+    <sampler type="{sampler}"><integer name="sampleCount" value="$spp"/></sampler>
+    <film type="{film}">
       <integer name="width" value="{width}"/>
-      <integer name="height" value="{height}"/>
-      <string name="pixelFormat" value="rgb"/>
-      <string name="fileFormat" value="pfm"/>{filt}
+      <integer name="height" value="{height}"/>{film_params}{filt}
     </film>
   </sensor>
 """
@@ -984,7 +990,76 @@ def build():
                                         rfilter_params='<float name="B" value="0.2"/><float name="C" value="0.6"/>'),
               integ=integrator(kind="ptracer")),
         ["ptracer"])
+    add_plugin_scenes(s)
     return s
+
+
+def add_plugin_scenes(s):
+    """Scenes that name the plugins no other scene names: a thin lens, the tent and gaussian
+    filters, the direct, bdpt and mlt integrators, every sampler and every film."""
+    pt_bdpt = ["pt", "bdpt"]
+    # Depth of field: the near sphere is in focus, the far one and the back wall are not.
+    near_far = (sphere(WHITE, "-0.4, 0.3, 0.7", 0.3) + sphere(DIFFUSE % "0.8, 0.5, 0.2", "0.45, 0.4, -0.55", 0.4) +
+                rect(TEXTURED % bitmap(), '<scale value="0.5"/><translate x="-0.2" y="1.2" z="-0.98"/>'))
+    s["camera-thinlens"] = ("thinlens: apertureRadius 0.1, focusDistance 2.75 (near sphere sharp, back wall blurred)",
+        scene(near_far, cam=sensor(kind="thinlens", params='\n    <float name="fov" value="50"/>'
+                                   '\n    <float name="apertureRadius" value="0.1"/>'
+                                   '\n    <float name="focusDistance" value="2.75"/>')),
+        pt_bdpt + ["mlt"])
+    # Mitsuba's tent has a fixed radius of one pixel (it reads no parameter).
+    s["film-tent"] = ("tent filter (Mitsuba's fixed radius of 1 pixel)",
+                      scene(sphere(WHITE), cam=sensor(rfilter="tent")), pt_bdpt)
+    s["film-gaussian-stddev"] = ("a named gaussian filter, stddev 0.8 (radius 3.2 pixels)",
+                                 scene(sphere(WHITE), cam=sensor(rfilter="gaussian",
+                                       rfilter_params='<float name="stddev" value="0.8"/>')),
+                                 pt_bdpt + ["mlt"])
+
+    # Mitsuba's direct integrator: the emission seen by the camera (hideEmitters false) plus
+    # one bounce of light, sampled from the lights and from the BSDF and combined by MIS;
+    # rendered by emlt's `direct`, which means the same. A rough conductor makes the BSDF
+    # samples matter; the walls add no indirect light.
+    glossy = '<bsdf type="roughconductor"><string name="material" value="Au"/><float name="alpha" value="0.15"/></bsdf>'
+    direct_subject = sphere(WHITE, "-0.4, 0.35, 0", 0.35) + sphere(glossy, "0.4, 0.35, -0.2", 0.35)
+    s["integrator-direct"] = ("direct integrator: emitters seen directly, one bounce of MIS direct light",
+        scene(direct_subject, integ='  <integrator type="direct">\n    <integer name="emitterSamples" value="2"/>'
+                                    '\n    <integer name="bsdfSamples" value="2"/>\n  </integrator>\n'),
+        ["direct"])
+    # Mitsuba's own bidirectional path tracer and MLT make these references (maxDepth 4).
+    bidir_subject = sphere(WHITE, "-0.4, 0.35, 0", 0.35) + sphere(glossy, "0.4, 0.35, -0.2", 0.35)
+    s["integrator-bdpt"] = ("Mitsuba's bdpt, maxDepth 4, against emlt's bdpt",
+                            scene(bidir_subject, integ=integrator(kind="bdpt", max_depth=4)), ["bdpt"])
+    s["integrator-mlt"] = ("Mitsuba's mlt (its luminance normalisation), maxDepth 4, against emlt's mlt",
+                           scene(bidir_subject, integ=integrator(kind="mlt", max_depth=4)), ["mlt"])
+
+    # Parallel projection: toWorld's scale sizes the film (x in [-1.1, 1.1], y over the
+    # aspect's share of it); a view from above one corner shows two walls and the floor.
+    s["camera-orthographic"] = ("orthographic: parallel rays from toWorld's scaled film square (pt only in emlt)",
+        scene(sphere(WHITE, "-0.3, 0.35, 0", 0.35) + sphere(DIFFUSE % "0.8, 0.5, 0.2", "0.45, 0.25, 0.4", 0.25),
+              cam=sensor(96, 64, kind="orthographic", params="",
+                         transform='<scale x="1.1" y="1.1"/><lookat origin="1.2, 1.7, 3" target="0, 0.8, 0" up="0, 1, 0"/>')),
+        ["pt"])
+
+    # A sampler changes only the sequence of samples: each must give the same image.
+    for kind in ("stratified", "halton", "hammersley", "ldsampler", "sobol"):
+        s[f"sampler-{kind}"] = (f"{kind} sampler: the same image as the independent one",
+                                scene(sphere(WHITE), cam=sensor(sampler=kind)), ["pt"])
+
+    # Films. mfilm writes NumPy's format, which the reference script turns into a PFM: a
+    # linear reference of the film itself. ldrfilm (tone-mapped 8-bit PNG) and tiledhdrfilm
+    # (tiled OpenEXR) give none; their references are Mitsuba's hdrfilm images of the same
+    # scene ("reference_film" in suite.json), so that they prove only what a film means
+    # for the image's radiance: its width, height and reconstruction filter.
+    s["film-mfilm"] = ("mfilm (NumPy, rgb): width, height and filter, a linear reference of its own",
+                       scene(sphere(WHITE), cam=sensor(80, 48, 40, rfilter="tent", film="mfilm", film_params=
+                             '\n      <string name="fileFormat" value="numpy"/>'
+                             '\n      <string name="pixelFormat" value="rgb"/>')), ["pt"])
+    s["film-ldrfilm"] = ("ldrfilm: width, height and filter against hdrfilm (emlt writes linear radiance)",
+                         scene(sphere(WHITE), cam=sensor(48, 72, 40, rfilter="gaussian",
+                               rfilter_params='<float name="stddev" value="0.3"/>', film="ldrfilm", film_params=
+                               '\n      <string name="pixelFormat" value="rgb"/>')), ["pt"])
+    s["film-tiledhdrfilm"] = ("tiledhdrfilm: width, height and filter against hdrfilm",
+                              scene(sphere(WHITE), cam=sensor(96, 56, 45, rfilter="mitchell", film="tiledhdrfilm",
+                                    film_params='\n      <string name="pixelFormat" value="rgb"/>')), ["pt"])
 
 
 def main():

@@ -1,6 +1,6 @@
 #pragma once
-// Perspective camera: pinhole (aperture 0) or thin lens. Raster coordinates are pixels,
-// x in [0, width) to the right, y in [0, height) downwards. The importance W_e is
+// Perspective camera: pinhole (aperture 0) or thin lens; or an orthographic one (see
+// is_orthographic). Raster coordinates are pixels, x in [0, width) to the right, y in [0, height) downwards. The importance W_e is
 // normalised over the whole film (pbrt's convention): it integrates to one over the lens
 // and all directions that reach the film, i.e. W_e = 1 / (A_film * A_lens * cos^4), with
 // A_film the film's area on the plane at distance 1 and A_lens = 1 for a pinhole. A pixel
@@ -33,6 +33,10 @@ class Camera {
   int height() const { return height_; }
   float aperture_radius() const { return aperture_radius_; }
   bool is_pinhole() const { return aperture_radius_ <= 0.0f; }
+  // Parallel rays from a rectangle (every ray the same direction): a delta in direction,
+  // which the path layer has no vertex for. Only the integrators that just trace camera
+  // rays (pt, direct) render it; `emlt render` refuses the others.
+  bool is_orthographic() const { return orthographic_; }
   const Vec3& position() const { return position_; }
   const Vec3& forward() const { return forward_; }
   // The frame about the forward axis (a lens vertex's shading frame), built once.
@@ -74,6 +78,10 @@ class Camera {
   float tan_half_x_, tan_half_y_;         // film half extents on the z = 1 plane
   float image_plane_area_;                // at distance 1
   float aperture_radius_, focus_distance_;
+  bool orthographic_ = false;
+  // Orthographic: the film rectangle's centre and its half extents (world, with to_world's
+  // scale), the image's right and up.
+  Vec3 ortho_centre_{0.0f}, ortho_half_right_{0.0f}, ortho_half_up_{0.0f};
   double radians_per_pixel_ = 0.0;
 };
 

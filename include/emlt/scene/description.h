@@ -103,6 +103,9 @@ struct CameraDesc {
   // Camera space: +z forward, +y up, +x to the image's left (Mitsuba's convention), so a
   // Mitsuba `toWorld` can be used unchanged. JSON `lookat` builds the same matrix.
   Mat4 to_world{1.0f};
+  // Orthographic: parallel rays along +z from the camera space square x in [-1, 1],
+  // y in [-1/aspect, 1/aspect] (scaled by to_world), as Mitsuba's `orthographic` sensor.
+  enum class Projection { Perspective, Orthographic } projection = Projection::Perspective;
   float fov_degrees = 45.0f;
   enum class FovAxis { X, Y, Smaller, Larger } fov_axis = FovAxis::X;
   float aperture_radius = 0.0f;  // 0: pinhole

@@ -128,7 +128,7 @@ bool mitsuba06_only_plugin(std::string_view element, std::string_view type) {
                          "roughcoating"});
   if (element == "texture") return type == "scale" || type == "gridtexture";
   if (element == "integrator") return one_of(type, {"bdpt", "mlt"});
-  if (element == "film") return type == "ldrfilm" || type == "mfilm";
+  if (element == "film") return one_of(type, {"ldrfilm", "mfilm", "tiledhdrfilm"});
   if (element == "sampler") return one_of(type, {"halton", "hammersley", "sobol"});
   if (element == "emitter") return one_of(type, {"sky", "sun"});
   return false;

@@ -154,13 +154,16 @@ class MitsubaSceneReader {
  private:
   void read_sensor(pugi::xml_node node) {
     const std::string type = doc_.attribute(node, "type");
-    if (type != "perspective" && type != "thinlens")
-      doc_.fail(node, "sensor type '" + type + "' is not supported (perspective, thinlens)");
+    if (type != "perspective" && type != "thinlens" && type != "orthographic")
+      doc_.fail(node, "sensor type '" + type +
+                          "' is not supported (perspective, thinlens, orthographic)");
     Properties props(doc_, node);
     CameraDesc& camera = desc_.camera;
     camera.to_world = props.get_transform("toWorld");
+    const bool orthographic = type == "orthographic";
+    if (orthographic) camera.projection = CameraDesc::Projection::Orthographic;
     // Mitsuba's pinhole reads no focus distance (scene exporters write one anyway).
-    if (type == "perspective") props.ignore({"focusDistance"});
+    if (type == "perspective" || orthographic) props.ignore({"focusDistance"});
     if (props.has("nearClip") || props.has("farClip")) {
       const float near_clip = props.get_float("nearClip", 1e-2f);
       const float far_clip = props.get_float("farClip", 1e4f);
@@ -180,6 +183,11 @@ class MitsubaSceneReader {
         doc_.warn(child, "unsupported element <" + kind + "> inside <sensor> ignored");
     }
 
+    if (orthographic) {  // no field of view: to_world's scale sizes the film
+      props.ignore({"shutterOpen", "shutterClose"});
+      props.warn_unused();
+      return;
+    }
     const std::string axis = props.get_string("fovAxis", "x");
     bool diagonal = false;
     if (const auto parsed = parse_fov_axis(axis))
