@@ -168,8 +168,8 @@ TEST(ParameterRanges, XmlValuesOutsideTheirRangeAreRefusedAtTheirLineInWords) {
       {R"(name="stddev" value="0.5")", R"(name="stddev" value="17")",
        "'stddev' must be a positive number of pixels, at most 16 (got 17)"},
       {R"(<rfilter type="gaussian"><float name="stddev" value="0.5"/></rfilter>)",
-       R"(<rfilter type="tent"><float name="radius" value="0"/></rfilter>)",
-       "'radius' must be a positive number of pixels, at most 64 (got 0)"},
+       R"(<rfilter type="lanczos"><integer name="lobes" value="0"/></rfilter>)",
+       "'lobes' must be a whole number from 1 to 64 (got 0)"},
       {R"(name="radius" value="0.25")", R"(name="radius" value="-1")",
        "'radius' must be a positive number (got -1)"},
       {R"(name="radius" value="0.75")", R"(name="radius" value="0")",
@@ -229,7 +229,7 @@ TEST(ParameterRanges, ValuesAtTheBoundsLoad) {
            {R"(name="rrDepth" value="5")", R"(name="rrDepth" value="100000")"},
            {R"(name="fov" value="40")", R"(name="fov" value="0.5")"},
            {R"(<rfilter type="gaussian"><float name="stddev" value="0.5"/></rfilter>)",
-            R"(<rfilter type="tent"><float name="radius" value="64"/></rfilter>)"}})
+            R"(<rfilter type="lanczos"><integer name="lobes" value="64"/></rfilter>)"}})
     xml = replaced(xml, from, to);
   const SceneDescription x = load_scene_description(test::write_file(dir, "lower.xml", xml));
   EXPECT_EQ(x.camera.width, 1);
@@ -237,7 +237,7 @@ TEST(ParameterRanges, ValuesAtTheBoundsLoad) {
   EXPECT_EQ(x.render.said("--spp"), "1");
   EXPECT_EQ(x.render.said("--max-depth"), "-1");
   EXPECT_EQ(x.render.said("--rr-depth"), "100000");
-  EXPECT_FLOAT_EQ(x.camera.filter.radius, 64.0f);
+  EXPECT_EQ(x.camera.filter.lobes, 64);
 }
 
 // A description that no loader checked (built in code) meets the same film bound in

@@ -1,6 +1,7 @@
 #pragma once
 // Perspective camera: pinhole (aperture 0) or thin lens; or an orthographic one (see
-// is_orthographic). Raster coordinates are pixels, x in [0, width) to the right, y in [0, height) downwards. The importance W_e is
+// is_orthographic). Raster coordinates are pixels, x in [0, width) to the right, y in
+// [0, height) downwards. The importance W_e is
 // normalised over the whole film (pbrt's convention): it integrates to one over the lens
 // and all directions that reach the film, i.e. W_e = 1 / (A_film * A_lens * cos^4), with
 // A_film the film's area on the plane at distance 1 and A_lens = 1 for a pinhole. A pixel

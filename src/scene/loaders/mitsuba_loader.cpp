@@ -284,7 +284,20 @@ class MitsubaSceneReader {
       filter.kind = PixelFilterDesc::Kind::Box;
     } else if (type == "tent") {
       filter.kind = PixelFilterDesc::Kind::Tent;
-      filter.radius = props.get_float("radius", 1.0f, loader::kFilterRadiusRange);
+      // Mitsuba 0.6's tent is one pixel wide whatever the file says (it reads no
+      // parameter and warns of an unqueried 'radius'); Mitsuba 3's reads its radius.
+      if (doc_.mitsuba3()) {
+        filter.radius = props.get_float("radius", 1.0f, loader::kFilterRadiusRange);
+      } else {
+        filter.radius = 1.0f;
+        if (props.has("radius")) {
+          props.ignore({"radius"});
+          doc_.warn(node,
+                    "Mitsuba 0.6's tent filter reads no 'radius' (it is one pixel wide); "
+                    "ignored as Mitsuba does",
+                    Document::Warning::Note);
+        }
+      }
     } else if (type == "gaussian") {
       filter.stddev = props.get_float("stddev", 0.5f, loader::kFilterStddevRange);
     } else if (type == "mitchell") {
