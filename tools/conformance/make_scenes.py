@@ -1028,8 +1028,9 @@ def add_plugin_scenes(s):
     bidir_subject = sphere(WHITE, "-0.4, 0.35, 0", 0.35) + sphere(glossy, "0.4, 0.35, -0.2", 0.35)
     s["integrator-bdpt"] = ("Mitsuba's bdpt, maxDepth 4, against emlt's bdpt",
                             scene(bidir_subject, integ=integrator(kind="bdpt", max_depth=4)), ["bdpt"])
-    s["integrator-mlt"] = ("Mitsuba's mlt (its luminance normalisation), maxDepth 4, against emlt's mlt",
-                           scene(bidir_subject, integ=integrator(kind="mlt", max_depth=4)), ["mlt"])
+    # A file naming Mitsuba's mlt has no scene: Mitsuba's MLT image is too noisy to be a
+    # reference (at 16,384 mutations per pixel emlt's mean agreed within 0.7 % but the
+    # per-pixel error was 5.6 times the renders' noise).
 
     # Parallel projection: toWorld's scale sizes the film (x in [-1.1, 1.1], y over the
     # aspect's share of it); a view from above one corner shows two walls and the floor.
