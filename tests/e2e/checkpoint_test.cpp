@@ -30,11 +30,13 @@ std::string read_bytes(const fs::path& path) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-// `emlt render` of the Cornell box at 32 x 32 with `args`; returns the exit status.
-int render(const std::string& args, std::string* text = nullptr, const std::string& env = "") {
+// `emlt render` of the Cornell box (or `scene`) at 32 x 32 with `args`; returns the exit
+// status.
+int render(const std::string& args, std::string* text = nullptr, const std::string& env = "",
+           const std::string& scene = cornell()) {
   const std::string bootstrap =
       args.find("--bootstrap") == std::string::npos ? " --bootstrap 4000" : "";
-  return test::run_command(env + " " + test::emlt_binary() + " render " + cornell() +
+  return test::run_command(env + " " + test::emlt_binary() + " render " + scene +
                                " --width 32 --height 32 -q" + bootstrap + " " + args,
                            text);
 }
@@ -62,6 +64,8 @@ struct Case {
   // takes as many samples per pixel as the chains take mutations).
   uint64_t units;
   const char* label = nullptr;  // the test's name when the integrator's is not enough
+  // A conformance scene (tests/conformance/scenes/NAME.xml) instead of the Cornell box.
+  const char* scene = nullptr;
 };
 
 class ResumeEveryIntegrator : public ::testing::TestWithParam<Case> {};
@@ -71,22 +75,26 @@ TEST_P(ResumeEveryIntegrator, GivesTheBitsOfAnUninterruptedRender) {
   const Case c = GetParam();
   const fs::path dir = test::scratch_dir(std::string("resume_") + (c.label ? c.label : c.integrator));
   const std::string common = std::string("--integrator ") + c.integrator + " " + c.budget;
+  const std::string scene =
+      c.scene ? test::source_path(std::string("tests/conformance/scenes/") + c.scene + ".xml")
+              : cornell();
   const fs::path full = dir / "full.exr";
   std::string text;
-  ASSERT_EQ(0, render(common + " -o " + full.string(), &text)) << text;
+  ASSERT_EQ(0, render(common + " -o " + full.string(), &text, "", scene)) << text;
   for (const double fraction : {0.1, 0.45, 0.8}) {
     const uint64_t stop = uint64_t(fraction * double(c.units));
     const fs::path part = dir / "part.exr", resumed = dir / "resumed.exr", ck = dir / "render.ckpt";
     fs::remove(ck);
     ASSERT_EQ(130, render(common + " --threads 2 -o " + part.string() + " --checkpoint " +
-                              ck.string(), &text, "EMLT_STOP_AFTER=" + std::to_string(stop)))
+                              ck.string(), &text, "EMLT_STOP_AFTER=" + std::to_string(stop),
+                          scene))
         << text;
     EXPECT_NE(text.find("stopped by SIGINT"), std::string::npos) << text;
     EXPECT_NE(text.find("--resume " + ck.string()), std::string::npos) << text;
     ASSERT_TRUE(fs::exists(part));
     ASSERT_TRUE(fs::exists(ck));
     ASSERT_EQ(0, render(common + " --threads 1 -o " + resumed.string() + " --resume " + ck.string(),
-                        &text))
+                        &text, "", scene))
         << text;
     EXPECT_TRUE(read_bytes(full) == read_bytes(resumed))
         << c.integrator << " stopped after " << stop << " units and resumed differs";
@@ -105,7 +113,13 @@ INSTANTIATE_TEST_SUITE_P(
                       // Without the direct-light pass, every stop falls in the chains.
                       Case{"pssmlt", "--pss-tracer bdpt --direct mlt --mpp 16", 16 * 1024,
                            "pssmlt_bdpt"},
-                      Case{"mmlt", "--direct mlt --mpp 16", 16 * 1024}),
+                      Case{"mmlt", "--direct mlt --mpp 16", 16 * 1024},
+                      // Chains whose paths start on a point or a directional light: their
+                      // saved vertices are checked against the light's point or direction.
+                      Case{"mlt", "--direct mlt --mpp 16", 16 * 1024, "mlt_point_light",
+                           "light-point"},
+                      Case{"emlt", "--direct mlt --mpp 16", 16 * 1024, "emlt_directional_light",
+                           "light-directional"}),
     [](const auto& info) {
       return std::string(info.param.label ? info.param.label : info.param.integrator);
     });
