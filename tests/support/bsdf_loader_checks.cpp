@@ -5,6 +5,8 @@
 #include <stdexcept>
 
 #include "emlt/core/rng.h"
+#include "emlt/scene/loaders/loader.h"
+#include "support/test_support.h"
 
 namespace emlt::test {
 
@@ -22,6 +24,17 @@ std::string xml_with_bsdf(const std::string& bsdf) {
   <shape type="sphere"><ref id="subject"/></shape>
 </scene>
 )";
+}
+
+SceneDescription load_bsdf_xml(const std::string& folder, const std::string& name,
+                               const std::string& bsdf) {
+  return load_scene_description(write_file(scratch_dir(folder), name, xml_with_bsdf(bsdf)));
+}
+
+std::string bsdf_xml_error(const std::string& folder, const std::string& name,
+                           const std::string& bsdf) {
+  const std::string path = write_file(scratch_dir(folder), name, xml_with_bsdf(bsdf));
+  return error_of([&] { load_scene_description(path); });
 }
 
 std::string json_with_material(const std::string& material) {

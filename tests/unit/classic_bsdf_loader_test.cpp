@@ -24,14 +24,11 @@ using test::xml_with_bsdf;
 namespace {
 
 SceneDescription load_xml(const std::string& name, const std::string& bsdf) {
-  const auto dir = test::scratch_dir("classic-bsdf-loader");
-  return load_scene_description(test::write_file(dir, name, xml_with_bsdf(bsdf)));
+  return test::load_bsdf_xml("classic-bsdf-loader", name, bsdf);
 }
 
 std::string xml_error(const std::string& name, const std::string& bsdf) {
-  const auto dir = test::scratch_dir("classic-bsdf-loader");
-  const std::string path = test::write_file(dir, name, xml_with_bsdf(bsdf));
-  return test::error_of([&] { load_scene_description(path); });
+  return test::bsdf_xml_error("classic-bsdf-loader", name, bsdf);
 }
 
 void expect_one_line_naming(const std::string& message, const std::string& file,

@@ -21,14 +21,11 @@ using test::xml_with_bsdf;
 namespace {
 
 SceneDescription load_xml(const std::string& name, const std::string& bsdf) {
-  const auto dir = test::scratch_dir("coating-loader");
-  return load_scene_description(test::write_file(dir, name, xml_with_bsdf(bsdf)));
+  return test::load_bsdf_xml("coating-loader", name, bsdf);
 }
 
 std::string xml_error(const std::string& name, const std::string& bsdf) {
-  const auto dir = test::scratch_dir("coating-loader");
-  const std::string path = test::write_file(dir, name, xml_with_bsdf(bsdf));
-  return test::error_of([&] { load_scene_description(path); });
+  return test::bsdf_xml_error("coating-loader", name, bsdf);
 }
 
 const char* kDiffuse =
