@@ -1,23 +1,14 @@
 #include "emlt/scene/directional_light.h"
 
-#include "emlt/core/frame.h"
-#include "emlt/core/warp.h"
 
 namespace emlt {
 
 DirectionalLight::DirectionalLight(const Vec3& travel, const Rgb& irradiance)
-    : towards_light_(-glm::normalize(travel)),
-      frame_(glm::normalize(travel)),
-      irradiance_(irradiance) {}
-
-void DirectionalLight::set_scene_bounds(const Vec3& center, float radius) {
-  scene_center_ = center;
-  scene_radius_ = radius;
-}
+    : towards_light_(-glm::normalize(travel)), irradiance_(irradiance) {}
 
 Rgb DirectionalLight::power() const {
   // Only the choice among lights reads this: the flux through the scene's cross-section.
-  return irradiance_ * (kPi * scene_radius_ * scene_radius_);
+  return irradiance_ * disk_.area();
 }
 
 std::optional<DirectLightSample> DirectionalLight::sample_direct(const Vec3& ref,
@@ -38,21 +29,18 @@ float DirectionalLight::pdf_direct(const Vec3&, const Vec3&, const Vec3&, const 
 
 std::optional<EmissionSample> DirectionalLight::sample_emission(const Vec2& u_position,
                                                                 const Vec2&) const {
-  const Vec2 disk = square_to_uniform_disk_concentric(u_position) * scene_radius_;
   EmissionSample sample;
-  const Vec3 origin =
-      scene_center_ + scene_radius_ * towards_light_ + disk.x * frame_.s + disk.y * frame_.t;
-  sample.ray = Ray{origin, -towards_light_, 0.0f, kInfinity};
+  sample.ray = Ray{disk_.point(towards_light_, u_position), -towards_light_, 0.0f, kInfinity};
   sample.normal = -towards_light_;
   sample.radiance = irradiance_;
-  sample.pdf_position = 1.0f / (kPi * scene_radius_ * scene_radius_);
+  sample.pdf_position = disk_.pdf();
   sample.pdf_direction = 1.0f;
   return sample;
 }
 
 void DirectionalLight::pdf_emission(const Vec3&, const Vec3&, const Vec3& w, float* pdf_position,
                                     float* pdf_direction) const {
-  if (pdf_position) *pdf_position = 1.0f / (kPi * scene_radius_ * scene_radius_);
+  if (pdf_position) *pdf_position = disk_.pdf();
   if (pdf_direction) *pdf_direction = glm::dot(w, -towards_light_) > 1.0f - 1e-6f ? 1.0f : 0.0f;
 }
 

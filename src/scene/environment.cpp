@@ -43,15 +43,11 @@ std::optional<EmissionSample> EnvironmentLight::sample_emission(const Vec2& u_po
   const Vec3 sky = sample_direction(u_direction, &pdf_sky);
   if (!(pdf_sky > 0.0f)) return std::nullopt;
   const Vec3 direction = -sky;
-  const Frame disk_frame(direction);
-  const Vec2 disk = square_to_uniform_disk_concentric(u_position);
-  const Vec3 origin = scene_center_ + scene_radius_ * (sky + disk.x * disk_frame.s +
-                                                       disk.y * disk_frame.t);
   EmissionSample sample;
-  sample.ray = Ray{origin, direction, 0.0f, kInfinity};
+  sample.ray = Ray{disk_.point(sky, u_position), direction, 0.0f, kInfinity};
   sample.normal = direction;
   sample.radiance = radiance(sky);
-  sample.pdf_position = 1.0f / (kPi * scene_radius_ * scene_radius_);
+  sample.pdf_position = disk_.pdf();
   sample.pdf_direction = pdf_sky;
   return sample;
 }
@@ -60,7 +56,7 @@ void EnvironmentLight::pdf_emission(const Vec3& p, const Vec3& n, const Vec3& w,
                                     float* pdf_position, float* pdf_direction) const {
   (void)p;
   (void)n;
-  if (pdf_position) *pdf_position = 1.0f / (kPi * scene_radius_ * scene_radius_);
+  if (pdf_position) *pdf_position = disk_.pdf();
   if (pdf_direction) *pdf_direction = this->pdf_direction(-w);  // w runs into the scene
 }
 
@@ -71,7 +67,7 @@ void EnvironmentLight::pdf_emission(const Vec3& p, const Vec3& n, const Vec3& w,
 // disk, pi R^2 * integral of L over the sphere = pi R^2 * 4 pi * L. The same convention is
 // used by EnvironmentMap, so light selection compares the two consistently.
 Rgb ConstantEnvironment::power() const {
-  return kPi * scene_radius_ * scene_radius_ * 4.0f * kPi * radiance_;
+  return disk_.area() * 4.0f * kPi * radiance_;
 }
 
 Vec3 ConstantEnvironment::sample_direction(const Vec2& u, float* pdf) const {
@@ -203,7 +199,7 @@ EnvironmentMap::BilinearTaps EnvironmentMap::bilinear_taps(const Vec2& uv) const
 
 Rgb EnvironmentMap::power() const {
   // Same convention as ConstantEnvironment: pi R^2 * 4 pi * (solid-angle mean radiance).
-  return kPi * scene_radius_ * scene_radius_ * 4.0f * kPi * average_radiance_;
+  return disk_.area() * 4.0f * kPi * average_radiance_;
 }
 
 Rgb EnvironmentMap::radiance(const Vec3& w) const {

@@ -240,9 +240,9 @@ TEST(DeltaLightPaths, NoCameraWalkEndsOnADeltaLightAndNoneIsSeenFromTheLens) {
   EXPECT_TRUE(light[0].is_delta_emitter());
   // The point light's own vertex, straight to the lens: nothing.
   const auto lens = sample_camera_vertex(*scene, light[0], Vec2(0.5f));
-  if (lens) {
-    EXPECT_EQ(connect_vertices(*scene, nullptr, light[0], *lens, nullptr), Rgb(0.0f));
-  }
+  // (The light, at the sphere's centre, is in the camera's view.)
+  ASSERT_TRUE(lens.has_value());
+  EXPECT_EQ(connect_vertices(*scene, nullptr, light[0], *lens, nullptr), Rgb(0.0f));
   // x0 x1 x2(lens): s = 0 is impossible, s = 1 and 2 are.
   VertexDensity path[3] = {density_of(light[0]), density_of(light[1]), {}};
   path[2].camera = true;

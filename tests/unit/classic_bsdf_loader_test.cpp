@@ -19,7 +19,6 @@ using namespace emlt;
 using test::expect_same_bsdf;
 using test::json_with_material;
 using test::subject;
-using test::xml_with_bsdf;
 
 namespace {
 

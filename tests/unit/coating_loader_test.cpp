@@ -16,7 +16,6 @@ using namespace emlt;
 
 using test::expect_same_bsdf;
 using test::subject;
-using test::xml_with_bsdf;
 
 namespace {
 

@@ -4,8 +4,8 @@
 // direction, a point at infinity like the sky's, picked with probability 1 once the light
 // is chosen; light tracing starts its rays on a disk facing the direction that covers the
 // scene, as the sky's do.
-#include "emlt/core/frame.h"
 #include "emlt/scene/light.h"
+#include "emlt/scene/scene_disk.h"
 
 namespace emlt {
 
@@ -16,7 +16,7 @@ class DirectionalLight final : public Light {
 
   bool is_delta_direction() const override { return true; }
   // The disk emission rays start on must cover the scene: call before the light set is built.
-  void set_scene_bounds(const Vec3& center, float radius);
+  void set_scene_bounds(const Vec3& center, float radius) { disk_ = SceneDisk{center, radius}; }
 
   Rgb power() const override;
   std::optional<DirectLightSample> sample_direct(const Vec3& ref, const Vec2& u) const override;
@@ -34,10 +34,8 @@ class DirectionalLight final : public Light {
 
  private:
   Vec3 towards_light_;
-  Frame frame_;  // z: the direction of travel
   Rgb irradiance_;
-  Vec3 scene_center_{0.0f};
-  float scene_radius_ = 1.0f;
+  SceneDisk disk_;
 };
 
 }  // namespace emlt

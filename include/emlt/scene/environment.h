@@ -7,6 +7,7 @@
 #include "emlt/core/distribution.h"
 #include "emlt/image/image.h"
 #include "emlt/scene/light.h"
+#include "emlt/scene/scene_disk.h"
 
 namespace emlt {
 
@@ -21,10 +22,7 @@ class EnvironmentLight : public Light {
   virtual float pdf_direction(const Vec3& w) const = 0;
 
   // The scene's bounding sphere: emission rays start on a disk of this radius.
-  void set_scene_bounds(const Vec3& center, float radius) {
-    scene_center_ = center;
-    scene_radius_ = radius;
-  }
+  void set_scene_bounds(const Vec3& center, float radius) { disk_ = SceneDisk{center, radius}; }
 
   std::optional<DirectLightSample> sample_direct(const Vec3& ref, const Vec2& u) const override;
   float pdf_direct(const Vec3& ref, const Vec3& p, const Vec3& n, const Vec3& wi) const override;
@@ -35,8 +33,7 @@ class EnvironmentLight : public Light {
   Rgb emitted(const Vec3& n, const Vec3& w) const override { (void)n; return radiance(w); }
 
  protected:
-  Vec3 scene_center_{0.0f};
-  float scene_radius_ = 1.0f;
+  SceneDisk disk_;
 };
 
 class ConstantEnvironment final : public EnvironmentLight {
