@@ -1,16 +1,15 @@
 #!/usr/bin/env bash
-# AddressSanitizer + UBSan build (GCC, -O1 -g) of the engine, emlt and the unit and
-# end-to-end tests in build-asan/, then those tests (the statistical suite, the benchmark,
+# AddressSanitizer + UBSan build (clang, -O1 -g; sanitizer_build.sh) of the engine, emlt and
+# the unit and end-to-end tests in build-asan/, then those tests (the statistical suite, the benchmark,
 # the scripts and the conformance renders are left out). Any sanitizer report fails the
 # run, also one from an emlt process an end-to-end test expected to fail: reports are
 # written to build-asan/sanitizer-reports/ and checked after the tests.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-build=build-asan
-cmake -S . -B "$build" -G Ninja -DEMLT_SANITIZE=ON -DEMLT_WITH_MPI=OFF -DEMLT_BUILD_BENCH=OFF \
-  -DEMLT_BUILD_STATISTICAL_TESTS=OFF -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" \
-  >/dev/null
+source scripts/sanitizer_build.sh
+build=$sanitizer_build
+configure_sanitizer_build
 cmake --build "$build" -j "$(nproc)" --target emlt emlt_unit_tests emlt_e2e_tests
 
 reports=$PWD/$build/sanitizer-reports

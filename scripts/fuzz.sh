@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets (clang, ASan + UBSan) into build-fuzz/ and runs one of them:
+# Builds the libFuzzer targets (clang, ASan + UBSan) into build-asan/ (the sanitizer build of
+# check_sanitizers.sh, sanitizer_build.sh) and runs one of them:
 #   scripts/fuzz.sh TARGET SECONDS     e.g. scripts/fuzz.sh obj 600
 #   scripts/fuzz.sh all SECONDS        every target in turn, two at a time (CI)
 #   scripts/fuzz.sh list               the targets (tests/fuzz/fuzz_TARGET.cpp)
 # Seeds and regression inputs: tests/fuzz/corpus/TARGET/ (read only); what the run adds
-# goes to build-fuzz/corpus/TARGET/, a crash to build-fuzz/artifacts/TARGET/. A crash,
+# goes to build-asan/corpus/TARGET/, a crash to build-asan/artifacts/TARGET/. A crash,
 # sanitizer report, leak, out-of-memory or hang (10 s) exits non-zero.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -22,9 +23,9 @@ if [ "$target" != all ] && [ ! -f "tests/fuzz/fuzz_$target.cpp" ]; then
   exit 2
 fi
 
-build=build-fuzz
-CC=clang-14 CXX=clang++-14 cmake -S . -B "$build" -G Ninja -DEMLT_FUZZ=ON -DEMLT_WITH_MPI=OFF -DEMLT_BUILD_TESTS=OFF \
-  -DEMLT_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" >/dev/null
+source scripts/sanitizer_build.sh
+build=$sanitizer_build
+configure_sanitizer_build
 if [ "$target" = all ]; then
   cmake --build "$build" -j "$(nproc)" -- $(targets | sed 's/^/fuzz_/')
 else

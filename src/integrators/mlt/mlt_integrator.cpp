@@ -63,11 +63,6 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   // computes it where x's ranges are at hand (deferring it cost the default about 1.5 % of
   // its instructions for the f(y) = 0 proposals it spared, which are few).
   ctx.may_defer = settings.gamlt_delayed_acceptance;
-  // Strategies defer the costly factors of their ratios only for the two stages (run_chain):
-  // otherwise the whole ratio is needed for every proposal with f(y) > 0, and the strategy
-  // computes it where x's ranges are at hand (deferring it cost the default about 1.5 % of
-  // its instructions for the f(y) = 0 proposals it spared, which are few).
-  ctx.may_defer = settings.gamlt_delayed_acceptance;
   // Timed apart: the chains' rate leaves it out (MltStatistics::prepare_seconds).
   const double prepare_start = run.elapsed();
   for (size_t i = 0; i < mix.size(); ++i) mix.strategy(i).prepare(ctx);
