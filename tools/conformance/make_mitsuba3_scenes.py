@@ -45,7 +45,7 @@ VALUE_TAGS = {"float", "integer", "boolean", "string", "rgb", "srgb", "spectrum"
 # Plugins of 0.6 that Mitsuba 3 does not have.
 DROPPED = {"bsdf": {"phong", "ward", "roughdiffuse", "difftrans", "mixturebsdf", "coating",
                     "roughcoating"},
-           "texture": {"scale", "gridtexture"}, "integrator": {"bdpt", "mlt"},
+           "texture": {"scale", "gridtexture"}, "integrator": {"bdpt", "mlt", "pssmlt", "erpt"},
            # Mitsuba 3's films are hdrfilm and specfilm; its samplers have no QMC sequences.
            "film": {"ldrfilm", "mfilm", "tiledhdrfilm"}, "sampler": {"halton", "hammersley", "sobol"},
            # Mitsuba 3 has no sky or sun, and its sunsky (3.6) is another model.

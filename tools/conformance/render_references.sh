@@ -9,7 +9,9 @@
 # the PFM (the same float32 values). A scene whose suite entry sets "reference_film"
 # (ldrfilm: tone-mapped 8 bits; tiledhdrfilm: tiled OpenEXR) is rendered from a copy,
 # scenes/.reference-NAME.xml, whose film is that one (an hdrfilm writing PFM) with the
-# same width, height and filter.
+# same width, height and filter. A scene whose entry sets "reference_integrator" (a file
+# naming a Metropolis integrator, whose image converges to the path tracer's) is rendered from
+# such a copy whose integrator is that one, with the file's maxDepth and rrDepth.
 set -euo pipefail
 : "${MITSUBA:?set MITSUBA to the mitsuba binary (e.g. .../dist/mitsuba)}"
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -24,23 +26,31 @@ version=$("$MITSUBA" -v 2>&1 | grep -m1 -o 'version [0-9.]*' || true)
 for name in "${names[@]}"; do
   spp=$(python3 -c 'import json,sys; print(next(s.get("reference_spp", 4096) for s in json.load(open(sys.argv[1]))["scenes"] if s["name"] == sys.argv[2]))' "$suite/suite.json" "$name")
   film=$(python3 -c 'import json,sys; print(next(s.get("reference_film", "") for s in json.load(open(sys.argv[1]))["scenes"] if s["name"] == sys.argv[2]))' "$suite/suite.json" "$name")
+  integrator=$(python3 -c 'import json,sys; print(next(s.get("reference_integrator", "") for s in json.load(open(sys.argv[1]))["scenes"] if s["name"] == sys.argv[2]))' "$suite/suite.json" "$name")
   out=$suite/references/$name.pfm
   tmp=$(mktemp -d)
   scene=scenes/$name.xml
-  if [[ -n $film ]]; then  # the same scene through another film (see above)
+  if [[ -n $film || -n $integrator ]]; then  # the same scene through another film or integrator (see above)
     scene=scenes/.reference-$name.xml
-    python3 - "$suite/scenes/$name.xml" "$suite/$scene" "$film" <<'PY'
+    python3 - "$suite/scenes/$name.xml" "$suite/$scene" "$film" "$integrator" <<'PY'
 import sys
 import xml.etree.ElementTree as ET
 tree = ET.parse(sys.argv[1])
-film = tree.find("sensor/film")
-film.set("type", sys.argv[3])
-keep = {"width", "height"}  # and the rfilter; the output format becomes an RGB PFM
-for child in list(film):
-    if child.tag != "rfilter" and child.get("name") not in keep:
-        film.remove(child)
-for key, value in (("pixelFormat", "rgb"), ("fileFormat", "pfm")):
-    ET.SubElement(film, "string", name=key, value=value)
+if sys.argv[3]:
+    film = tree.find("sensor/film")
+    film.set("type", sys.argv[3])
+    keep = {"width", "height"}  # and the rfilter; the output format becomes an RGB PFM
+    for child in list(film):
+        if child.tag != "rfilter" and child.get("name") not in keep:
+            film.remove(child)
+    for key, value in (("pixelFormat", "rgb"), ("fileFormat", "pfm")):
+        ET.SubElement(film, "string", name=key, value=value)
+if sys.argv[4]:
+    integrator = tree.find("integrator")
+    integrator.set("type", sys.argv[4])
+    for child in list(integrator):
+        if child.get("name") not in {"maxDepth", "rrDepth"}:
+            integrator.remove(child)
 tree.write(sys.argv[2], encoding="utf-8", xml_declaration=True)
 PY
   fi
@@ -66,10 +76,10 @@ with open(sys.argv[2], "wb") as f:  # PFM: little-endian (scale -1), bottom row 
 PY
   fi
   mv "$tmp/$name.pfm" "$out"
-  [[ -n $film ]] && rm -f "$suite/$scene"
+  [[ -n $film || -n $integrator ]] && rm -f "$suite/$scene"
   printf '# Mitsuba 0.6 (%s, RGB mode, single precision), run in tests/conformance/, %s s%s\n%s\n' \
     "${version:-version unknown}" "$(( $(date +%s) - start ))" \
-    "${film:+; $scene is scenes/$name.xml with its film made a $film writing PFM}" \
+    "${film:+; $scene is scenes/$name.xml with its film made a $film writing PFM}${integrator:+; $scene is scenes/$name.xml rendered by the integrator $integrator}" \
     "mitsuba -q -p $threads -Dspp=$spp $scene -o references/$name.pfm" > "$suite/references/$name.cmd"
   grep -i "warn\|error" "$tmp/log.txt" | sed "s|^|$name: |" || true
   rm -rf "$tmp"

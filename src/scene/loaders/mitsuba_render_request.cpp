@@ -38,6 +38,8 @@ bool read_integrator(const Document& doc, pugi::xml_node node, SceneRenderReques
     request.integrator = "bdpt";
   else if (type == "mlt")
     request.integrator = "mlt";
+  else if (type == "pssmlt")  // its bidirectional and pLarge steer sampling only (below)
+    request.integrator = "pssmlt";
   else if (type == "ptracer")
     request.integrator = "ptracer";
   else if (doc.mitsuba3() && (type == "volpath" || type == "volpathmis" || type == "prb" ||
@@ -70,6 +72,8 @@ bool read_integrator(const Document& doc, pugi::xml_node node, SceneRenderReques
                            "multiChainPerturbation",
                            "causticPerturbation",
                            "manifoldPerturbation",
+                           "bidirectional",
+                           "pLarge",
                            "lambda",
                            "probFactor",
                            "firstStageSizeReduction",

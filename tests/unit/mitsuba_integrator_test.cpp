@@ -1,0 +1,57 @@
+// Which emlt integrator a Mitsuba scene's <integrator> names, and what its Metropolis
+// integrators' parameters count as.
+#include <gtest/gtest.h>
+
+#include "emlt/scene/loaders/loader.h"
+#include "support/test_support.h"
+
+using namespace emlt;
+
+namespace {
+
+SceneDescription with_integrator(const std::string& name, const std::string& integrator) {
+  const auto dir = test::scratch_dir("mitsuba-integrator");
+  return load_scene_description(test::write_file(dir, name, R"(<?xml version="1.0"?>
+<scene version="0.6.0">
+  )" + integrator + R"(
+  <sensor type="perspective">
+    <float name="fov" value="40"/>
+    <transform name="toWorld"><lookat origin="0,0,-5" target="0,0,0" up="0,1,0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film>
+  </sensor>
+  <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+</scene>
+)"));
+}
+
+bool any_contains(const std::vector<std::string>& lines, const std::string& needle) {
+  for (const std::string& line : lines)
+    if (line.find(needle) != std::string::npos) return true;
+  return false;
+}
+
+}  // namespace
+
+// Mitsuba's PSSMLT converges to the path tracer's image whichever sampler drives it and
+// however often it takes a large step: emlt's pssmlt renders it, and both parameters are
+// notes, not items of the verdict.
+TEST(MitsubaIntegrator, PssmltIsEmltsPssmltAndItsTuningIsANote) {
+  const SceneDescription pss = with_integrator(
+      "pssmlt.xml",
+      R"(<integrator type="pssmlt"><integer name="maxDepth" value="4"/>
+      <boolean name="bidirectional" value="false"/><float name="pLarge" value="0.1"/></integrator>)");
+  EXPECT_EQ(pss.render.integrator, "pssmlt");
+  EXPECT_EQ(pss.verdict(), "exact");
+  EXPECT_EQ(pss.render.said("--max-depth"), "4");
+  EXPECT_TRUE(any_contains(pss.warnings, "'bidirectional', 'pLarge' ignored (they change the noise"))
+      << (pss.warnings.empty() ? "" : pss.warnings.front());
+}
+
+// An integrator emlt does not have falls back to its default and says so: the verdict is
+// approximated (ERPT converges to the same image, by other means).
+TEST(MitsubaIntegrator, AnIntegratorEmltLacksFallsBackLoudly) {
+  const SceneDescription erpt = with_integrator("erpt.xml", R"(<integrator type="erpt"/>)");
+  EXPECT_TRUE(erpt.render.integrator.empty());
+  EXPECT_EQ(erpt.verdict(), "approximated: 1 item");
+  EXPECT_TRUE(any_contains(erpt.warnings, "integrator type 'erpt' is not supported"));
+}
