@@ -125,9 +125,10 @@ std::optional<Vec2> Camera::film_raster(const Vec3& p) const {
 
 bool Camera::on_film(const Vec3& p) const {
   if (!orthographic_ || !film_raster(p)) return false;
-  // A projection (sample_direct) lands on the plane to the rounding of the points involved.
+  // A projection (sample_direct) lands on the plane to the rounding of the points involved,
+  // which may lie much farther out than the film: a generous tolerance.
   const float scale = std::max({1.0f, glm::length(ortho_centre_), glm::length(p)});
-  return std::abs(glm::dot(p - ortho_centre_, forward_)) <= 1e-4f * scale;
+  return std::abs(glm::dot(p - ortho_centre_, forward_)) <= 1e-3f * scale;
 }
 
 std::optional<Vec2> Camera::raster_position(const Vec3& p, const Vec3& w) const {
