@@ -74,6 +74,10 @@ double split_average_density(const Path& y, int a, int n_new, int c) {
     if (light_end >= 0 && v[size_t(light_end)].delta) continue;
     if (eye_end < n && v[size_t(eye_end)].delta) continue;
     if (light_end < 0 && !v[0].is_emitter()) continue;
+    // The sky joined to an orthographic film (connect_vertices: never seen that way).
+    if (eye_end == n - 1 && light_end >= 0 && v[size_t(light_end)].is_environment() &&
+        v[size_t(eye_end)].kind == VertexKind::OrthographicCamera)
+      continue;
     double p = 1.0;
     for (int i = a; i < a + s; ++i) p *= double(v[size_t(i)].pdf_from_light);
     for (int i = a + s; i < a + n_new; ++i) p *= double(v[size_t(i)].pdf_from_eye);
@@ -226,10 +230,19 @@ std::optional<Path> BidirectionalMutation::regenerate(const Path& x, int a, int 
     PathVertex& z = yv[size_t(eye_end)];
     y.delta = false;
     z.delta = false;
+    // An orthographic camera's film point is the one that sees y: it moves to y's
+    // projection (a function of y, so no density of its own: camera.h).
+    if (z.kind == VertexKind::OrthographicCamera) {
+      if (y.is_environment()) return std::nullopt;  // connect_vertices: never seen
+      const auto film = scene.camera().sample_direct(y.position, Vec2(0.5f));
+      if (!film) return std::nullopt;
+      z.position = film->lens_point;
+      z.raster = film->raster;
+    }
     const Rgb connection = connect_vertices(scene, light_end >= 1 ? &yv[size_t(light_end - 1)] : nullptr,
                                             y, z, eye_end + 1 < m ? &yv[size_t(eye_end + 1)] : nullptr);
     if (is_black(connection) || !is_finite(connection)) return std::nullopt;
-    if (z.is_camera()) {  // connected straight to a kept lens point: the pixel moves
+    if (z.kind == VertexKind::Camera) {  // connected straight to a kept lens point: the pixel moves
       const auto raster = scene.camera().raster_position(z.position, direction_between(z, y));
       if (!raster) return std::nullopt;
       z.raster = *raster;

@@ -49,7 +49,11 @@ void CausticPerturbation::angle_range(const Path& z, int l, const MutationContex
     chain_length += glm::length(DVec3(v[size_t(j + 1)].position) - DVec3(v[size_t(j)].position));
   const double eye_distance =
       glm::length(DVec3(v[size_t(k - 1)].position) - DVec3(v[size_t(k)].position));
-  const double scale = perturbation::radians_per_pixel(camera) * eye_distance / chain_length;
+  // The angle at x_l that moves x_{k-1} by about one pixel's footprint there: a pixel's
+  // angle times the eye distance, or an orthographic film's pixel itself.
+  const double scale = camera.is_orthographic()
+                           ? camera.film_pixel_size() / chain_length
+                           : perturbation::radians_per_pixel(camera) * eye_distance / chain_length;
   *theta_min = double(ctx.lens_min_radius) * scale;
   *theta_max = std::min(r_max * scale, 0.5 * M_PI);
 }
@@ -92,12 +96,10 @@ std::optional<Proposal> CausticPerturbation::retrace(const Path& x, const Vec3& 
       return std::nullopt;
   }
 
-  // The new non-specular vertex seen from the fixed lens point: the pixel moves.
+  // The new non-specular vertex seen from the fixed lens point: the pixel moves (an
+  // orthographic film point moves with it, to its projection: camera.h).
   PathVertex& lens = yv.back();
-  const auto raster =
-      scene.camera().raster_position(lens.position, direction_between(lens, yv[size_t(k - 1)]));
-  if (!raster) return std::nullopt;
-  lens.raster = *raster;
+  if (!perturbation::aim_lens_at(scene, lens, yv[size_t(k - 1)])) return std::nullopt;
   const Rgb connection =
       connect_vertices(scene, &yv[size_t(k - 2)], yv[size_t(k - 1)], lens, nullptr);
   if (is_black(connection) || !is_finite(connection)) return std::nullopt;

@@ -168,6 +168,21 @@ bool on_film(const Camera& camera, const Vec2& raster) {
          raster.y < float(camera.height());
 }
 
+bool aim_lens_at(const Scene& scene, PathVertex& lens, const PathVertex& seen) {
+  if (lens.kind == VertexKind::OrthographicCamera) {
+    if (seen.is_environment()) return false;
+    const auto film = scene.camera().sample_direct(seen.position, Vec2(0.5f));
+    if (!film) return false;
+    lens.position = film->lens_point;
+    lens.raster = film->raster;
+    return true;
+  }
+  const auto raster = scene.camera().raster_position(lens.position, direction_between(lens, seen));
+  if (!raster) return false;
+  lens.raster = *raster;
+  return true;
+}
+
 bool finish_proposal(const Scene& scene, const Path& x, Path& y) {
   return finish_proposal(scene, x, y, 0, int(y.vertices.size()) - 1);
 }
@@ -195,6 +210,8 @@ bool rebuild_eye_side(const Scene& scene, const Path& x, int l, const Vec2& rast
   auto& yv = y.vertices;
   yv.back().raster = raster;
   Ray ray = camera.generate_ray_from_lens_point(raster, xv.back().position);
+  // An orthographic camera's film point moves with the image point (camera.h).
+  if (yv.back().kind == VertexKind::OrthographicCamera) yv.back().position = ray.origin;
   for (int i = k - 1; i >= l + 1; --i) {
     auto hit = trace_surface(scene, ray);
     if (!hit) return false;
@@ -223,7 +240,9 @@ bool rebuild_eye_side(const Scene& scene, const Path& x, int l, const Vec2& rast
   const Rgb connection = connect_vertices(scene, l >= 1 ? &yv[size_t(l - 1)] : nullptr, yv[size_t(l)],
                                           yv[size_t(l + 1)], &yv[size_t(l + 2)]);
   if (is_black(connection) || !is_finite(connection)) return false;
-  return finish_proposal(scene, x, y, l + 1, k - 1);  // the lens point moved only its raster
+  // The lens point moved only its raster (an orthographic film point moved too, but its
+  // own densities do not depend on where: finish_proposal recomputes x_{k-1}'s from it).
+  return finish_proposal(scene, x, y, l + 1, k - 1);
 }
 
 }  // namespace emlt::perturbation

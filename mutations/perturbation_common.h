@@ -92,6 +92,12 @@ double radians_per_pixel(const Camera& camera);
 
 bool on_film(const Camera& camera, const Vec2& raster);
 
+// Re-aims the path's lens vertex at `seen`, the moved vertex next to it: a kept lens point's
+// raster becomes where it sees `seen`; an orthographic camera's film point moves to seen's
+// projection, with its raster (camera.h: a function of `seen`, no density of its own).
+// False when `seen` lands outside the film.
+bool aim_lens_at(const Scene& scene, PathVertex& lens, const PathVertex& seen);
+
 // The image-plane move shared by the lens and multi-chain perturbations: rebuilds y's
 // vertices [l+1, k-1] by tracing from x's lens point through `raster` towards the light.
 // Each vertex that was Dirac in x must again take a delta lobe of the same kind; at an

@@ -262,12 +262,9 @@ std::optional<Proposal> AnisotropicPathPerturbation::toward_camera(
   const TangentGaussian a_x = fit_at(xv[size_t(a)], GuideData(points_a, s_xb, &s_xa), world);
   if (!sample_and_cast(scene, a_x, yv[size_t(b)], rng, yv[size_t(a)])) return std::nullopt;
 
-  // The fixed lens point sees y_a: the image point moves.
+  // The fixed lens point sees y_a: the image point moves (an orthographic film point with it).
   PathVertex& lens = yv.back();
-  const auto raster =
-      scene.camera().raster_position(lens.position, direction_between(lens, yv[size_t(a)]));
-  if (!raster) return std::nullopt;
-  lens.raster = *raster;
+  if (!perturbation::aim_lens_at(scene, lens, yv[size_t(a)])) return std::nullopt;
   const Rgb connection = connect_vertices(scene, &yv[size_t(b)], yv[size_t(a)], lens, nullptr);
   if (is_black(connection) || !is_finite(connection)) return std::nullopt;
   // Only y_b and y_a moved (the lens point kept its position; its density does not depend on
@@ -320,8 +317,10 @@ std::optional<Proposal> AnisotropicPathPerturbation::from_camera(const Path& x,
   y = x;
   auto& yv = y.vertices;
   yv.back().raster = raster;
-  auto hit_a = perturbation::trace_surface(
-      scene, scene.camera().generate_ray_from_lens_point(raster, xv.back().position));
+  const Ray eye_ray = scene.camera().generate_ray_from_lens_point(raster, xv.back().position);
+  // An orthographic camera's film point moves with the image point (camera.h).
+  if (yv.back().kind == VertexKind::OrthographicCamera) yv.back().position = eye_ray.origin;
+  auto hit_a = perturbation::trace_surface(scene, eye_ray);
   if (!hit_a) return std::nullopt;
   yv[size_t(a)] = *hit_a;
 

@@ -61,18 +61,26 @@ double image_radius_limit(const Path& z, int l, const MutationContext& ctx, cons
   const double r1 = double(ctx.lens_min_radius);
   double lo = 0.0, hi = 0.0;
   clamp_bounds(p, r1, default_max_radius(ctx), std::numeric_limits<double>::infinity(), &lo, &hi);
-  const double rpp = perturbation::radians_per_pixel(ctx.scene.camera());
+  const Camera& camera = ctx.scene.camera();
+  const double rpp = perturbation::radians_per_pixel(camera);
   // ρ ≥ hi / c saturates R at hi, ρ ≤ lo / c puts it at lo.
   const double rho_min = lo / p.step_scale;
   double rho = hi / p.step_scale;
   if (!v[size_t(l)].is_environment()) {
+    // An orthographic film moves x_{l+1} by ρ pixels' width on the film, whatever the
+    // distance (its rays are parallel).
     double eye_length = 0.0;
-    for (int j = l + 1; j <= k - 1; ++j) eye_length += distance(v[size_t(j + 1)], v[size_t(j)]);
-    const double per_pixel = rpp * eye_length / distance(v[size_t(l + 1)], v[size_t(l)]);
+    if (!camera.is_orthographic())
+      for (int j = l + 1; j <= k - 1; ++j) eye_length += distance(v[size_t(j + 1)], v[size_t(j)]);
+    const double per_pixel =
+        (camera.is_orthographic() ? camera.film_pixel_size() : rpp * eye_length) /
+        distance(v[size_t(l + 1)], v[size_t(l)]);
     rho =
         cone(ctx, v[size_t(l)], v[size_t(l + 1)], rho_min * per_pixel, rho * per_pixel) / per_pixel;
   }
-  if (p.eye_cone && rho > rho_min)
+  // The eye connection of an orthographic camera does not turn as the image point moves
+  // (it slides along the film): no cone limits it.
+  if (p.eye_cone && rho > rho_min && !camera.is_orthographic())
     rho = std::min(rho, cone(ctx, v[size_t(k)], v[size_t(k - 1)], rho_min * rpp, rho * rpp) / rpp);
   return std::clamp(p.step_scale * rho, lo, hi);
 }
@@ -161,7 +169,8 @@ void GaCausticPerturbation::angle_range(const Path& z, const MutationContext& ct
   // limit ≥ hi / c saturates Θ at hi; the second cone only matters below the first.
   const double limit_min = lo / params_.step_scale;
   double limit = cone(ctx, v[size_t(l)], v[size_t(l + 1)], limit_min, hi / params_.step_scale);
-  if (limit > limit_min)
+  // (An orthographic camera's eye connection slides instead of turning: no second cone.)
+  if (limit > limit_min && !ctx.scene.camera().is_orthographic())
     limit = std::min(limit, cone(ctx, v[size_t(k)], v[size_t(k - 1)], limit_min * eye_per_theta,
                                  limit * eye_per_theta) /
                                 eye_per_theta);

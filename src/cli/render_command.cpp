@@ -140,13 +140,6 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   if (o.output.empty()) o.output = std::filesystem::path(o.scene).stem().string() + ".exr";
   check_output_path(o.output);
   const auto integrator = make_integrator(settings.integrator);
-  // An orthographic camera is a delta in direction, which the path layer has no camera
-  // vertex for: light tracing, bidirectional connections and the MCMC mutations would
-  // silently lose what they splat. Only the integrators that trace camera rays render it.
-  if (desc.camera.projection == CameraDesc::Projection::Orthographic &&
-      settings.integrator != "pt" && settings.integrator != "direct")
-    throw Error("integrator '" + settings.integrator +
-                "' does not support the orthographic sensor (pt and direct do)");
   const bool path_space_mcmc = dynamic_cast<const MltIntegrator*>(integrator.get()) != nullptr;
   const bool mcmc =
       path_space_mcmc || dynamic_cast<const PssMltIntegrator*>(integrator.get()) != nullptr;

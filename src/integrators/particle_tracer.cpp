@@ -37,7 +37,8 @@ namespace {
 // the environment seen directly (its particles leave a sphere round the scene and camera
 // towards the lens); here the sky direction, drawn by the light's emission sampling, is
 // itself the light vertex, in solid angle, so the lens point needs no distance term:
-// throughput 1 / (lens area density), as for a point in the scene.
+// throughput 1 / (lens area density), as for a point in the scene. An orthographic camera
+// sees the sky in its one direction only, which no sampled direction is: none there.
 std::optional<PathVertex> sky_camera_vertex(const Scene& scene, const PathVertex& sky,
                                             const Vec2& u_lens) {
   const Camera& camera = scene.camera();

@@ -87,6 +87,9 @@ Rgb connect_vertices(const Scene& scene, const PathVertex* y_prev, const PathVer
   // A delta light seen straight from the lens: Mitsuba draws no point or directional light
   // in the image, and no other strategy could sample this path.
   if (!y_prev && y.is_delta_emitter() && z.is_camera()) return Rgb(0.0f);
+  // An orthographic camera sees the sky in its one direction, which no sampled sky
+  // direction is (the camera walk finds it instead).
+  if (y.is_environment() && z.kind == VertexKind::OrthographicCamera) return Rgb(0.0f);
   // Purely specular surfaces are never connected (their eval is zero anyway: skip early).
   const auto purely_delta = [](const PathVertex& v) { return v.bsdf && v.bsdf->is_purely_delta(); };
   if ((y_prev && purely_delta(y)) || (z_prev && purely_delta(z))) return Rgb(0.0f);
@@ -118,6 +121,11 @@ float pdf_along(const Scene& scene, const PathVertex* before, const PathVertex& 
   if (from.is_camera()) {
     float pdf_position = 0.0f, pdf_direction = 0.0f;
     scene.camera().pdf_emission(w, &pdf_position, &pdf_direction);
+    // Parallel rays: the film's density on the area they cross at `to` (camera.h).
+    if (from.kind == VertexKind::OrthographicCamera)
+      return pdf_direction > 0.0f ? scene.camera().orthographic_hit_density(
+                                        abs_cos_at(to, from.normal), out.distance_squared)
+                                  : 0.0f;
     return solid_angle_along(pdf_direction, to, out);
   }
   if (!before) {  // `from` is x0: its emission distribution

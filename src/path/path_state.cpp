@@ -78,7 +78,7 @@ Path PathCodec::load(StateReader& in) const {
               glm::length(scene_.camera().position() - scene_.bounds_center()));
   for (PathVertex& v : path.vertices) {
     const uint8_t kind = in.get<uint8_t>();
-    if (kind > uint8_t(VertexKind::DistantEmitter))
+    if (kind > uint8_t(VertexKind::OrthographicCamera))
       throw StateError("a saved path vertex has no known kind");
     v.kind = VertexKind(kind);
     v.delta = in.get<uint8_t>() != 0;
@@ -122,6 +122,16 @@ Path PathCodec::load(StateReader& in) const {
       light_ok = v.light && v.light->is_delta_direction() &&
                  v.sky_direction == static_cast<const DirectionalLight*>(v.light)->towards_light();
     if (!light_ok) throw StateError("a saved path vertex does not match its delta light");
+    // A camera vertex is of the scene camera's kind; an orthographic camera's lies on its
+    // film (the projection of the vertex it sees: a point off the film would be seen along
+    // no ray, and weighted as if it were).
+    if (v.is_camera()) {
+      const Camera& camera = scene_.camera();
+      if ((v.kind == VertexKind::OrthographicCamera) != camera.is_orthographic())
+        throw StateError("a saved camera vertex is not of this scene's camera");
+      if (camera.is_orthographic() && !camera.on_film(v.position))
+        throw StateError("a saved camera vertex does not lie on the orthographic camera's film");
+    }
     // Mutations trace rays from these points along directions made of these vectors: a
     // normal of length 1e27 or a point far beyond the scene made rays Embree refuses (it
     // asserts), a vector of no length is normalised into NaN. Points lie within the scene's
@@ -132,7 +142,8 @@ Path PathCodec::load(StateReader& in) const {
                                        is_unit(v.shading.t) && is_unit(v.shading.n));
     if (!directions_ok)
       throw StateError("a saved path vertex has a normal or direction that is not of unit length");
-    if (!v.is_environment() && !point &&
+    // (An orthographic film point was checked above: on the film, which may reach further.)
+    if (!v.is_environment() && !point && v.kind != VertexKind::OrthographicCamera &&
         !(glm::length(v.position - scene_.bounds_center()) <= reach))
       throw StateError("a saved path vertex lies outside the scene");
   }

@@ -200,9 +200,14 @@ int camera_subpath(const Scene& scene, Sampler& rng, const Vec2& raster, const V
   auto first = trace_to_vertex(scene, ray);
   if (!first) return 1;
   // W_e |cos| / (p_position p_direction) is exactly 1 by the camera's normalisation
-  // (camera.h), so the first vertex starts with unit throughput, as in the path tracer.
+  // (camera.h), so the first vertex starts with unit throughput, as in the path tracer
+  // (orthographic: W_e G = |cos| / A over the density |cos| / A).
   first->throughput = Rgb(1.0f);
-  first->pdf_from_eye = solid_angle_to_vertex_measure(pdf_direction, lens, *first);
+  if (lens.kind == VertexKind::OrthographicCamera)
+    first->pdf_from_eye = camera.orthographic_hit_density(
+        abs_cos_at(*first, lens.normal), segment_between(lens, *first).distance_squared);
+  else
+    first->pdf_from_eye = solid_angle_to_vertex_measure(pdf_direction, lens, *first);
   subpath.push_back(*first);
   walk(scene, rng, TransportMode::Radiance, limits.max_vertices - 2, limits.rr_depth,
               subpath, invalid);

@@ -26,7 +26,7 @@ PathVertex make_environment_vertex(const Scene& scene, const Vec3& direction) {
 
 PathVertex make_camera_vertex(const Scene& scene, const Vec3& lens_point, const Vec2& raster) {
   PathVertex v;
-  v.kind = VertexKind::Camera;
+  v.kind = scene.camera().is_orthographic() ? VertexKind::OrthographicCamera : VertexKind::Camera;
   v.position = lens_point;
   v.normal = scene.camera().forward();
   v.shading = scene.camera().forward_frame();

@@ -7,7 +7,7 @@
 
 namespace emlt {
 
-Camera::Camera(const CameraDesc& desc)
+Camera::Camera(const CameraDesc& desc, CameraFaults faults)
     : width_(desc.width),
       height_(desc.height),
       filter_(desc.filter, desc.width, desc.height),
@@ -47,7 +47,13 @@ Camera::Camera(const CameraDesc& desc)
     ortho_centre_ = Vec3(m[3]);
     ortho_half_right_ = -Vec3(m[0]);
     ortho_half_up_ = Vec3(m[1]) / aspect;
+    // Mitsuba sizes it by its sides' lengths, as here (a to_world that shears is not square).
+    ortho_inv_area_ = 1.0f / (4.0f * glm::length(ortho_half_right_) * glm::length(ortho_half_up_));
+    if (faults.orthographic_unscaled_area) ortho_inv_area_ = aspect / 4.0f;
+    film_pixel_size_ = std::min(2.0 * glm::length(DVec3(ortho_half_right_)) / width_,
+                                2.0 * glm::length(DVec3(ortho_half_up_)) / height_);
   }
+  faults_ = faults;
 
   // Angles between the centre's ray and its neighbours one pixel right and down, each as
   // atan2(|a x b|, a . b) in double, which stays accurate for the tiny angles involved.
@@ -104,6 +110,27 @@ Ray Camera::generate_ray_from_lens_point(const Vec2& raster, const Vec3& lens_po
   return ray;
 }
 
+std::optional<Vec2> Camera::film_raster(const Vec3& p) const {
+  // generate_ray_from_lens_point inverted: the film's sides are orthogonal.
+  const Vec3 q = p - ortho_centre_;
+  const float ndc_x =
+      glm::dot(q, ortho_half_right_) / glm::dot(ortho_half_right_, ortho_half_right_);
+  const float ndc_y = glm::dot(q, ortho_half_up_) / glm::dot(ortho_half_up_, ortho_half_up_);
+  const Vec2 raster((ndc_x + 1.0f) * 0.5f * float(width_), (1.0f - ndc_y) * 0.5f * float(height_));
+  if (!(raster.x >= 0.0f && raster.x < float(width_) && raster.y >= 0.0f &&
+        raster.y < float(height_)))
+    return std::nullopt;
+  return raster;
+}
+
+bool Camera::on_film(const Vec3& p) const {
+  if (!orthographic_ || !film_raster(p)) return false;
+  // A projection (sample_direct) lands on the plane to the rounding of the points involved,
+  // which may lie much farther out than the film: a generous tolerance.
+  const float scale = std::max({1.0f, glm::length(ortho_centre_), glm::length(p)});
+  return std::abs(glm::dot(p - ortho_centre_, forward_)) <= 1e-3f * scale;
+}
+
 std::optional<Vec2> Camera::raster_position(const Vec3& p, const Vec3& w) const {
   // An orthographic camera sees a single direction: no sampled direction lands on its film.
   if (orthographic_) return std::nullopt;
@@ -124,6 +151,7 @@ std::optional<Vec2> Camera::raster_position(const Vec3& p, const Vec3& w) const 
 }
 
 float Camera::importance(const Vec3& p, const Vec3& w) const {
+  if (orthographic_) return glm::dot(w, forward_) > 0.0f && film_raster(p) ? ortho_inv_area_ : 0.0f;
   if (!raster_position(p, w)) return 0.0f;
   return importance_on_film(glm::dot(w, forward_));
 }
@@ -135,8 +163,9 @@ float Camera::importance_on_film(float cos_theta) const {
 }
 
 void Camera::pdf_emission(const Vec3& w, float* pdf_position, float* pdf_direction) const {
-  if (orthographic_) {  // not part of the path layer (see is_orthographic): no density
-    *pdf_position = *pdf_direction = 0.0f;
+  if (orthographic_) {  // x0 follows from x1; the film's density goes to x1 (camera.h)
+    *pdf_position = 1.0f;
+    *pdf_direction = glm::dot(w, forward_) > 0.0f ? ortho_inv_area_ : 0.0f;
     return;
   }
   const float cos_theta = glm::dot(w, forward_);
@@ -146,8 +175,28 @@ void Camera::pdf_emission(const Vec3& w, float* pdf_position, float* pdf_directi
                                     : 0.0f;
 }
 
+float Camera::orthographic_hit_density(float abs_cos, float distance_squared) const {
+  const float density = abs_cos * ortho_inv_area_;
+  if (faults_.orthographic_spreading_density && distance_squared > 0.0f)
+    return density / distance_squared;
+  return density;
+}
+
 std::optional<CameraDirectSample> Camera::sample_direct(const Vec3& ref, const Vec2& u_lens) const {
-  if (orthographic_) return std::nullopt;  // a delta in direction: no connection reaches it
+  if (orthographic_) {
+    // The one film point that sees ref: its projection along -d, if ref lies ahead.
+    CameraDirectSample s;
+    s.distance = glm::dot(ref - ortho_centre_, forward_);
+    if (!(s.distance > 0.0f)) return std::nullopt;
+    s.lens_point = ref - s.distance * forward_;
+    const auto raster = film_raster(s.lens_point);
+    if (!raster) return std::nullopt;
+    s.raster = *raster;
+    s.wi = -forward_;
+    s.importance = Rgb(ortho_inv_area_);
+    s.pdf = 1.0f;
+    return s;
+  }
   CameraDirectSample s;
   const Vec2 disk = is_pinhole() ? Vec2(0.0f)
                                  : square_to_uniform_disk_concentric(u_lens) * aperture_radius_;

@@ -306,7 +306,7 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc, const SceneBuildOptio
     throw file_error(d.source, "scene has no emitter (no emissive shape, light or environment)");
   s.lights_ = LightSet(std::move(lights));
 
-  s.camera_ = std::make_unique<Camera>(d.camera);
+  s.camera_ = std::make_unique<Camera>(d.camera, options.camera_faults);
 
   // Embree.
   EmbreeErrors errors;

@@ -119,7 +119,11 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"mlt", "--direct mlt --mpp 16", 16 * 1024, "mlt_point_light",
                            "light-point"},
                       Case{"emlt", "--direct mlt --mpp 16", 16 * 1024, "emlt_directional_light",
-                           "light-directional"}),
+                           "light-directional"},
+                      // Chains seen by an orthographic camera: their saved film points are
+                      // checked to lie on the film.
+                      Case{"mlt", "--direct mlt --mpp 16", 16 * 1024, "mlt_orthographic",
+                           "camera-orthographic"}),
     [](const auto& info) {
       return std::string(info.param.label ? info.param.label : info.param.integrator);
     });

@@ -1046,11 +1046,18 @@ def add_plugin_scenes(s):
 
     # Parallel projection: toWorld's scale sizes the film (x in [-1.1, 1.1], y over the
     # aspect's share of it); a view from above one corner shows two walls and the floor.
-    s["camera-orthographic"] = ("orthographic: parallel rays from toWorld's scaled film square (pt only in emlt)",
+    # The path-space integrators see the film point as the projection of the first vertex.
+    s["camera-orthographic"] = ("orthographic: parallel rays from toWorld's scaled film square",
         scene(sphere(WHITE, "-0.3, 0.35, 0", 0.35) + sphere(DIFFUSE % "0.8, 0.5, 0.2", "0.45, 0.25, 0.4", 0.25),
               cam=sensor(96, 64, kind="orthographic", params="",
                          transform='<scale x="1.1" y="1.1"/><lookat origin="1.2, 1.7, 3" target="0, 0.8, 0" up="0, 1, 0"/>')),
-        ["pt"])
+        ["pt", "bdpt", "mlt"])
+    # Mitsuba's particle tracer reaches the orthographic film too (each vertex at its
+    # projection, W_e 1/A); its image is the reference (the particle tracer's, above).
+    s["camera-orthographic-ptracer"] = (
+        "ptracer into an orthographic camera: each vertex splatted at its projection on the film",
+        s["camera-orthographic"][1].replace('<integrator type="path">', '<integrator type="ptracer">'),
+        ["ptracer"])
 
     # A sampler changes only the sequence of samples: each must give the same image.
     for kind in ("stratified", "halton", "hammersley", "ldsampler", "sobol"):

@@ -41,6 +41,8 @@ inline Segment segment_between(const PathVertex& from, const PathVertex& to) {
 // geometry_term(a, b) and solid_angle_to_vertex_measure(pdf, from, to) from the segment
 // a -> b (from -> to): the same values, without recomputing the direction.
 inline float geometry_term_along(const PathVertex& a, const PathVertex& b, const Segment& ab) {
+  if (a.kind == VertexKind::OrthographicCamera) return orthographic_geometry_term(a, b);
+  if (b.kind == VertexKind::OrthographicCamera) return orthographic_geometry_term(b, a);
   if (a.is_environment() && b.is_environment()) return 0.0f;
   if (a.is_environment() || b.is_environment()) return abs_cos_at(a, ab.w) * abs_cos_at(b, ab.w);
   if (!(ab.distance_squared > 0.0f)) return 0.0f;

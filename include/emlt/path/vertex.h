@@ -40,6 +40,10 @@ enum class VertexKind : uint8_t {
   // light sampling that picks the light picks the vertex with probability 1.
   PointEmitter,    // a point light's position (no cosine at it)
   DistantEmitter,  // a directional light's direction: a point at infinity, like the sky
+  // xk on an orthographic camera's film (camera.h): the projection of x_{k-1}, which its
+  // parallel rays reach with density |cos| / A and no 1/d^2. Its normal is the film's
+  // forward axis d; the edge to x_{k-1} carries |cos at x_{k-1}| alone (geometry_term).
+  OrthographicCamera,
 };
 
 struct PathVertex {
@@ -80,7 +84,10 @@ struct PathVertex {
   bool is_environment() const {
     return kind == VertexKind::Environment || kind == VertexKind::DistantEmitter;
   }
-  bool is_camera() const { return kind == VertexKind::Camera; }
+  // On the lens, or on an orthographic camera's film.
+  bool is_camera() const {
+    return kind == VertexKind::Camera || kind == VertexKind::OrthographicCamera;
+  }
   // On a delta light: only light sampling makes it, so no strategy may end an eye walk there.
   bool is_delta_emitter() const {
     return kind == VertexKind::PointEmitter || kind == VertexKind::DistantEmitter;
@@ -130,9 +137,19 @@ inline float abs_cos_at(const PathVertex& v, const Vec3& w) {
   return std::abs(glm::dot(v.normal, w));
 }
 
+// G of an edge from an orthographic camera's film point `film` to `v`: the cosine at v
+// against the rays' one direction (the film's normal), no cosine at the film and no 1/d^2
+// (camera.h). 1 for the sky seen along the rays.
+inline float orthographic_geometry_term(const PathVertex& film, const PathVertex& v) {
+  return abs_cos_at(v, film.normal);
+}
+
 // G = |cos_a| |cos_b| / d^2 with geometric normals; with an environment end, only the
-// finite end's cosine (see the measure note above). Visibility is not included.
+// finite end's cosine (see the measure note above); with an orthographic camera's film
+// point, orthographic_geometry_term. Visibility is not included.
 inline float geometry_term(const PathVertex& a, const PathVertex& b) {
+  if (a.kind == VertexKind::OrthographicCamera) return orthographic_geometry_term(a, b);
+  if (b.kind == VertexKind::OrthographicCamera) return orthographic_geometry_term(b, a);
   if (a.is_environment() && b.is_environment()) return 0.0f;
   const Vec3 w = direction_between(a, b);
   if (a.is_environment() || b.is_environment()) return abs_cos_at(a, w) * abs_cos_at(b, w);

@@ -56,6 +56,8 @@ struct SceneBuildOptions {
   bool direct_triangles = true;
   // Mistakes injected into the point lights, for the tests that must notice them.
   DeltaLightFaults delta_light_faults{};
+  // Mistakes injected into the camera, for the tests that must notice them.
+  CameraFaults camera_faults{};
 };
 
 class Scene {
