@@ -175,6 +175,8 @@ def rewrite(node, parent=None):
             node.tag = "rgb"  # Mitsuba 3 gives a uniform emitter spectrum a D65-white tint
     if tag == "lookAt":
         node.tag = "lookat"
+    if tag == "emitter" and kind == "envmap" and "gamma" in params(node):
+        raise Skip("Mitsuba 3's envmap reads no gamma (its map is linear, or sRGB if 8-bit)")
     if tag == "rfilter" and kind == "box" and "radius" in params(node):
         raise Skip("Mitsuba 3's box filter is half a pixel wide whatever its radius (it reads none)")
     if (parent is not None and parent.tag == "bsdf" and node.get("name") in CONSERVED and

@@ -900,6 +900,13 @@ def build():
                                light='  <emitter type="envmap"><string name="filename" value="assets/sky.exr"/>'
                                      '<float name="scale" value="1.5"/><transform name="toWorld"><rotate y="1" angle="60"/></transform></emitter>\n',
                                walls=False), pt_bdpt)
+    # An envmap's gamma replaces the map's curve, as a bitmap's does: a float map's values
+    # are bent by it too (v^2.2 here).
+    s["light-envmap-gamma"] = ("envmap gamma 2.2 over a float map (its values bent to v^2.2)",
+                               scene(sphere(WHITE) + rect(WHITE, '<scale value="3"/><rotate x="1" angle="-90"/>'),
+                                     light='  <emitter type="envmap"><string name="filename" value="assets/sky.exr"/>'
+                                           '<float name="gamma" value="2.2"/></emitter>\n',
+                                     walls=False), ["pt"])
 
     # Mitsuba's daylight emitters rasterise their radiance into a lat-long map for a nested
     # envmap; these check emlt's map of each (model, sun position, frame, scales). The sun

@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include "emlt/core/error.h"
+#include "emlt/image/image.h"
 #include "emlt/scene/loaders/load_prefetch.h"
 #include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/loaders/obj_loader.h"
@@ -652,8 +653,19 @@ class MitsubaSceneReader {
       if (!props.has("filename")) doc_.fail(node, "<emitter type=\"envmap\"> needs a 'filename'");
       env.scale = props.get_float("scale", 1.0f, loader::kNonNegativeRange);
       env.to_world = props.get_transform("toWorld");
+      // Mitsuba's `gamma` replaces the map's own curve, as a bitmap texture's does: -1 sRGB,
+      // g > 0 the curve v^g, 0 (the default) the file's.
+      std::optional<float> gamma;
+      if (const float value = props.get_float("gamma", 0.0f); value == kSrgbGamma || value > 0.0f)
+        gamma = value;
+      else if (value != 0.0f)
+        doc_.fail(props.node_of("gamma"),
+                  fmt::format("envmap gamma {} is not a curve (expected -1 for sRGB or a "
+                              "positive exponent)",
+                              value));
       loader::load_environment_map(
-          env, doc_.path(), loader::resolve_path(doc_.path(), props.get_string("filename", "")));
+          env, doc_.path(), loader::resolve_path(doc_.path(), props.get_string("filename", "")),
+          gamma);
     }
     for (pugi::xml_node child : props.objects())
       doc_.warn(child, "unsupported element " + doc_.describe(child) + " inside <emitter> ignored");
