@@ -35,8 +35,14 @@ int run_compare(const CompareOptions& o) {
   std::vector<uint8_t> mask;
   if (!o.scene.empty()) {
     SceneDescription desc = load_scene_description(o.scene, {});
-    desc.camera.width = reference.width;
-    desc.camera.height = reference.height;
+    // The scene's image is its film, or its crop window: resized to the reference otherwise.
+    CameraDesc& camera = desc.camera;
+    if (!(camera.cropped() && camera.crop_width == reference.width &&
+          camera.crop_height == reference.height)) {
+      camera.width = reference.width;
+      camera.height = reference.height;
+      camera.crop_width = camera.crop_height = 0;
+    }
     mask = directly_visible_emitters(*Scene::build(std::move(desc)));
   }
 

@@ -136,6 +136,8 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   settings.progress = !o.quiet;
   if (given("--width")) desc.camera.width = o.width;
   if (given("--height")) desc.camera.height = o.height;
+  // A file's crop window is a part of the film it gives: another film size renders it whole.
+  if (given("--width") || given("--height")) desc.camera.crop_width = desc.camera.crop_height = 0;
 
   if (o.output.empty()) o.output = std::filesystem::path(o.scene).stem().string() + ".exr";
   check_output_path(o.output);

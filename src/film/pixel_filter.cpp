@@ -55,7 +55,7 @@ float PixelFilter::support_radius(const PixelFilterDesc& desc) {
     case PixelFilterDesc::Kind::Box:
       break;
   }
-  return 0.5f;
+  return desc.box_radius;
 }
 
 float PixelFilter::profile(const PixelFilterDesc& desc, float t) {
@@ -82,7 +82,9 @@ float PixelFilter::profile(const PixelFilterDesc& desc, float t) {
 }
 
 PixelFilter::PixelFilter(const PixelFilterDesc& desc, int width, int height)
-    : box_(desc.kind == PixelFilterDesc::Kind::Box), width_(width), height_(height) {
+    : box_(desc.kind == PixelFilterDesc::Kind::Box && desc.box_radius == 0.5f),
+      width_(width),
+      height_(height) {
   if (box_) return;
   radius_ = support_radius(desc);
   reach_ = int(std::ceil(radius_ + 0.5f)) - 1;
@@ -186,7 +188,7 @@ std::string describe(const PixelFilterDesc& desc) {
     case PixelFilterDesc::Kind::Box:
       break;
   }
-  return "box";
+  return desc.box_radius == 0.5f ? "box" : "box (radius " + std::to_string(desc.box_radius) + ")";
 }
 
 }  // namespace emlt

@@ -8,9 +8,13 @@
 namespace emlt {
 
 Camera::Camera(const CameraDesc& desc, CameraFaults faults)
-    : width_(desc.width),
-      height_(desc.height),
-      filter_(desc.filter, desc.width, desc.height),
+    : width_(desc.cropped() ? desc.crop_width : desc.width),
+      height_(desc.cropped() ? desc.crop_height : desc.height),
+      film_width_(desc.width),
+      film_height_(desc.height),
+      crop_offset_(desc.cropped() ? Vec2(float(desc.crop_x), float(desc.crop_y)) : Vec2(0.0f)),
+      // Mitsuba filters the window as an image of its own: samples fall inside it only.
+      filter_(desc.filter, width_, height_),
       aperture_radius_(desc.aperture_radius),
       focus_distance_(desc.focus_distance),
       orthographic_(desc.projection == CameraDesc::Projection::Orthographic) {
@@ -22,14 +26,15 @@ Camera::Camera(const CameraDesc& desc, CameraFaults faults)
   position_ = Vec3(m[3]);
   forward_frame_ = Frame(forward_);
 
-  const float aspect = float(width_) / float(height_);
+  // The whole film frames the view, whatever part of it is rendered.
+  const float aspect = float(film_width_) / float(film_height_);
   const float tan_half = std::tan(glm::radians(desc.fov_degrees) * 0.5f);
   bool fov_is_x = true;
   switch (desc.fov_axis) {
     case CameraDesc::FovAxis::X: fov_is_x = true; break;
     case CameraDesc::FovAxis::Y: fov_is_x = false; break;
-    case CameraDesc::FovAxis::Smaller: fov_is_x = width_ <= height_; break;
-    case CameraDesc::FovAxis::Larger: fov_is_x = width_ >= height_; break;
+    case CameraDesc::FovAxis::Smaller: fov_is_x = film_width_ <= film_height_; break;
+    case CameraDesc::FovAxis::Larger: fov_is_x = film_width_ >= film_height_; break;
   }
   if (fov_is_x) {
     tan_half_x_ = tan_half;
@@ -38,7 +43,9 @@ Camera::Camera(const CameraDesc& desc, CameraFaults faults)
     tan_half_y_ = tan_half;
     tan_half_x_ = tan_half * aspect;
   }
-  image_plane_area_ = 4.0f * tan_half_x_ * tan_half_y_;
+  // The part of the plane the rendered image covers, over which W_e integrates to one.
+  image_plane_area_ = 4.0f * tan_half_x_ * tan_half_y_ * float(width_) * float(height_) /
+                      (float(film_width_) * float(film_height_));
   if (orthographic_) {
     // Mitsuba's orthographic film spans x in [-1, 1] and y in [-1/aspect, 1/aspect] of
     // camera space, on the z = 0 plane; to_world's scale sizes it (so m's columns are not
@@ -47,11 +54,14 @@ Camera::Camera(const CameraDesc& desc, CameraFaults faults)
     ortho_centre_ = Vec3(m[3]);
     ortho_half_right_ = -Vec3(m[0]);
     ortho_half_up_ = Vec3(m[1]) / aspect;
-    // Mitsuba sizes it by its sides' lengths, as here (a to_world that shears is not square).
-    ortho_inv_area_ = 1.0f / (4.0f * glm::length(ortho_half_right_) * glm::length(ortho_half_up_));
-    if (faults.orthographic_unscaled_area) ortho_inv_area_ = aspect / 4.0f;
-    film_pixel_size_ = std::min(2.0 * glm::length(DVec3(ortho_half_right_)) / width_,
-                                2.0 * glm::length(DVec3(ortho_half_up_)) / height_);
+    // Mitsuba sizes it by its sides' lengths, as here (a to_world that shears is not square);
+    // W_e integrates to one over the part a crop window renders.
+    const float window = float(width_) * float(height_) / (float(film_width_) * float(film_height_));
+    ortho_inv_area_ =
+        1.0f / (4.0f * glm::length(ortho_half_right_) * glm::length(ortho_half_up_) * window);
+    if (faults.orthographic_unscaled_area) ortho_inv_area_ = aspect / (4.0f * window);
+    film_pixel_size_ = std::min(2.0 * glm::length(DVec3(ortho_half_right_)) / film_width_,
+                                2.0 * glm::length(DVec3(ortho_half_up_)) / film_height_);
   }
   faults_ = faults;
 
@@ -67,10 +77,15 @@ Camera::Camera(const CameraDesc& desc, CameraFaults faults)
   radians_per_pixel_ = std::min(angle(d0, dx), angle(d0, dy));
 }
 
+Vec2 Camera::film_ndc(const Vec2& raster) const {
+  const Vec2 on_film = raster + crop_offset_;
+  return {2.0f * on_film.x / float(film_width_) - 1.0f,
+          1.0f - 2.0f * on_film.y / float(film_height_)};
+}
+
 Vec3 Camera::film_direction_local(const Vec2& raster) const {
-  const float ndc_x = 2.0f * raster.x / float(width_) - 1.0f;
-  const float ndc_y = 1.0f - 2.0f * raster.y / float(height_);
-  return {ndc_x * tan_half_x_, ndc_y * tan_half_y_, 1.0f};
+  const Vec2 ndc = film_ndc(raster);
+  return {ndc.x * tan_half_x_, ndc.y * tan_half_y_, 1.0f};
 }
 
 Ray Camera::generate_ray(const Vec2& raster, const Vec2& u_lens) const {
@@ -93,9 +108,8 @@ Ray Camera::generate_ray(const Vec2& raster, const Vec2& u_lens) const {
 
 Ray Camera::generate_ray_from_lens_point(const Vec2& raster, const Vec3& lens_point) const {
   if (orthographic_) {  // the film point is the ray's origin: no lens point to keep
-    const float ndc_x = 2.0f * raster.x / float(width_) - 1.0f;
-    const float ndc_y = 1.0f - 2.0f * raster.y / float(height_);
-    return {ortho_centre_ + ndc_x * ortho_half_right_ + ndc_y * ortho_half_up_, forward_};
+    const Vec2 ndc = film_ndc(raster);
+    return {ortho_centre_ + ndc.x * ortho_half_right_ + ndc.y * ortho_half_up_, forward_};
   }
   const Vec3 local = film_direction_local(raster);
   const Vec3 through = local.x * right_ + local.y * up_ + forward_;
@@ -116,7 +130,9 @@ std::optional<Vec2> Camera::film_raster(const Vec3& p) const {
   const float ndc_x =
       glm::dot(q, ortho_half_right_) / glm::dot(ortho_half_right_, ortho_half_right_);
   const float ndc_y = glm::dot(q, ortho_half_up_) / glm::dot(ortho_half_up_, ortho_half_up_);
-  const Vec2 raster((ndc_x + 1.0f) * 0.5f * float(width_), (1.0f - ndc_y) * 0.5f * float(height_));
+  const Vec2 raster = Vec2((ndc_x + 1.0f) * 0.5f * float(film_width_),
+                           (1.0f - ndc_y) * 0.5f * float(film_height_)) -
+                      crop_offset_;
   if (!(raster.x >= 0.0f && raster.x < float(width_) && raster.y >= 0.0f &&
         raster.y < float(height_)))
     return std::nullopt;
@@ -142,8 +158,9 @@ std::optional<Vec2> Camera::raster_position(const Vec3& p, const Vec3& w) const 
   const float depth = glm::dot(q, forward_);
   if (depth <= 0.0f) return std::nullopt;
   const float x = glm::dot(q, right_) / depth, y = glm::dot(q, up_) / depth;
-  const Vec2 raster((x / tan_half_x_ + 1.0f) * 0.5f * float(width_),
-                    (1.0f - y / tan_half_y_) * 0.5f * float(height_));
+  const Vec2 raster = Vec2((x / tan_half_x_ + 1.0f) * 0.5f * float(film_width_),
+                           (1.0f - y / tan_half_y_) * 0.5f * float(film_height_)) -
+                      crop_offset_;
   if (!(raster.x >= 0.0f && raster.x < float(width_) && raster.y >= 0.0f &&
         raster.y < float(height_)))
     return std::nullopt;

@@ -1,5 +1,6 @@
 // Scene::build: a scene description checked, its meshes and spheres turned into Embree
 // geometry with their materials, lights and alpha tests, and the light set assembled.
+#include <fmt/format.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -71,6 +72,14 @@ void validate_camera(const SceneDescription& desc) {
     throw file_error(desc.source, "unusable image resolution " + std::to_string(camera.width) +
                                       "x" + std::to_string(camera.height) +
                                       " (each side must be 1 to 16384 pixels)");
+  if ((camera.crop_width != 0 || camera.crop_height != 0) &&
+      !(camera.cropped() && camera.crop_x >= 0 && camera.crop_y >= 0 &&
+        int64_t(camera.crop_x) + camera.crop_width <= camera.width &&
+        int64_t(camera.crop_y) + camera.crop_height <= camera.height))
+    throw file_error(desc.source, fmt::format("crop window {}x{} at ({}, {}) does not lie within "
+                                              "the {}x{} film",
+                                              camera.crop_width, camera.crop_height, camera.crop_x,
+                                              camera.crop_y, camera.width, camera.height));
   if (!is_finite_matrix(camera.to_world))
     throw file_error(desc.source, "camera transform contains NaN or infinite values");
   if (!(camera.fov_degrees > 0.0f && camera.fov_degrees < 180.0f))

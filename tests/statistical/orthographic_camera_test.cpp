@@ -256,6 +256,37 @@ TEST(OrthographicIntegrators, SphereGivesTheExactRadiance) {
   }
 }
 
+// A crop window renders its part of the film: the importance integrates to one over the
+// window, so the evenly bright sphere keeps its exact radiance in every integrator (with
+// the whole film's 1/A, light tracing and the chains would give the window's share of it).
+TEST(OrthographicIntegrators, ACropWindowGivesTheExactRadiance) {
+  SceneDescription d;
+  d.source = "orthographic-sphere-window";
+  const int wall = test::add_material(d, make_lambertian(Rgb(kAlbedo)));
+  SphereDesc sphere;
+  sphere.material = wall;
+  sphere.emission = Rgb(kEmission);
+  sphere.flip_normals = true;
+  d.spheres.push_back(sphere);
+  d.camera = orthographic_camera(Vec3(0.1f, 0.2f, -0.5f), Vec3(0.5f, -0.4f, 1.0f), 0.4f, 16);
+  d.camera.crop_x = 3;
+  d.camera.crop_y = 5;
+  d.camera.crop_width = 8;
+  d.camera.crop_height = 6;
+  const auto scene = Scene::build(std::move(d));
+  ASSERT_EQ(scene->camera().width(), 8);
+  const int depth = 3;
+  const double exact = sphere_radiance(depth);
+  for (const char* name : {"pt", "bdpt", "ptracer"}) {
+    const int spp = std::string(name) == "ptracer" ? 512 : 64;
+    EXPECT_NEAR(mean_of(render_with(name, *scene, settings_for(spp, depth, 7))), exact,
+                0.015 * exact)
+        << name;
+  }
+  EXPECT_NEAR(mean_of(render_with("mlt", *scene, chain_settings(256, depth, 7))), exact,
+              0.02 * exact);
+}
+
 TEST(OrthographicIntegrators, RoomConvergesToThePathTracer) {
   const auto scene = room_seen_orthographically();
   const Image reference = render_with("pt", *scene, settings_for(2048, 5, 1));

@@ -107,6 +107,16 @@ TEST(CoatingLoader, RefusesWhatMitsubaRefuses) {
                                        kDiffuse + "</bsdf>");
   EXPECT_NE(anisotropic.find("rough_aniso.xml"), std::string::npos) << anisotropic;
   EXPECT_NE(anisotropic.find("anisotropic"), std::string::npos) << anisotropic;
+  // Equal, they are an isotropic alpha to Mitsuba.
+  const SceneDescription equal =
+      load_xml("rough_equal.xml", std::string(R"(<bsdf type="roughcoating" id="subject">
+        <float name="alphaU" value="0.3"/><float name="alphaV" value="0.3"/>)") +
+                                      kDiffuse + "</bsdf>");
+  EXPECT_EQ(equal.verdict(), "exact");
+  const SceneDescription alpha =
+      load_xml("rough_alpha.xml", std::string(R"(<bsdf type="roughcoating" id="subject">
+        <float name="alpha" value="0.3"/>)") + kDiffuse + "</bsdf>");
+  expect_same_bsdf(*subject(equal).bsdf, *subject(alpha).bsdf, "alphaU = alphaV = alpha");
   const std::string same_ior =
       xml_error("same_ior.xml", std::string(R"(<bsdf type="coating" id="subject">
         <float name="intIOR" value="1.3"/><float name="extIOR" value="1.3"/>)") +

@@ -9,7 +9,8 @@ from Mitsuba's source by extract_mitsuba_plugins.py). Nothing here says what eml
 for each plugin a probe scene (coverage_probes.py) is loaded by `emlt info --json`, then
 one for each value tried of each parameter, and the loader's own warnings classify it:
 
-- no new warning, or only a note that changes no image: *exact*;
+- no new warning, or only a note that changes no image: *exact*; so is a file refused
+  where Mitsuba refuses it too (the error says "Mitsuba refuses");
 - a note that the parameter steers only sampling: *sampling-only* (a note, not an item);
 - an Approximated item: *approximated*, the warning saying how;
 - an Unsupported item, a skipped element or a refused file: *unsupported*, the warning or
@@ -54,6 +55,8 @@ TITLES = {
 # integrators' convergence parameters).
 SCENES_SHOWN = 6  # conformance scenes named per plugin
 SAMPLING_NOTE = re.compile(r"steers? only|change the noise, not the image")
+# The loader's words when it refuses what Mitsuba 0.6 refuses too: read as Mitsuba reads it.
+REFUSED_BY_MITSUBA = re.compile(r"Mitsuba refuses")
 
 
 def normalise(message, folder):
@@ -81,6 +84,8 @@ def load(emlt, path, folder):
 def classify(warnings, error):
     """(status, [the loader's words]) from the warnings a probe adds."""
     if error is not None:
+        if REFUSED_BY_MITSUBA.search(error):
+            return "exact", ["refused, as by Mitsuba: " + error]
         return "unsupported", ["refused: " + error]
     status, words = "exact", []
     for kind, message in warnings:
@@ -234,7 +239,7 @@ def render(data, table, uses):
         % (COMMAND, data["commit"][:12], data["mitsuba"], data["commit"]),
         "",
         "- **exact**: read as Mitsuba reads it, with no warning (or a note that changes no "
-        "image); for a plugin, the [conformance scenes](conformance.md) whose XML uses it, or "
+        "image, or refused where Mitsuba refuses it too); for a plugin, the [conformance scenes](conformance.md) whose XML uses it, or "
         "*exact by the loader, no conformance scene yet*;",
         "- **sampling-only**: it steers only how Mitsuba draws its samples, not the converged "
         "image; a note, never an item of the verdict;",

@@ -36,6 +36,8 @@ NEEDS = {
     ("bsdf", "irawan"): ([("string", "filename", "cloth.wvp")], ""),
     ("emitter", "envmap"): ([("string", "filename", "assets/sky.exr")], ""),
     ("texture", "bitmap"): ([("string", "filename", "assets/grid.png")], ""),
+    # An mfilm is one pixel by default: too small for a crop window.
+    ("film", "mfilm"): ([("integer", "width", "8"), ("integer", "height", "8")], ""),
     ("texture", "scale"): ([], CHECKER),
     ("shape", "obj"): ([("string", "filename", "assets/panel_uv.obj")], DIFFUSE),
     ("shape", "ply"): ([("string", "filename", "assets/ball_ascii.ply")], DIFFUSE),
@@ -151,7 +153,10 @@ VALUES = {
 }
 
 # Parameters Mitsuba reads only together: a probe of one gives the other the same value.
-COMPANIONS = {"alphaU": "alphaV", "alphaV": "alphaU"}
+# A crop window's offset with its size: the size alone defaults to the film's, which an
+# offset pushes off the film (Mitsuba refuses that).
+COMPANIONS = {"alphaU": "alphaV", "alphaV": "alphaU", "cropOffsetX": "cropWidth",
+              "cropOffsetY": "cropHeight"}
 
 NUMBER = r"-?(?:\d+\.?\d*|\.\d+)(?:[eE]-?\d+)?"
 

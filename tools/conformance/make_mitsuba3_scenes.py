@@ -39,7 +39,12 @@ RENAMED = {
     "cutoffAngle": "cutoff_angle", "beamWidth": "beam_width", "samplingWeight": "sampling_weight",
     "apertureRadius": "aperture_radius", "focusDistance": "focus_distance",
     "emitterSamples": "emitter_samples", "bsdfSamples": "bsdf_samples",
+    "cropOffsetX": "crop_offset_x", "cropOffsetY": "crop_offset_y", "cropWidth": "crop_width",
+    "cropHeight": "crop_height",
 }
+# A BSDF's parameters that 0.6 scales to conserve energy when above 1 (Mitsuba 3 does not).
+CONSERVED = {"reflectance", "diffuseReflectance", "specularReflectance", "specularTransmittance",
+             "transmittance", "opacity"}
 VALUE_TAGS = {"float", "integer", "boolean", "string", "rgb", "srgb", "spectrum", "blackbody",
               "point", "vector", "transform", "texture", "ref"}
 # Plugins of 0.6 that Mitsuba 3 does not have.
@@ -170,6 +175,15 @@ def rewrite(node, parent=None):
             node.tag = "rgb"  # Mitsuba 3 gives a uniform emitter spectrum a D65-white tint
     if tag == "lookAt":
         node.tag = "lookat"
+    if tag == "emitter" and kind == "envmap" and "gamma" in params(node):
+        raise Skip("Mitsuba 3's envmap reads no gamma (its map is linear, or sRGB if 8-bit)")
+    if tag == "rfilter" and kind == "box" and "radius" in params(node):
+        raise Skip("Mitsuba 3's box filter is half a pixel wide whatever its radius (it reads none)")
+    if (parent is not None and parent.tag == "bsdf" and node.get("name") in CONSERVED and
+            tag in ("rgb", "spectrum", "float") and
+            max(float(v) for v in node.get("value", "0").replace(",", " ").split()) > 1):
+        raise Skip("a reflectance above 1, which 0.6 scales to conserve energy and Mitsuba 3 "
+                   "leaves as given")
     if tag == "bsdf" and kind in ("conductor", "roughconductor") and "eta" not in params(node):
         conductor_as_eta_k(node)
     if tag == "string" and node.get("name") == "distribution" and node.get("value") not in ("beckmann", "ggx"):

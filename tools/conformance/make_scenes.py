@@ -483,6 +483,23 @@ def build():
                                            '<float name="alpha" value="0.2"/></bsdf>')
     for name, (conv, bsdf) in bsdfs.items():
         s[name] = (conv, scene(sphere(bsdf)), pt_bdpt + (["mlt"] if name == "bsdf-dielectric" else []))
+    # Textured specular tints of the dielectrics (Mitsuba reads numbers or textures): a
+    # smooth and a rough glass sphere whose transmittance follows a checkerboard.
+    tint = ('<texture type="checkerboard" name="specularTransmittance">'
+            '<rgb name="color0" value="1, 0.6, 0.3"/><rgb name="color1" value="0.3, 0.6, 1"/>'
+            '<float name="uscale" value="4"/><float name="vscale" value="2"/></texture>')
+    s["bsdf-specular-tint-texture"] = (
+        "checkerboard specularTransmittance of a dielectric and a roughdielectric",
+        scene(sphere('<bsdf type="dielectric">' + tint + '</bsdf>', "-0.45, 0.4, 0", 0.4) +
+              sphere('<bsdf type="roughdielectric"><float name="alpha" value="0.2"/>' + tint + '</bsdf>',
+                     "0.45, 0.4, -0.1", 0.4)), ["pt"])
+    # ensureEnergyConservation: reflectances above 1 scaled to 0.99 of their maximum, each
+    # parameter on its own (a plastic's diffuse part here, not its specular one).
+    s["bsdf-energy-conservation"] = (
+        "reflectances above 1 scaled to 0.99 over their maximum (diffuse 1.6, plastic diffuse 1.3)",
+        scene(sphere(DIFFUSE % "1.6, 0.8, 0.4", "-0.45, 0.4, 0", 0.4) +
+              sphere('<bsdf type="plastic"><rgb name="diffuseReflectance" value="1.3, 1, 0.5"/></bsdf>',
+                     "0.45, 0.4, -0.1", 0.4)), ["pt"])
     # The classic analytic BRDFs Mitsuba 0.6 ships beside the microfacet ones, on the sphere
     # (every pair of angles at once). Oren-Nayar is rough enough here to differ from a
     # Lambertian by 10-20 % in its brightest and darkest parts.
@@ -883,6 +900,13 @@ def build():
                                light='  <emitter type="envmap"><string name="filename" value="assets/sky.exr"/>'
                                      '<float name="scale" value="1.5"/><transform name="toWorld"><rotate y="1" angle="60"/></transform></emitter>\n',
                                walls=False), pt_bdpt)
+    # An envmap's gamma replaces the map's curve, as a bitmap's does: a float map's values
+    # are bent by it too (v^2.2 here).
+    s["light-envmap-gamma"] = ("envmap gamma 2.2 over a float map (its values bent to v^2.2)",
+                               scene(sphere(WHITE) + rect(WHITE, '<scale value="3"/><rotate x="1" angle="-90"/>'),
+                                     light='  <emitter type="envmap"><string name="filename" value="assets/sky.exr"/>'
+                                           '<float name="gamma" value="2.2"/></emitter>\n',
+                                     walls=False), ["pt"])
 
     # Mitsuba's daylight emitters rasterise their radiance into a lat-long map for a nested
     # envmap; these check emlt's map of each (model, sun position, frame, scales). The sun
@@ -1080,6 +1104,19 @@ def add_plugin_scenes(s):
     s["film-tiledhdrfilm"] = ("tiledhdrfilm: width, height and filter against hdrfilm",
                               scene(sphere(WHITE), cam=sensor(96, 56, 45, rfilter="mitchell", film="tiledhdrfilm",
                                     film_params='\n      <string name="pixelFormat" value="rgb"/>')), ["pt"])
+    # A crop window renders its part of the film alone, framed by the whole film (not
+    # re-framed), and filters its border pixels as an image's (the default Gaussian).
+    s["film-crop"] = ("crop window 64x40 at (20, 28) of a 96x72 film: the window alone, framed by the film",
+                      scene(sphere(WHITE, "-0.3, 0.35, 0", 0.35) + sphere(DIFFUSE % "0.8, 0.5, 0.2", "0.45, 0.25, 0.4", 0.25),
+                            cam=sensor(96, 72, 45, rfilter="gaussian", film_params=HDR_PFM +
+                                       '\n      <integer name="cropOffsetX" value="20"/>'
+                                       '\n      <integer name="cropOffsetY" value="28"/>'
+                                       '\n      <integer name="cropWidth" value="64"/>'
+                                       '\n      <integer name="cropHeight" value="40"/>')), pt_bdpt)
+    # Mitsuba 0.6's box reads a radius: each sample counts for every pixel within it.
+    s["film-box-radius"] = ("box filter of radius 1.5 (a sample counts for the pixels within 1.5 on each axis)",
+                            scene(sphere(WHITE), cam=sensor(rfilter="box",
+                                  rfilter_params='<float name="radius" value="1.5"/>')), pt_bdpt)
 
 
 def main():

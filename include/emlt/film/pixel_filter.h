@@ -35,6 +35,9 @@ struct PixelFilterDesc {
   enum class Kind { Box, Tent, Gaussian, Mitchell, CatmullRom, Lanczos } kind = Kind::Box;
   float stddev = 0.5f;  // Gaussian: Mitsuba's default; its radius is 4 stddev
   float radius = 1.0f;  // Tent: Mitsuba's default
+  // Box: every sample within this many pixels of a pixel centre (on each axis) counts fully
+  // for it; Mitsuba's default 0.5 is the pixel itself.
+  float box_radius = 0.5f;
   // Mitchell-Netravali's B and C (Mitsuba's defaults); Catmull-Rom is B = 0, C = 1/2.
   // Both reach 2 pixels.
   float b = 1.0f / 3.0f, c = 1.0f / 3.0f;

@@ -1,10 +1,11 @@
 #pragma once
 // Perspective camera: pinhole (aperture 0) or thin lens; or an orthographic one (see
 // is_orthographic). Raster coordinates are pixels, x in [0, width) to the right, y in
-// [0, height) downwards. The importance W_e is
-// normalised over the whole film (pbrt's convention): it integrates to one over the lens
-// and all directions that reach the film, i.e. W_e = 1 / (A_film * A_lens * cos^4), with
-// A_film the film's area on the plane at distance 1 and A_lens = 1 for a pinhole. A pixel
+// [0, height) downwards, of the image rendered: with a crop window (CameraDesc) that is the
+// window, placed at its offset on the film that frames the view. The importance W_e is
+// normalised over the whole image rendered (pbrt's convention): it integrates to one over
+// the lens and all directions that reach the image, i.e. W_e = 1 / (A_film * A_lens * cos^4),
+// with A_film the image's area on the plane at distance 1 and A_lens = 1 for a pinhole. A pixel
 // value is therefore (width * height) times the film measurement restricted to that pixel:
 // light tracing with N paths splats W_e * L * G / pdf * (width * height / N).
 //
@@ -105,11 +106,15 @@ class Camera {
   double film_pixel_size() const { return film_pixel_size_; }
 
  private:
+  // A raster position's place on the whole film, each axis in [-1, 1] (+y up).
+  Vec2 film_ndc(const Vec2& raster) const;
   Vec3 film_direction_local(const Vec2& raster) const;  // camera space, z = 1 plane
   // W_e of a direction at cos_theta to the forward axis that lands on the film.
   float importance_on_film(float cos_theta) const;
 
-  int width_, height_;
+  int width_, height_;            // the image rendered (the crop window, if any)
+  int film_width_, film_height_;  // the film that frames the view
+  Vec2 crop_offset_{0.0f};        // the window's top-left pixel on that film
   PixelFilter filter_;
   Vec3 position_, forward_, right_, up_;  // world; right_ = image +x
   Frame forward_frame_;

@@ -111,6 +111,11 @@ struct CameraDesc {
   float aperture_radius = 0.0f;  // 0: pinhole
   float focus_distance = 1.0f;
   int width = 256, height = 256;
+  // Mitsuba's crop window, in pixels of the width x height film: only that window is
+  // rendered and written (an image of its size), and the whole film still frames the view.
+  // A zero size means the whole film.
+  int crop_x = 0, crop_y = 0, crop_width = 0, crop_height = 0;
+  bool cropped() const { return crop_width > 0 && crop_height > 0; }
   PixelFilterDesc filter;  // the film's reconstruction filter; box unless a file says otherwise
 };
 

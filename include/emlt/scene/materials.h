@@ -51,6 +51,10 @@ BsdfPtr make_mirror(const Rgb& reflectance = Rgb(1.0f));  // ideal specular refl
 BsdfPtr make_dielectric(float int_ior = 1.5046f, float ext_ior = 1.000277f,
                         const Rgb& specular_reflectance = Rgb(1.0f),
                         const Rgb& specular_transmittance = Rgb(1.0f));
+// The same with tints that may vary over the surface (Mitsuba's textured
+// specularReflectance / specularTransmittance); likewise for the other dielectrics.
+BsdfPtr make_dielectric(float int_ior, float ext_ior, TexturePtr specular_reflectance,
+                        TexturePtr specular_transmittance);
 // Rough dielectric interface (Walter et al. 2007): microfacet reflection and refraction,
 // both sides, both transport modes. GGX samples visible normals, Beckmann and Phong the
 // full distribution. `alpha` is the roughness along the shading frame's s axis (dp/du);
@@ -62,11 +66,16 @@ BsdfPtr make_rough_dielectric(TexturePtr alpha, float int_ior = 1.5046f,
                               const Rgb& specular_reflectance = Rgb(1.0f),
                               const Rgb& specular_transmittance = Rgb(1.0f),
                               TexturePtr alpha_v = nullptr);
+BsdfPtr make_rough_dielectric(TexturePtr alpha, float int_ior, float ext_ior,
+                              MicrofacetType distribution, TexturePtr specular_reflectance,
+                              TexturePtr specular_transmittance, TexturePtr alpha_v);
 // Thin dielectric slab (window pane): delta reflection with the slab's multiple-bounce
 // reflectance R' = R + T^2 R / (1 - R^2), and transmission straight through.
 BsdfPtr make_thin_dielectric(float int_ior = 1.5046f, float ext_ior = 1.000277f,
                              const Rgb& specular_reflectance = Rgb(1.0f),
                              const Rgb& specular_transmittance = Rgb(1.0f));
+BsdfPtr make_thin_dielectric(float int_ior, float ext_ior, TexturePtr specular_reflectance,
+                             TexturePtr specular_transmittance);
 // Smooth conductor: delta reflection weighted by the exact conductor Fresnel term of the
 // incident angle. One-sided.
 BsdfPtr make_conductor(const Rgb& eta, const Rgb& k, const Rgb& specular_reflectance = Rgb(1.0f));

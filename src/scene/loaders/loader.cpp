@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "emlt/core/error.h"
+#include "emlt/image/image.h"
 #include "emlt/scene/materials.h"
 #include "src/scene/loaders/loader_common.h"
 
@@ -84,13 +85,21 @@ Rgb conductor_normal_reflectance(const Rgb& eta, const Rgb& k) {
 }
 
 void load_environment_map(EnvironmentDesc& env, const std::string& scene_file,
-                          const std::string& file) {
+                          const std::string& file, std::optional<float> gamma) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec))
     throw file_error(scene_file, "environment map '" + file + "' not found");
   env.kind = EnvironmentDesc::Kind::Map;
   env.map_path = file;
+  if (gamma && is_stored_image(file)) {
+    env.map = decode_stored_image(read_stored_image(file), *gamma);
+    return;
+  }
   env.map = read_image(file);
+  if (gamma && *gamma != 1.0f)
+    for (Rgb& texel : env.map.pixels)
+      texel = Rgb(decode_gamma(texel.x, *gamma), decode_gamma(texel.y, *gamma),
+                  decode_gamma(texel.z, *gamma));
 }
 
 Mat4 rotation_matrix(const Vec3& axis, float degrees) {

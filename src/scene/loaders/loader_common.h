@@ -22,9 +22,11 @@ std::optional<float> named_ior(const std::string& name);
 Rgb conductor_normal_reflectance(const Rgb& eta, const Rgb& k);
 
 // Fills env with a lat-long map read from `file` (already resolved); a missing file is
-// reported against the scene file, an unreadable one against the map.
+// reported against the scene file, an unreadable one against the map. A `gamma` replaces
+// the file's own curve, as a Mitsuba bitmap's does (kSrgbGamma or an exponent; a float
+// file's values are bent by it too).
 void load_environment_map(EnvironmentDesc& env, const std::string& scene_file,
-                          const std::string& file);
+                          const std::string& file, std::optional<float> gamma = std::nullopt);
 
 // Rotation about `axis` by `degrees` (right-handed), as Mitsuba's <rotate>.
 Mat4 rotation_matrix(const Vec3& axis, float degrees);

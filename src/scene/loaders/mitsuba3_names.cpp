@@ -50,6 +50,10 @@ constexpr std::pair<std::string_view, std::string_view> kRenamed[] = {
     {"component_format", "componentFormat"},
     {"file_format", "fileFormat"},
     {"sample_border", "highQualityEdges"},
+    {"crop_offset_x", "cropOffsetX"},
+    {"crop_offset_y", "cropOffsetY"},
+    {"crop_width", "cropWidth"},
+    {"crop_height", "cropHeight"},
     // shapes
     {"face_normals", "faceNormals"},
     {"flip_normals", "flipNormals"},

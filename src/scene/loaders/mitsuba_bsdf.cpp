@@ -135,7 +135,8 @@ class BsdfReader {
 
   TexturePtr alpha(Properties& props, pugi::xml_node node) {
     if (props.has("alphaU") || props.has("alphaV")) {
-      // Only roughplastic comes here with alphaU/alphaV: Mitsuba's refuses anisotropy.
+      // roughplastic and roughcoating come here with alphaU/alphaV; Mitsuba refuses them
+      // unequal (roughcoating has refused them already).
       const float a = props.get_float("alpha", 0.1f);
       const float u = props.get_float("alphaU", a), v = props.get_float("alphaV", a);
       if (u != v)
@@ -159,7 +160,8 @@ class BsdfReader {
   // over a grid of its period reach above 1 the difference is reported, not guessed at.
   void conserve_energy(Properties& props, pugi::xml_node node,
                        std::initializer_list<TexturePtr*> reflectances) {
-    if (!props.get_boolean("ensureEnergyConservation", true)) return;
+    // Mitsuba 3 scales nothing (and reads no such parameter).
+    if (doc_.mitsuba3() || !props.get_boolean("ensureEnergyConservation", true)) return;
     Rgb sum(0.0f);
     bool textured = false;
     for (TexturePtr* r : reflectances) {
@@ -193,6 +195,16 @@ class BsdfReader {
               Document::Warning::Note);
   }
 
+  // A dielectric's specularReflectance and specularTransmittance (numbers or textures), each
+  // scaled on its own to conserve energy, as Mitsuba's dielectrics do.
+  std::pair<TexturePtr, TexturePtr> specular_tints(Properties& props, pugi::xml_node node) {
+    TexturePtr reflectance = texture(props, "specularReflectance", Rgb(1.0f));
+    TexturePtr transmittance = texture(props, "specularTransmittance", Rgb(1.0f));
+    conserve_energy(props, node, {&reflectance});
+    conserve_energy(props, node, {&transmittance});
+    return {reflectance, transmittance};
+  }
+
   // The nested BSDF of a wrapper; unnamed <texture> children are left to `textures`.
   MaterialDesc nested(pugi::xml_node node, Properties& props,
                       std::vector<pugi::xml_node>* textures = nullptr) {
@@ -224,6 +236,9 @@ class BsdfReader {
   }
 
   MaterialDesc wrapper(const std::string& type, pugi::xml_node node, Properties& props) {
+    // Every Mitsuba BSDF reads ensureEnergyConservation; these wrappers have nothing to scale.
+    if (type == "twosided" || type == "bumpmap" || type == "normalmap")
+      props.get_boolean("ensureEnergyConservation", true);
     if (type == "twosided") {
       MaterialDesc inner = nested(node, props);
       if (inner.bsdf->lobes() & kLobeTransmission) {
@@ -240,6 +255,7 @@ class BsdfReader {
     }
     if (type == "mask") {
       TexturePtr opacity = texture(props, "opacity", Rgb(0.5f));
+      conserve_energy(props, node, {&opacity});
       MaterialDesc inner = nested(node, props);
       if (inner.opacity)
         doc_.warn(node, "nested masks: only the outer opacity is used",
@@ -316,13 +332,18 @@ class BsdfReader {
 
   // Mitsuba's `coating` and `roughcoating`: a dielectric layer over the nested BSDF. Mitsuba
   // reads sigmaA and (rough) alpha as numbers or textures, specularReflectance as a colour
-  // only, and refuses an anisotropic roughness and equal IORs.
+  // only, and refuses a textured one, an anisotropic roughness and equal IORs.
   MaterialDesc coating(const std::string& type, pugi::xml_node node, Properties& props) {
     const float int_ior = ior(props, "intIOR", 1.5046f, node);    // bk7
     const float ext_ior = ior(props, "extIOR", 1.000277f, node);  // air
     if (int_ior == ext_ior) doc_.fail(node, "intIOR and extIOR of a coating must differ");
     const float thickness = props.get_float("thickness", 1.0f);
     TexturePtr sigma_a = texture(props, "sigmaA", Rgb(0.0f));
+    const std::string specular_kind = props.kind_of("specularReflectance");
+    if (specular_kind == "texture" || specular_kind == "ref")
+      doc_.fail(props.node_of("specularReflectance"),
+                "the 'specularReflectance' of a " + type +
+                    " must be a colour (Mitsuba refuses a texture for it)");
     TexturePtr specular = make_constant_texture(props.get_color("specularReflectance", Rgb(1.0f)));
     conserve_energy(props, node, {&specular});
     const Rgb specular_value = *specular->constant();
@@ -330,8 +351,16 @@ class BsdfReader {
     TexturePtr a;
     if (type == "roughcoating") {
       dist = distribution(props, node);
-      if (props.has("alphaU") || props.has("alphaV"))
-        doc_.fail(node, "roughcoating does not support an anisotropic roughness (alphaU/alphaV)");
+      // Mitsuba reads alphaU/alphaV as its other rough BSDFs do, and refuses them unequal.
+      if (props.has("alphaU") || props.has("alphaV")) {
+        if (props.has("alpha")) doc_.fail(node, "give either 'alpha' or 'alphaU'/'alphaV'");
+        if (!props.has("alphaU") || !props.has("alphaV"))
+          doc_.fail(node, "'alphaU' and 'alphaV' must both be given");
+        if (props.get_float("alphaU", 0.1f) != props.get_float("alphaV", 0.1f))
+          doc_.fail(node,
+                    "roughcoating does not support an anisotropic roughness (alphaU unlike "
+                    "alphaV; Mitsuba refuses it too)");
+      }
       a = alpha(props, node);
     }
     MaterialDesc inner = nested(node, props);
@@ -454,7 +483,11 @@ class BsdfReader {
                   Document::Warning::Note);
       }
     }
-    if (type == "diffuse") return make_lambertian(texture(props, "reflectance", Rgb(0.5f)));
+    if (type == "diffuse") {
+      TexturePtr reflectance = texture(props, "reflectance", Rgb(0.5f));
+      conserve_energy(props, node, {&reflectance});
+      return make_lambertian(reflectance);
+    }
     if (type == "roughdiffuse") {
       // Mitsuba reads `diffuseReflectance` too, when `reflectance` is not given.
       const char* reflectance_name = props.has("reflectance") || !props.has("diffuseReflectance")
@@ -509,8 +542,7 @@ class BsdfReader {
     if (type == "dielectric" || type == "thindielectric") {
       const float int_ior = ior(props, "intIOR", 1.5046f, node);
       const float ext_ior = ior(props, "extIOR", 1.000277f, node);
-      const Rgb reflectance = props.get_color("specularReflectance", Rgb(1.0f));
-      const Rgb transmittance = props.get_color("specularTransmittance", Rgb(1.0f));
+      auto [reflectance, transmittance] = specular_tints(props, node);
       return type == "dielectric"
                  ? make_dielectric(int_ior, ext_ior, reflectance, transmittance)
                  : make_thin_dielectric(int_ior, ext_ior, reflectance, transmittance);
@@ -520,22 +552,24 @@ class BsdfReader {
       const Roughness a = roughness(props, node);
       const float int_ior = ior(props, "intIOR", 1.5046f, node);
       const float ext_ior = ior(props, "extIOR", 1.000277f, node);
-      return make_rough_dielectric(a.u, int_ior, ext_ior, dist,
-                                   props.get_color("specularReflectance", Rgb(1.0f)),
-                                   props.get_color("specularTransmittance", Rgb(1.0f)), a.v);
+      auto [reflectance, transmittance] = specular_tints(props, node);
+      return make_rough_dielectric(a.u, int_ior, ext_ior, dist, reflectance, transmittance, a.v);
     }
     if (type == "conductor") {
       Rgb eta, k;
       conductor_ior(props, node, &eta, &k);
-      return make_conductor(eta, k, texture(props, "specularReflectance", Rgb(1.0f)));
+      TexturePtr specular = texture(props, "specularReflectance", Rgb(1.0f));
+      conserve_energy(props, node, {&specular});
+      return make_conductor(eta, k, specular);
     }
     if (type == "roughconductor") {
       const MicrofacetType dist = distribution(props, node);
       const Roughness a = roughness(props, node);
       Rgb eta, k;
       conductor_ior(props, node, &eta, &k);
-      return make_rough_conductor(a.u, eta, k, texture(props, "specularReflectance", Rgb(1.0f)),
-                                  dist, a.v);
+      TexturePtr specular = texture(props, "specularReflectance", Rgb(1.0f));
+      conserve_energy(props, node, {&specular});
+      return make_rough_conductor(a.u, eta, k, specular, dist, a.v);
     }
     if (type == "plastic" || type == "roughplastic") {
       MicrofacetType dist = MicrofacetType::Ggx;
@@ -549,6 +583,9 @@ class BsdfReader {
       const float ext_ior = ior(props, "extIOR", 1.000277f, node);
       TexturePtr diffuse = texture(props, "diffuseReflectance", Rgb(0.5f));
       TexturePtr specular = texture(props, "specularReflectance", Rgb(1.0f));
+      // Mitsuba scales each of the two on its own, not their sum.
+      conserve_energy(props, node, {&specular});
+      conserve_energy(props, node, {&diffuse});
       return make_rough_plastic(a, diffuse, specular, int_ior, ext_ior, nonlinear, dist);
     }
     if (type == "principled" && doc_.mitsuba3()) {

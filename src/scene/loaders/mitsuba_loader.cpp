@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include "emlt/core/error.h"
+#include "emlt/image/image.h"
 #include "emlt/scene/loaders/load_prefetch.h"
 #include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/loaders/obj_loader.h"
@@ -145,8 +146,9 @@ class MitsubaSceneReader {
         continue;
       }
       const auto face_normals = flag(node, "faceNormals", false),
-                 flip = flag(node, "flipTexCoords", true);
-      if (face_normals && flip) objs.push_back({*file, !*face_normals, *flip});
+                 flip = flag(node, "flipTexCoords", true), collapse = flag(node, "collapse", false);
+      if (face_normals && flip && collapse && !*collapse)
+        objs.push_back({*file, !*face_normals, *flip});
     }
     return LoadPrefetch(images, objs, meshes);
   }
@@ -243,12 +245,18 @@ class MitsubaSceneReader {
 
   void read_film(pugi::xml_node node) {
     Properties props(doc_, node);
-    desc_.camera.width = props.get_integer("width", 768, loader::kFilmSideRange);
-    desc_.camera.height = props.get_integer("height", 576, loader::kFilmSideRange);
+    // Mitsuba's mfilm is one pixel by default (a measurement), its other films 768x576.
+    const bool mfilm = doc_.attribute(node, "type") == "mfilm";
+    CameraDesc& camera = desc_.camera;
+    camera.width = props.get_integer("width", mfilm ? 1 : 768, loader::kFilmSideRange);
+    camera.height = props.get_integer("height", mfilm ? 1 : 576, loader::kFilmSideRange);
+    read_crop(node, props);
     // Output encoding only; the renderer chooses its own from the output file name (an
-    // ldrfilm's tone mapping included: emlt writes linear radiance and a PNG preview).
+    // ldrfilm's tone mapping included: emlt writes linear radiance and a PNG preview; the
+    // EXR channels' names and an mfilm's number format and variable name likewise).
     props.ignore({"banner", "pixelFormat", "componentFormat", "fileFormat", "attachLog",
-                  "tonemapMethod", "gamma", "exposure", "key", "burn"});
+                  "tonemapMethod", "gamma", "exposure", "key", "burn", "channelNames", "digits",
+                  "variable"});
     const bool high_quality_edges = props.get_boolean("highQualityEdges", false);
     if (props.has("filename")) {  // not a Mitsuba film parameter; the output is named by -o
       props.ignore({"filename"});
@@ -266,7 +274,8 @@ class MitsubaSceneReader {
     // filter's whole footprint; emlt normalises the footprint over the part inside the image,
     // as Mitsuba does without it. A box filter lies within its pixel: nothing changes.
     if (high_quality_edges) {
-      const bool box = desc_.camera.filter.kind == PixelFilterDesc::Kind::Box;
+      const bool box = desc_.camera.filter.kind == PixelFilterDesc::Kind::Box &&
+                       desc_.camera.filter.box_radius <= 0.5f;
       doc_.warn(node,
                 box ? "'highQualityEdges' changes nothing with a box filter"
                     : "'highQualityEdges' is not supported: the border pixels are filtered over "
@@ -276,12 +285,35 @@ class MitsubaSceneReader {
     props.warn_unused();
   }
 
+  // Mitsuba's crop window (every film): only the window's pixels are rendered and written,
+  // as an image of its size, while the whole film frames the view; Mitsuba refuses a window
+  // that does not lie within the film.
+  void read_crop(pugi::xml_node node, Properties& props) {
+    CameraDesc& camera = desc_.camera;
+    if (!props.has("cropOffsetX") && !props.has("cropOffsetY") && !props.has("cropWidth") &&
+        !props.has("cropHeight"))
+      return;
+    const int x = props.get_integer("cropOffsetX", 0), y = props.get_integer("cropOffsetY", 0);
+    const int width = props.get_integer("cropWidth", camera.width);
+    const int height = props.get_integer("cropHeight", camera.height);
+    if (x < 0 || y < 0 || width <= 0 || height <= 0 || int64_t(x) + width > camera.width ||
+        int64_t(y) + height > camera.height)
+      doc_.fail(node, fmt::format("invalid crop window: {}x{} at ({}, {}) does not lie within "
+                                  "the {}x{} film (Mitsuba refuses it too)",
+                                  width, height, x, y, camera.width, camera.height));
+    camera.crop_x = x, camera.crop_y = y, camera.crop_width = width, camera.crop_height = height;
+  }
+
   void read_filter(pugi::xml_node node) {
     const std::string type = doc_.attribute(node, "type");
     Properties props(doc_, node);
     PixelFilterDesc& filter = desc_.camera.filter;
     if (type == "box") {
       filter.kind = PixelFilterDesc::Kind::Box;
+      // Mitsuba 0.6's box counts a sample fully for every pixel whose centre lies within
+      // `radius` of it on each axis (0.5: its own pixel only).
+      if (!doc_.mitsuba3())
+        filter.box_radius = props.get_float("radius", 0.5f, loader::kFilterRadiusRange);
     } else if (type == "tent") {
       filter.kind = PixelFilterDesc::Kind::Tent;
       // Mitsuba 0.6's tent is one pixel wide whatever the file says (it reads no
@@ -450,6 +482,11 @@ class MitsubaSceneReader {
         if (group)
           doc_.fail(child, "an emitter inside a shapegroup is not supported (nor by Mitsuba)");
         Properties emitter(doc_, child);
+        // The shape places an area light: Mitsuba refuses a transform of its own.
+        if (emitter.has("toWorld"))
+          doc_.fail(emitter.node_of("toWorld"),
+                    "an area emitter takes no 'toWorld' (Mitsuba refuses it: the shape's "
+                    "transform places the light)");
         emission = emitter.get_color("radiance", Rgb(1.0f));
         emitter.note_sampling_only({"samplingWeight"}, "how often Mitsuba samples this light");
         emitter.warn_unused();
@@ -481,10 +518,32 @@ class MitsubaSceneReader {
       const bool face_normals = props.get_boolean("faceNormals", false);
       // Mitsuba flips OBJ texture coordinates by default (v = 0 at the image's top).
       const bool flip_uv = props.get_boolean("flipTexCoords", true);
-      std::optional<ObjInFileSpace> prefetched = LoadPrefetch::obj(file, !face_normals, flip_uv);
-      mesh = prefetched ? place_obj_mesh(std::move(*prefetched), to_world, &desc_.warnings)
-                        : load_obj_mesh(file, to_world, !face_normals, &desc_.warnings, flip_uv);
+      // Mitsuba makes a mesh of each group (and each material's run of faces) unless
+      // collapse merges them; shapeIndex keeps one of them.
+      const bool collapse = props.get_boolean("collapse", false);
+      const int shape_index = props.get_integer("shapeIndex", -1);
+      std::optional<ObjInFileSpace> obj =
+          collapse ? std::nullopt : LoadPrefetch::obj(file, !face_normals, flip_uv);
+      if (!obj) obj = read_obj_file(file, !face_normals, flip_uv, collapse);
+      keep_obj_part(*obj, shape_index);
+      if (shape_index >= 0 && obj->mesh.indices.empty()) {
+        doc_.warn(node,
+                  fmt::format("shapeIndex {} selects none of the meshes Mitsuba makes of {} "
+                              "(Mitsuba adds none either)",
+                              shape_index, std::filesystem::path(file).filename().string()),
+                  Document::Warning::Note);
+        props.ignore({"maxSmoothAngle", "loadMaterials"});
+        props.warn_unused();
+        return;
+      }
+      obj_materials(node, props, *obj, file);
+      mesh = place_obj_mesh(std::move(*obj), to_world, &desc_.warnings);
       loader::drop_non_finite_triangles(desc_, mesh, file);
+      if (props.has("maxSmoothAngle")) {
+        if (face_normals)
+          doc_.fail(node, "'maxSmoothAngle' and 'faceNormals' cannot be given together");
+        split_vertices_by_angle(mesh, props.get_float("maxSmoothAngle", 0.0f));
+      }
     } else if (type == "rectangle") {
       mesh = make_rectangle_mesh(to_world);
     } else if (type == "serialized") {
@@ -515,6 +574,8 @@ class MitsubaSceneReader {
         doc_.fail(node, "cylinder p0 and p1 must be distinct finite points");
       mesh = make_cylinder_mesh(p0, p1, radius, to_world);
     } else if (type == "cube") {
+      // Mitsuba's cube already has one normal per face: faceNormals changes nothing.
+      props.get_boolean("faceNormals", false);
       mesh = make_cube_mesh(to_world);
     } else {
       mesh = make_disk_mesh(to_world);
@@ -531,6 +592,26 @@ class MitsubaSceneReader {
       return;
     }
     (group ? group->meshes : desc_.meshes).push_back(std::move(mesh));
+  }
+
+  // Mitsuba's OBJ reader gives each mesh the material its `usemtl` names in the file's
+  // material library (loadMaterials, on by default), which a <bsdf> inside the shape
+  // replaces for every mesh (or, given a name, for the meshes of that material). emlt reads
+  // no material library: where Mitsuba would use one, that is reported.
+  void obj_materials(pugi::xml_node node, Properties& props, const ObjInFileSpace& obj,
+                     const std::string& file) {
+    const bool load_materials = props.get_boolean("loadMaterials", true);
+    if (!load_materials || !obj.has_material_library) return;
+    bool replaced = false;
+    for (pugi::xml_node child : props.objects()) {
+      const std::string kind = child.name();
+      if ((kind == "bsdf" || kind == "ref") && !child.attribute("name"))
+        replaced = true;  // Mitsuba gives an unnamed BSDF to every mesh of the file
+    }
+    if (!replaced)
+      doc_.warn(node, "the materials of " + std::filesystem::path(file).filename().string() +
+                          "'s material library (mtllib) are not loaded; its faces get the "
+                          "shape's BSDF (Mitsuba uses the library's, loadMaterials)");
   }
 
   // faceNormals, maxSmoothAngle and flipNormals of a mesh read from a file, as Mitsuba's
@@ -566,12 +647,25 @@ class MitsubaSceneReader {
     if (type == "constant") {
       env.kind = EnvironmentDesc::Kind::Constant;
       env.radiance = props.get_color("radiance", Rgb(1.0f));
+      // Every Mitsuba emitter reads a toWorld; turning a uniform sky changes nothing.
+      props.get_transform("toWorld");
     } else {
       if (!props.has("filename")) doc_.fail(node, "<emitter type=\"envmap\"> needs a 'filename'");
       env.scale = props.get_float("scale", 1.0f, loader::kNonNegativeRange);
       env.to_world = props.get_transform("toWorld");
+      // Mitsuba's `gamma` replaces the map's own curve, as a bitmap texture's does: -1 sRGB,
+      // g > 0 the curve v^g, 0 (the default) the file's.
+      std::optional<float> gamma;
+      if (const float value = props.get_float("gamma", 0.0f); value == kSrgbGamma || value > 0.0f)
+        gamma = value;
+      else if (value != 0.0f)
+        doc_.fail(props.node_of("gamma"),
+                  fmt::format("envmap gamma {} is not a curve (expected -1 for sRGB or a "
+                              "positive exponent)",
+                              value));
       loader::load_environment_map(
-          env, doc_.path(), loader::resolve_path(doc_.path(), props.get_string("filename", "")));
+          env, doc_.path(), loader::resolve_path(doc_.path(), props.get_string("filename", "")),
+          gamma);
     }
     for (pugi::xml_node child : props.objects())
       doc_.warn(child, "unsupported element " + doc_.describe(child) + " inside <emitter> ignored");

@@ -117,6 +117,37 @@ TexturePtr nested_texture(const Document& doc, pugi::xml_node node, Properties& 
   return inner;
 }
 
+// What Mitsuba's `scale` scales: its `value` (a colour), replaced by a nested texture, named
+// or not; of several, the last in the file, as Mitsuba adds each in turn in its place.
+TexturePtr scaled_texture(const Document& doc, pugi::xml_node node, Properties& props,
+                          NamedObjects& named) {
+  pugi::xml_node last;
+  for (pugi::xml_node child : node.children()) {
+    const std::string kind = child.name();
+    if (kind == "texture" || kind == "ref") last = child;
+  }
+  for (const char* kind : {"texture", "ref"})
+    for (const std::string& name : props.names_of_kind(kind)) props.ignore({name.c_str()});
+  for (pugi::xml_node child : props.objects()) {
+    const std::string kind = child.name();
+    if (kind != "texture" && kind != "ref")
+      doc.warn(child,
+               "unsupported element <" + kind + "> inside " + doc.describe(node) + " ignored");
+  }
+  if (last) {
+    if (props.has("value") && !props.used("value")) {
+      props.ignore({"value"});
+      doc.warn(props.node_of("value"),
+               "'value' of a scale texture replaced by its nested texture, as Mitsuba does",
+               Document::Warning::Note);
+    }
+    return read_texture(doc, last, named);
+  }
+  if (!props.has("value"))
+    doc.fail(node, doc.describe(node) + " needs a nested <texture> or a 'value'");
+  return make_constant_texture(props.get_color("value", Rgb(0.0f)));
+}
+
 }  // namespace
 
 TexturePtr read_texture(const Document& doc, pugi::xml_node node, NamedObjects& named) {
@@ -142,7 +173,9 @@ TexturePtr read_texture(const Document& doc, pugi::xml_node node, NamedObjects& 
     texture = make_grid_texture(color0, color1, line_width, uv_transform(doc, props));
   } else if (type == "scale") {
     const Rgb factor = props.get_color("scale", Rgb(1.0f));
-    texture = make_scale_texture(nested_texture(doc, node, props, named), factor);
+    TexturePtr inner = doc.mitsuba3() ? nested_texture(doc, node, props, named)
+                                      : scaled_texture(doc, node, props, named);
+    texture = make_scale_texture(inner, factor);
   } else {
     doc.warn(node, "unsupported texture type '" + type + "'; using a constant 0.5");
     texture = make_constant_texture(Rgb(0.5f));

@@ -4,6 +4,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -13,6 +14,8 @@
 #include <sstream>
 #include <string_view>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 #include "emlt/core/error.h"
 #include "emlt/scene/shape_builders.h"
@@ -87,7 +90,70 @@ void restore_non_finite(const std::string& path, std::vector<float>& vertices,
   }
 }
 
+// The Mitsuba mesh of each face line ("f"), in order, as Mitsuba 0.6's OBJ reader splits
+// the file: a `g` after faces, or a `usemtl` after faces, ends a mesh (neither when
+// collapsed); and the index of the last mesh.
+std::pair<std::vector<int>, int> mitsuba_parts_of_faces(const std::string& path, bool collapse) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<int> parts;
+  int part = 0;
+  bool faces_since_split = false;
+  const char* const end = text.data() + text.size();
+  for (const char* line = text.data(); line < end;) {
+    const char* line_end = static_cast<const char*>(std::memchr(line, '\n', size_t(end - line)));
+    if (!line_end) line_end = end;
+    const char* p = line;
+    while (p < line_end && std::isspace(static_cast<unsigned char>(*p))) ++p;
+    const char* word = p;
+    while (p < line_end && !std::isspace(static_cast<unsigned char>(*p))) ++p;
+    const std::string_view tag(word, size_t(p - word));
+    if (tag == "f") {
+      parts.push_back(part);
+      faces_since_split = true;
+    } else if ((tag == "g" || tag == "usemtl") && !collapse && faces_since_split) {
+      ++part;
+      faces_since_split = false;
+    }
+    line = line_end + 1;
+  }
+  return {parts, part};
+}
+
 }  // namespace
+
+void keep_obj_part(ObjInFileSpace& obj, int shape_index) {
+  if (shape_index < 0) return;
+  const auto kept = [&](int part) {
+    return (part == shape_index && part < obj.last_part) ||
+           (part == obj.last_part && shape_index == obj.last_part - 1);
+  };
+  MeshDesc& mesh = obj.mesh;
+  std::vector<uint32_t> indices;
+  std::vector<int> parts;
+  for (size_t t = 0; t < obj.triangle_parts.size(); ++t) {
+    if (!kept(obj.triangle_parts[t])) continue;
+    indices.insert(indices.end(), mesh.indices.begin() + std::ptrdiff_t(3 * t),
+                   mesh.indices.begin() + std::ptrdiff_t(3 * t + 3));
+    parts.push_back(obj.triangle_parts[t]);
+  }
+  // The vertices the kept triangles use, renumbered in order.
+  std::vector<uint32_t> renumbered(mesh.positions.size(), UINT32_MAX);
+  MeshDesc kept_mesh;
+  kept_mesh.name = mesh.name;
+  for (uint32_t& index : indices) {
+    if (renumbered[index] == UINT32_MAX) {
+      renumbered[index] = uint32_t(kept_mesh.positions.size());
+      kept_mesh.positions.push_back(mesh.positions[index]);
+      if (!mesh.normals.empty()) kept_mesh.normals.push_back(mesh.normals[index]);
+      if (!mesh.uvs.empty()) kept_mesh.uvs.push_back(mesh.uvs[index]);
+    }
+    index = renumbered[index];
+  }
+  kept_mesh.indices = std::move(indices);
+  mesh = std::move(kept_mesh);
+  obj.triangle_parts = std::move(parts);
+}
 
 MeshDesc load_obj_mesh(const std::string& path, const Mat4& to_world, bool smooth_normals,
                        std::vector<std::string>* warnings, bool flip_v) {
@@ -102,7 +168,8 @@ MeshDesc place_obj_mesh(ObjInFileSpace obj, const Mat4& to_world,
   return std::move(obj.mesh);
 }
 
-ObjInFileSpace read_obj_file(const std::string& path, bool smooth_normals, bool flip_v) {
+ObjInFileSpace read_obj_file(const std::string& path, bool smooth_normals, bool flip_v,
+                             bool collapse) {
   ObjInFileSpace result;
   std::vector<std::string>* warnings = &result.warnings;
   std::error_code ec;
@@ -122,6 +189,7 @@ ObjInFileSpace read_obj_file(const std::string& path, bool smooth_normals, bool 
         warnings->push_back(path + ": " + line);
   }
 
+  result.has_material_library = !reader.GetMaterials().empty();
   tinyobj::attrib_t attrib = reader.GetAttrib();
   restore_non_finite(path, attrib.vertices, attrib.normals, attrib.texcoords);
   const auto vertex_count = int(attrib.vertices.size() / 3);
@@ -155,13 +223,28 @@ ObjInFileSpace read_obj_file(const std::string& path, bool smooth_normals, bool 
   }
   if (face_count == 0) throw file_error(path, "OBJ has no faces");
 
+  // Mitsuba's meshes of the file, face by face; one, when the scan and tinyobjloader
+  // disagree on the faces (a line format the scan does not follow).
+  size_t face_lines = 0;
+  for (const tinyobj::shape_t& shape : reader.GetShapes())
+    face_lines += shape.mesh.num_face_vertices.size();
+  auto [face_parts, last_part] = mitsuba_parts_of_faces(path, collapse);
+  if (face_parts.size() != face_lines) {
+    face_parts.assign(face_lines, 0);
+    last_part = 0;
+  }
+  result.last_part = last_part;
+
   MeshDesc& mesh = result.mesh;
   mesh.name = std::filesystem::path(path).filename().string();
-  // Corners sharing position (and normal/uv where used) become one vertex.
-  std::map<std::tuple<int, int, int>, uint32_t> vertex_of_corner;
+  // Corners sharing position (and normal/uv where used) become one vertex, within one of
+  // Mitsuba's meshes.
+  std::map<std::tuple<int, int, int, int>, uint32_t> vertex_of_corner;
+  int part = 0;
   auto vertex_for = [&](const tinyobj::index_t& index) {
-    const auto key = std::make_tuple(index.vertex_index, use_file_normals ? index.normal_index : -1,
-                                     use_uvs ? index.texcoord_index : -1);
+    const auto key =
+        std::make_tuple(part, index.vertex_index, use_file_normals ? index.normal_index : -1,
+                        use_uvs ? index.texcoord_index : -1);
     auto [it, inserted] = vertex_of_corner.try_emplace(key, uint32_t(mesh.positions.size()));
     if (inserted) {
       const float* p = &attrib.vertices[3 * size_t(index.vertex_index)];
@@ -178,15 +261,19 @@ ObjInFileSpace read_obj_file(const std::string& path, bool smooth_normals, bool 
     return it->second;
   };
 
+  size_t face_line = 0;
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {
     size_t corner = 0;
     for (const unsigned char n : shape.mesh.num_face_vertices) {
+      part = face_parts[face_line++];
       if (n >= 3) {
         const uint32_t first = vertex_for(shape.mesh.indices[corner]);
-        for (int k = 1; k + 1 < n; ++k)
+        for (int k = 1; k + 1 < n; ++k) {
           mesh.indices.insert(mesh.indices.end(),
                               {first, vertex_for(shape.mesh.indices[corner + k]),
                                vertex_for(shape.mesh.indices[corner + k + 1])});
+          result.triangle_parts.push_back(part);
+        }
       }
       corner += n;
     }

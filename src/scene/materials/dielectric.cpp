@@ -2,14 +2,15 @@
 // proportion to the exact unpolarised Fresnel reflectance. Works from both sides.
 #include "emlt/scene/materials.h"
 #include "src/scene/materials/fresnel.h"
+#include "src/scene/materials/texture_param.h"
 
 namespace emlt {
 namespace {
 
 class Dielectric final : public Bsdf {
  public:
-  Dielectric(float eta, const Rgb& reflectance, const Rgb& transmittance)
-      : eta_(eta), reflectance_(reflectance), transmittance_(transmittance) {}
+  Dielectric(float eta, TexturePtr reflectance, TexturePtr transmittance)
+      : eta_(eta), reflectance_(std::move(reflectance)), transmittance_(std::move(transmittance)) {}
 
   Rgb eval(const BsdfContext&, const Vec3&, const Vec3&) const override { return Rgb(0.0f); }
   float pdf(const BsdfContext&, const Vec3&, const Vec3&) const override { return 0.0f; }
@@ -27,8 +28,9 @@ class Dielectric final : public Bsdf {
     if (u_lobe < fresnel) {
       s.wi = Vec3(-wo.x, -wo.y, wo.z);
       s.pdf = fresnel;
-      s.value = reflectance_ * (fresnel / std::abs(s.wi.z));
-      s.weight = reflectance_;
+      const Rgb tint = reflectance_.at(ctx.uv);
+      s.value = tint * (fresnel / std::abs(s.wi.z));
+      s.weight = tint;
       s.lobe = kLobeSpecular | kLobeReflection;
       s.eta = 1.0f;
     } else {
@@ -41,8 +43,9 @@ class Dielectric final : public Bsdf {
       // Radiance is compressed by (n_wo / n_wi)^2 on refraction; importance is not.
       const float scale =
           ctx.mode == TransportMode::Radiance ? 1.0f / (eta_rel * eta_rel) : 1.0f;
-      s.value = transmittance_ * (scale * (1.0f - fresnel) / std::abs(s.wi.z));
-      s.weight = transmittance_ * scale;
+      const Rgb tint = transmittance_.at(ctx.uv);
+      s.value = tint * (scale * (1.0f - fresnel) / std::abs(s.wi.z));
+      s.weight = tint * scale;
       s.lobe = kLobeSpecular | kLobeTransmission;
       s.eta = eta_rel;
     }
@@ -58,15 +61,21 @@ class Dielectric final : public Bsdf {
 
  private:
   float eta_;  // n_inside / n_outside
-  Rgb reflectance_, transmittance_;
+  TextureParam reflectance_, transmittance_;  // Mitsuba's specular tints, numbers or textures
 };
 
 }  // namespace
 
+BsdfPtr make_dielectric(float int_ior, float ext_ior, TexturePtr specular_reflectance,
+                        TexturePtr specular_transmittance) {
+  return std::make_shared<Dielectric>(int_ior / ext_ior, std::move(specular_reflectance),
+                                      std::move(specular_transmittance));
+}
+
 BsdfPtr make_dielectric(float int_ior, float ext_ior, const Rgb& specular_reflectance,
                         const Rgb& specular_transmittance) {
-  return std::make_shared<Dielectric>(int_ior / ext_ior, glm::max(specular_reflectance, Rgb(0.0f)),
-                                      glm::max(specular_transmittance, Rgb(0.0f)));
+  return make_dielectric(int_ior, ext_ior, make_constant_texture(specular_reflectance),
+                         make_constant_texture(specular_transmittance));
 }
 
 }  // namespace emlt

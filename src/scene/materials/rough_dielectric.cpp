@@ -17,10 +17,13 @@ namespace {
 class RoughDielectric final : public Bsdf {
  public:
   RoughDielectric(TexturePtr alpha_u, TexturePtr alpha_v, MicrofacetType type, float eta,
-                  const Rgb& reflectance, const Rgb& transmittance)
+                  TexturePtr reflectance, TexturePtr transmittance)
       : alpha_u_(std::move(alpha_u)),
         alpha_v_(alpha_v ? std::make_optional<TextureParam>(std::move(alpha_v)) : std::nullopt),
-        type_(type), eta_(eta), reflectance_(reflectance), transmittance_(transmittance) {}
+        type_(type),
+        eta_(eta),
+        reflectance_(std::move(reflectance)),
+        transmittance_(std::move(transmittance)) {}
 
   // With G = G1(wo, m) G1(wi, m):
   // Reflection: f = Ks F D G / (4 |cos_o cos_i|).
@@ -36,12 +39,13 @@ class RoughDielectric final : public Bsdf {
     const float fresnel = fresnel_dielectric(glm::dot(wo, g.m), eta_);
     const float masking = dist.G(wo, wi, g.m);
     const float cos_product = std::abs(wo.z * wi.z);
-    if (g.reflection) return reflectance_ * (fresnel * d * masking / (4.0f * cos_product));
+    if (g.reflection)
+      return reflectance_.at(ctx.uv) * (fresnel * d * masking / (4.0f * cos_product));
     const float wi_m = glm::dot(wi, g.m), wo_m = glm::dot(wo, g.m);
     const float denom = square(wi_m + wo_m / g.eta_prime);
     float f = (1.0f - fresnel) * d * masking * std::abs(wi_m * wo_m) / (cos_product * denom);
     if (ctx.mode == TransportMode::Radiance) f /= square(g.eta_prime);
-    return transmittance_ * f;
+    return transmittance_.at(ctx.uv) * f;
   }
 
   float pdf(const BsdfContext& ctx, const Vec3& wo, const Vec3& wi) const override {
@@ -131,18 +135,25 @@ class RoughDielectric final : public Bsdf {
   std::optional<TextureParam> alpha_v_;  // absent: isotropic
   MicrofacetType type_;
   float eta_;  // n_inside / n_outside
-  Rgb reflectance_, transmittance_;
+  TextureParam reflectance_, transmittance_;  // Mitsuba's specular tints, numbers or textures
 };
 
 }  // namespace
 
 BsdfPtr make_rough_dielectric(TexturePtr alpha, float int_ior, float ext_ior,
+                              MicrofacetType distribution, TexturePtr specular_reflectance,
+                              TexturePtr specular_transmittance, TexturePtr alpha_v) {
+  return std::make_shared<RoughDielectric>(std::move(alpha), std::move(alpha_v), distribution,
+                                           int_ior / ext_ior, std::move(specular_reflectance),
+                                           std::move(specular_transmittance));
+}
+
+BsdfPtr make_rough_dielectric(TexturePtr alpha, float int_ior, float ext_ior,
                               MicrofacetType distribution, const Rgb& specular_reflectance,
                               const Rgb& specular_transmittance, TexturePtr alpha_v) {
-  return std::make_shared<RoughDielectric>(std::move(alpha), std::move(alpha_v), distribution,
-                                           int_ior / ext_ior,
-                                           glm::max(specular_reflectance, Rgb(0.0f)),
-                                           glm::max(specular_transmittance, Rgb(0.0f)));
+  return make_rough_dielectric(std::move(alpha), int_ior, ext_ior, distribution,
+                               make_constant_texture(specular_reflectance),
+                               make_constant_texture(specular_transmittance), std::move(alpha_v));
 }
 
 }  // namespace emlt

@@ -4,19 +4,20 @@
 // in its original direction, so no refraction and no radiance compression. Both sides.
 #include "emlt/scene/materials.h"
 #include "src/scene/materials/fresnel.h"
+#include "src/scene/materials/texture_param.h"
 
 namespace emlt {
 namespace {
 
 class ThinDielectric final : public Bsdf {
  public:
-  ThinDielectric(float eta, const Rgb& reflectance, const Rgb& transmittance)
-      : eta_(eta), reflectance_(reflectance), transmittance_(transmittance) {}
+  ThinDielectric(float eta, TexturePtr reflectance, TexturePtr transmittance)
+      : eta_(eta), reflectance_(std::move(reflectance)), transmittance_(std::move(transmittance)) {}
 
   Rgb eval(const BsdfContext&, const Vec3&, const Vec3&) const override { return Rgb(0.0f); }
   float pdf(const BsdfContext&, const Vec3&, const Vec3&) const override { return 0.0f; }
 
-  std::optional<BsdfSample> sample(const BsdfContext&, const Vec3& wo, float u_lobe,
+  std::optional<BsdfSample> sample(const BsdfContext& ctx, const Vec3& wo, float u_lobe,
                                    const Vec2&) const override {
     if (wo.z == 0.0f) return std::nullopt;
     const float slab_reflectance = reflectance(std::abs(wo.z));
@@ -24,12 +25,12 @@ class ThinDielectric final : public Bsdf {
     if (u_lobe < slab_reflectance) {
       s.wi = Vec3(-wo.x, -wo.y, wo.z);
       s.pdf = slab_reflectance;
-      s.weight = reflectance_;
+      s.weight = reflectance_.at(ctx.uv);
       s.lobe = kLobeSpecular | kLobeReflection;
     } else {
       s.wi = -wo;
       s.pdf = 1.0f - slab_reflectance;
-      s.weight = transmittance_;
+      s.weight = transmittance_.at(ctx.uv);
       s.lobe = kLobeSpecular | kLobeTransmission;
     }
     if (!(s.pdf > 0.0f)) return std::nullopt;
@@ -53,16 +54,21 @@ class ThinDielectric final : public Bsdf {
 
  private:
   float eta_;
-  Rgb reflectance_, transmittance_;
+  TextureParam reflectance_, transmittance_;  // Mitsuba's specular tints, numbers or textures
 };
 
 }  // namespace
 
+BsdfPtr make_thin_dielectric(float int_ior, float ext_ior, TexturePtr specular_reflectance,
+                             TexturePtr specular_transmittance) {
+  return std::make_shared<ThinDielectric>(int_ior / ext_ior, std::move(specular_reflectance),
+                                          std::move(specular_transmittance));
+}
+
 BsdfPtr make_thin_dielectric(float int_ior, float ext_ior, const Rgb& specular_reflectance,
                              const Rgb& specular_transmittance) {
-  return std::make_shared<ThinDielectric>(int_ior / ext_ior,
-                                          glm::max(specular_reflectance, Rgb(0.0f)),
-                                          glm::max(specular_transmittance, Rgb(0.0f)));
+  return make_thin_dielectric(int_ior, ext_ior, make_constant_texture(specular_reflectance),
+                              make_constant_texture(specular_transmittance));
 }
 
 }  // namespace emlt
