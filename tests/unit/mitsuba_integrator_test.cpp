@@ -55,3 +55,18 @@ TEST(MitsubaIntegrator, AnIntegratorEmltLacksFallsBackLoudly) {
   EXPECT_EQ(erpt.verdict(), "approximated: 1 item");
   EXPECT_TRUE(any_contains(erpt.warnings, "integrator type 'erpt' is not supported"));
 }
+
+// The rest of PSSMLT's tuning, and bdpt's strategy images, change no render either.
+TEST(MitsubaIntegrator, PssmltTuningAndBdptStrategyImagesKeepTheVerdictExact) {
+  const SceneDescription pss = with_integrator(
+      "pssmlt-tuning.xml",
+      R"(<integrator type="pssmlt"><boolean name="kelemenStyleWeights" value="false"/>
+      <boolean name="directSampling" value="false"/><float name="mutationSizeLow" value="0.001"/>
+      <float name="mutationSizeHigh" value="0.02"/></integrator>)");
+  EXPECT_EQ(pss.verdict(), "exact");
+  const SceneDescription bdpt = with_integrator(
+      "bdpt-weighted.xml",
+      R"(<integrator type="bdpt"><boolean name="showWeighted" value="true"/></integrator>)");
+  EXPECT_EQ(bdpt.verdict(), "exact");
+  EXPECT_TRUE(any_contains(bdpt.warnings, "'showWeighted': the strategies' own images are not written"));
+}

@@ -74,6 +74,11 @@ bool read_integrator(const Document& doc, pugi::xml_node node, SceneRenderReques
                            "manifoldPerturbation",
                            "bidirectional",
                            "pLarge",
+                           "kelemenStyleWeights",
+                           "directSampling",
+                           "mutationSizeLow",
+                           "mutationSizeHigh",
+                           "firstStage",
                            "lambda",
                            "probFactor",
                            "firstStageSizeReduction",
@@ -111,6 +116,12 @@ bool read_integrator(const Document& doc, pugi::xml_node node, SceneRenderReques
                "camera instead (Mitsuba's brute-force mode counts only the particles "
                "that hit the camera's aperture: a perspective camera's image is black)");
   }
+  // Mitsuba's bdpt writes each strategy's image beside the render when asked; the render
+  // itself is the same.
+  if (type == "bdpt" && props.get_boolean("showWeighted", false))
+    doc.warn(props.node_of("showWeighted"),
+             "'showWeighted': the strategies' own images are not written (the render is the same)",
+             Document::Warning::Note);
   read_scene_file_options(props, MitsubaElement::Integrator, request);
   // Mitsuba's path, direct and volumetric path tracers read strictNormals (default false);
   // its other integrators ignore it, treating shading normals strictly (the bidirectional
