@@ -53,7 +53,8 @@ def main():
             for seed in seeds:
                 run = os.path.join(method_dir, budget, seed)
                 row = final_row(os.path.join(run, "run.csv")) if os.path.exists(os.path.join(run, "run.csv")) else None
-                if row is None:
+                # A run still going has written only its earlier budgets' rows.
+                if row is None or budget.startswith("pp-") and float(row["per_pixel"]) != float(budget[3:]):
                     continue
                 b = normalisation(os.path.join(run, "engine.log"))
                 b_cells = f"{b[0]:.4g} | {b[1]:.2g} | {b[2]:,}" if b else " |  | "

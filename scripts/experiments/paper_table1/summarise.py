@@ -117,6 +117,8 @@ def main(argv=None):
             seconds = mean([float(r["seconds"]) for r in runs if r["seconds"]])
             acceptance = mean([overall_acceptance(r["_stats"]) for r in runs if r["_stats"]])
             relative = acceptance / mix_acceptance if mix_acceptance == mix_acceptance else float("nan")
+            # Blank where the same-mix MLT was not run.
+            relative_text = f"{relative - 1.0:+.0%}" if relative == relative else ""
             variance = chains.get((scene, method))
             base_variance = chains.get((scene, BASELINE))
             variance_text = f"{variance:.4g}" if variance is not None else ""
@@ -126,7 +128,7 @@ def main(argv=None):
                 paper_text = f"{paper[method]:.3g}, {paper['MLT'] / paper[method]:.2f}"
             out.append(f"| {scene} | {method} | {len(runs)} | {mse:.4g} | {net:.4g} | "
                        f"{base_net / net:.2f} | {variance_text} | {variance_ratio} | {seconds:.1f} | "
-                       f"{acceptance:.3f} | {relative - 1.0:+.0%} | {alpha_quartiles(runs)} | {paper_text} |")
+                       f"{acceptance:.3f} | {relative_text} | {alpha_quartiles(runs)} | {paper_text} |")
     out.append("")
     out.append("Acceptance per strategy (mean over seeds of accepted / proposed):")
     out.append("")
