@@ -42,7 +42,7 @@ constexpr float kAlbedo = 0.5f, kEmission = 1.0f;
 // sphere, normals inwards): the radiance along every path of k segments is le a^(k-1), and
 // G between two of its points is 1/4 whatever they are (the cosines are d/2 each), so every
 // strategy's estimate is bounded. An orthographic film inside it, tilted.
-std::unique_ptr<Scene> sphere_seen_orthographically(SceneBuildOptions options = {}) {
+SceneDescription sphere_seen_orthographically_description() {
   SceneDescription d;
   d.source = "orthographic-sphere";
   const int wall = test::add_material(d, make_lambertian(Rgb(kAlbedo)));
@@ -52,7 +52,11 @@ std::unique_ptr<Scene> sphere_seen_orthographically(SceneBuildOptions options = 
   sphere.flip_normals = true;
   d.spheres.push_back(sphere);
   d.camera = orthographic_camera(Vec3(0.1f, 0.2f, -0.5f), Vec3(0.5f, -0.4f, 1.0f), 0.4f, 16);
-  return Scene::build(std::move(d), options);
+  return d;
+}
+
+std::unique_ptr<Scene> sphere_seen_orthographically(SceneBuildOptions options = {}) {
+  return Scene::build(sphere_seen_orthographically_description(), options);
 }
 
 double sphere_radiance(int max_depth) {
@@ -260,15 +264,7 @@ TEST(OrthographicIntegrators, SphereGivesTheExactRadiance) {
 // window, so the evenly bright sphere keeps its exact radiance in every integrator (with
 // the whole film's 1/A, light tracing and the chains would give the window's share of it).
 TEST(OrthographicIntegrators, ACropWindowGivesTheExactRadiance) {
-  SceneDescription d;
-  d.source = "orthographic-sphere-window";
-  const int wall = test::add_material(d, make_lambertian(Rgb(kAlbedo)));
-  SphereDesc sphere;
-  sphere.material = wall;
-  sphere.emission = Rgb(kEmission);
-  sphere.flip_normals = true;
-  d.spheres.push_back(sphere);
-  d.camera = orthographic_camera(Vec3(0.1f, 0.2f, -0.5f), Vec3(0.5f, -0.4f, 1.0f), 0.4f, 16);
+  SceneDescription d = sphere_seen_orthographically_description();
   d.camera.crop_x = 3;
   d.camera.crop_y = 5;
   d.camera.crop_width = 8;
