@@ -40,7 +40,8 @@ Rgb smooth_factor_along(const Scene& scene, const PathVertex& v, const Vec3* w_l
     return Rgb(0.0f);
   const float cos_geometric = std::abs(glm::dot(v.normal, *w_light));
   if (!(cos_geometric > 0.0f)) return Rgb(0.0f);
-  const Rgb f = v.bsdf->eval(BsdfContext{v.uv, TransportMode::Radiance}, eye_local, light_local);
+  const Rgb f = v.bsdf->eval(BsdfContext{v.uv, TransportMode::Radiance, v.vertex_color}, eye_local,
+                             light_local);
   return f * (std::abs(light_local.z) / cos_geometric);
 }
 
@@ -153,7 +154,8 @@ float pdf_along(const Scene& scene, const PathVertex* before, const PathVertex& 
     if (!consistent_side(scene, from, w_before, before_local) ||
         !consistent_side(scene, from, w, to_local))
       return 0.0f;
-    pdf = from.bsdf->pdf(BsdfContext{from.uv, TransportMode::Radiance}, before_local, to_local);
+    pdf = from.bsdf->pdf(BsdfContext{from.uv, TransportMode::Radiance, from.vertex_color},
+                         before_local, to_local);
   }
   return solid_angle_along(pdf, to, out);
 }

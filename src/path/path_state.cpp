@@ -52,6 +52,8 @@ void PathCodec::save(const Path& path, StateWriter& out) const {
     out.put(v.shading.t);
     out.put(v.shading.n);
     out.put(v.uv);
+    // Only where some mesh has colours, so that other scenes' checkpoints keep their layout.
+    if (scene_.has_vertex_colors()) out.put(v.vertex_color);
     out.put(v.sky_direction);
     out.put(bsdf);
     out.put(light);
@@ -88,6 +90,7 @@ Path PathCodec::load(StateReader& in) const {
     v.shading.t = in.get<Vec3>();
     v.shading.n = in.get<Vec3>();
     v.uv = in.get<Vec2>();
+    if (scene_.has_vertex_colors()) v.vertex_color = in.get<Rgb>();
     v.sky_direction = in.get<Vec3>();
     const int32_t bsdf = in.get<int32_t>(), light = in.get<int32_t>();
     if (bsdf < -1 || bsdf >= int32_t(bsdfs_.size()))
@@ -105,10 +108,11 @@ Path PathCodec::load(StateReader& in) const {
     v.raster = in.get<Vec2>();
     const bool finite = is_finite(v.position) && is_finite(v.normal) && is_finite(v.shading.s) &&
                         is_finite(v.shading.t) && is_finite(v.shading.n) && is_finite(v.uv) &&
-                        is_finite(v.sky_direction) && is_finite(v.throughput) &&
-                        std::isfinite(v.pdf_from_light) && std::isfinite(v.pdf_from_eye) &&
-                        std::isfinite(v.delta_probability) && is_finite(v.delta_value) &&
-                        std::isfinite(v.delta_ior_ratio) && is_finite(v.raster);
+                        is_finite(v.vertex_color) && is_finite(v.sky_direction) &&
+                        is_finite(v.throughput) && std::isfinite(v.pdf_from_light) &&
+                        std::isfinite(v.pdf_from_eye) && std::isfinite(v.delta_probability) &&
+                        is_finite(v.delta_value) && std::isfinite(v.delta_ior_ratio) &&
+                        is_finite(v.raster);
     if (!finite) throw StateError("a saved path vertex holds a value that is not a number");
     // A delta light's vertex is its light's one point or direction (and only such a
     // light's vertex is of those kinds): mutations never move it.

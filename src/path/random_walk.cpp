@@ -38,7 +38,8 @@ int walk(const Scene& scene, Sampler& rng, TransportMode mode, int steps, int rr
     if (!scene.sides_agree(v.normal, wo, wo_local.z)) break;
     const float u_lobe = rng.uniform();
     const Vec2 u_direction = rng.uniform2();
-    const auto bs = v.bsdf->sample(BsdfContext{v.uv, mode}, wo_local, u_lobe, u_direction);
+    const auto bs =
+        v.bsdf->sample(BsdfContext{v.uv, mode, v.vertex_color}, wo_local, u_lobe, u_direction);
     if (!bs || is_black(bs->weight) || !(bs->pdf > 0.0f)) break;
     const Vec3 wi = v.shading.to_world(bs->wi);
     if (!scene.sides_agree(v.normal, wi, bs->wi.z)) break;
@@ -89,7 +90,7 @@ int walk(const Scene& scene, Sampler& rng, TransportMode mode, int steps, int rr
       reverse_solid_angle = bs->pdf_reverse / crossing;
       weight = v.delta_value * (cos_segment_geometric / forward_solid_angle);
     } else {
-      const BsdfContext context{v.uv, TransportMode::Radiance};
+      const BsdfContext context{v.uv, TransportMode::Radiance, v.vertex_color};
       forward_solid_angle = v.bsdf->pdf(context, wo_local, segment_local);
       reverse_solid_angle = v.bsdf->pdf(context, segment_local, wo_local);
       if (!(forward_solid_angle > 0.0f)) break;

@@ -11,6 +11,7 @@ PathVertex make_surface_vertex(const SurfaceHit& hit) {
   v.normal = hit.geometric_normal;
   v.shading = hit.shading;
   v.uv = hit.uv;
+  v.vertex_color = hit.vertex_color;
   v.bsdf = hit.bsdf;
   v.light = hit.light;
   return v;

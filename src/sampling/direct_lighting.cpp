@@ -31,7 +31,7 @@ Rgb sample_light_contribution(const Scene& scene, const SurfaceHit& hit, const V
   if (!consistent_sides(scene, hit, ls->wi, wi_local) ||
       !consistent_sides(scene, hit, wo, wo_local))
     return Rgb(0.0f);
-  const BsdfContext ctx{hit.uv, mode};
+  const BsdfContext ctx{hit.uv, mode, hit.vertex_color};
   const Rgb f = hit.bsdf->eval(ctx, wo_local, wi_local);
   if (is_black(f)) return Rgb(0.0f);
 
@@ -89,7 +89,7 @@ Rgb estimate_direct_lighting(const Scene& scene, const SurfaceHit& hit, const Ve
 
   Rgb total(0.0f);
   const Vec3 wo_local = hit.shading.to_local(wo);
-  const BsdfContext ctx{hit.uv, TransportMode::Radiance};
+  const BsdfContext ctx{hit.uv, TransportMode::Radiance, hit.vertex_color};
   for (int i = 0; i < n; ++i) {
     const float u_select = rng.uniform();
     total += sample_light_contribution(scene, hit, wo, TransportMode::Radiance, u_select,

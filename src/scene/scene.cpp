@@ -95,7 +95,9 @@ Vec3 apply_bump(const Texture& height, SurfaceHit& hit) {
 bool Scene::Geometry::lets_through(const Vec3& origin, const Vec3& direction, float t,
                                    uint32_t geometry_id, uint32_t primitive, float b1,
                                    float b2) const {
-  const float alpha = opacity->eval_luminance(uv_at(primitive, b1, b2, origin + t * direction));
+  const Vec2 uv = uv_at(primitive, b1, b2, origin + t * direction);
+  const float alpha = luminance(colors.empty() ? opacity->eval(uv)
+                                               : opacity->eval_at(uv, color_at(primitive, b1, b2)));
   if (alpha >= 1.0f) return false;
   return !(alpha > 0.0f) ||
          alpha_test_threshold(origin, direction, geometry_id, primitive) >= alpha;
@@ -186,6 +188,7 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
     Vec3 n = glm::normalize(ray.origin + hit.t * ray.direction - g.center);
     hit.position = g.center + g.radius * n;
     hit.uv = g.uv_at(0, 0.0f, 0.0f, hit.position);
+    hit.vertex_color = Rgb(0.0f);
     // d/du and d/dv of center + r (sin v' cos u', sin v' sin u', cos v'), u' = 2 pi u,
     // v' = pi v; at the poles the tangent pair of the normal's frame.
     const float sin_theta = std::sqrt(n.x * n.x + n.y * n.y);
@@ -219,6 +222,7 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
     }
     hit.shading_normal = ns;
     hit.uv = g.uv_at(hit.primitive_id, u, v, hit.position);
+    hit.vertex_color = g.color_at(hit.primitive_id, u, v);
     // Only a bump map and an anisotropic BSDF read the derivatives; working them out for
     // every hit cost a tenth of this function.
     if (!g.bump && !g.anisotropic)

@@ -142,6 +142,15 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc, const SceneBuildOptio
     g.bump = material->bump.get();
     g.anisotropic = g.bsdf->is_anisotropic();
   };
+  // Mitsuba's `vertexcolors` on a surface without colours reads a colour nothing set (its
+  // intersection record's, left from an earlier hit or never written): no image to match.
+  auto warn_if_colorless = [&](int material, bool colorless, const std::string& shape) {
+    if (colorless && material >= 0 && material < int(d.materials.size()) &&
+        d.materials[size_t(material)].reads_vertex_colors)
+      d.warnings.push_back(d.source + ": shape '" + shape +
+                           "' has no vertex colours but its material reads them "
+                           "(vertexcolors); they read black (Mitsuba reads an unset colour)");
+  };
   // The default material may be appended while shapes are read; reserving keeps the
   // MaterialDesc pointers above valid.
   d.materials.reserve(d.materials.size() + 1);
@@ -158,6 +167,9 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc, const SceneBuildOptio
                        "mesh '" + mesh.name + "': normal count differs from vertex count");
     if (!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size())
       throw file_error(d.source, "mesh '" + mesh.name + "': uv count differs from vertex count");
+    if (!mesh.colors.empty() && mesh.colors.size() != mesh.positions.size())
+      throw file_error(d.source,
+                       "mesh '" + mesh.name + "': colour count differs from vertex count");
     ++s.stats_.meshes;
 
     Geometry g;
@@ -165,6 +177,9 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc, const SceneBuildOptio
     g.name = mesh.name;
     assign_material(g, mesh.material, mesh.name);
     g.uvs = std::move(mesh.uvs);
+    g.colors = std::move(mesh.colors);
+    s.has_vertex_colors_ |= !g.colors.empty();
+    warn_if_colorless(mesh.material, g.colors.empty(), mesh.name);
     if (g.uvs.empty() && mesh.material >= 0 && d.materials[size_t(mesh.material)].textured) {
       g.uvs = planar_uvs(mesh.positions);
       d.warnings.push_back(d.source + ": mesh '" + mesh.name +
@@ -230,6 +245,7 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc, const SceneBuildOptio
     g.kind = Geometry::Kind::Sphere;
     g.name = sphere.name;
     assign_material(g, sphere.material, sphere.name);
+    warn_if_colorless(sphere.material, true, sphere.name);
     g.center = sphere.center;
     g.radius = sphere.radius;
     g.flip_normals = sphere.flip_normals;

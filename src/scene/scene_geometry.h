@@ -20,6 +20,7 @@ struct Scene::Geometry {
   // Triangles (degenerate ones already removed).
   std::vector<Vec3> positions, normals;
   std::vector<Vec2> uvs;
+  std::vector<Rgb> colors;  // per vertex; empty when the mesh has none
   std::vector<uint32_t> indices;
   std::vector<const Light*> lights;  // per triangle; empty when the mesh does not emit
   // Sphere.
@@ -40,6 +41,14 @@ struct Scene::Geometry {
     if (uvs.empty()) return {b1, b2};
     const uint32_t* tri = &indices[3 * size_t(primitive)];
     return (1.0f - b1 - b2) * uvs[tri[0]] + b1 * uvs[tri[1]] + b2 * uvs[tri[2]];
+  }
+
+  // The per-vertex colours interpolated barycentrically, as Mitsuba's `vertexcolors`
+  // reads them; black where the surface has none.
+  Rgb color_at(uint32_t primitive, float b1, float b2) const {
+    if (colors.empty()) return Rgb(0.0f);
+    const uint32_t* tri = &indices[3 * size_t(primitive)];
+    return (1.0f - b1 - b2) * colors[tri[0]] + b1 * colors[tri[1]] + b2 * colors[tri[2]];
   }
 
   // The alpha test (Mitsuba's mask) on a candidate hit at distance t: true when the ray

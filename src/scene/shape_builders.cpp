@@ -191,6 +191,7 @@ void split_vertices_by_angle(MeshDesc& mesh, float max_angle_degrees) {
   const float cos_limit = std::cos(glm::radians(max_angle_degrees));
   const size_t corners = mesh.indices.size() - mesh.indices.size() % 3;
   const bool has_uvs = mesh.uvs.size() == mesh.positions.size();
+  const bool has_colors = mesh.colors.size() == mesh.positions.size();
   std::vector<Vec3> face_normals(corners / 3, Vec3(0.0f));
   for (size_t f = 0; f < corners / 3; ++f) {
     const Vec3& a = mesh.positions[mesh.indices[3 * f]];
@@ -199,16 +200,19 @@ void split_vertices_by_angle(MeshDesc& mesh, float max_angle_degrees) {
     const float length = glm::length(n);
     if (length > 1e-30f) face_normals[f] = n / length;  // degenerate faces keep 0
   }
-  // Corners are grouped by their vertex's position and uv compared bit for bit (a strict
-  // order even for NaN; -0 counts as +0, as a float comparison would have it).
-  using Key = std::array<uint32_t, 5>;
+  // Corners are grouped by their vertex's position, uv and colour (Mitsuba keeps vertices
+  // of different colours apart) compared bit for bit (a strict order even for NaN; -0
+  // counts as +0, as a float comparison would have it).
+  using Key = std::array<uint32_t, 8>;
   auto bits = [](float x) { return std::bit_cast<uint32_t>(x == 0.0f ? 0.0f : x); };
   std::vector<Key> keys(corners);
   for (size_t c = 0; c < corners; ++c) {
     const uint32_t v = mesh.indices[c];
     const Vec3& p = mesh.positions[v];
     const Vec2 uv = has_uvs ? mesh.uvs[v] : Vec2(0.0f);
-    keys[c] = {bits(p.x), bits(p.y), bits(p.z), bits(uv.x), bits(uv.y)};
+    const Rgb color = has_colors ? mesh.colors[v] : Rgb(0.0f);
+    keys[c] = {bits(p.x),  bits(p.y),     bits(p.z),     bits(uv.x),
+               bits(uv.y), bits(color.x), bits(color.y), bits(color.z)};
   }
   std::vector<uint32_t> order(corners);
   std::iota(order.begin(), order.end(), 0u);
@@ -219,6 +223,7 @@ void split_vertices_by_angle(MeshDesc& mesh, float max_angle_degrees) {
   // remaining corner whose face normal is close to the first remaining one's.
   std::vector<Vec3> positions;
   std::vector<Vec2> uvs;
+  std::vector<Rgb> colors;
   std::vector<uint32_t> indices(corners);
   std::vector<char> clustered(corners, 0);
   for (size_t begin = 0; begin < corners;) {
@@ -230,6 +235,7 @@ void split_vertices_by_angle(MeshDesc& mesh, float max_angle_degrees) {
       const auto vertex = uint32_t(positions.size());
       positions.push_back(mesh.positions[mesh.indices[order[a]]]);
       if (has_uvs) uvs.push_back(mesh.uvs[mesh.indices[order[a]]]);
+      if (has_colors) colors.push_back(mesh.colors[mesh.indices[order[a]]]);
       for (size_t b = a; b < end; ++b) {
         const Vec3 n2 = face_normals[order[b] / 3];
         if (!clustered[b] && (n1 == n2 || glm::dot(n1, n2) > cos_limit)) {
@@ -242,6 +248,7 @@ void split_vertices_by_angle(MeshDesc& mesh, float max_angle_degrees) {
   }
   mesh.positions = std::move(positions);
   mesh.uvs = std::move(uvs);
+  mesh.colors = std::move(colors);
   mesh.indices = std::move(indices);
   mesh.normals.clear();
 }

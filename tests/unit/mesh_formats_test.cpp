@@ -173,6 +173,10 @@ TEST(MeshFormatsSerialized, V4DoublePrecisionWithNormalsUvsAndColours) {
   ASSERT_EQ(mesh.uvs.size(), 4u);
   EXPECT_EQ(mesh.uvs[2], Vec2(0.25f, 0.75f));
   EXPECT_EQ(mesh.uvs[3], Vec2(0.0f, 0.75f));
+  // Colours are kept as stored, linear (Mitsuba's serialized format has no sRGB switch).
+  ASSERT_EQ(mesh.colors.size(), 4u);
+  EXPECT_EQ(mesh.colors[1], Rgb(0, 1, 0));
+  EXPECT_EQ(mesh.colors[3], Rgb(1, 1, 1));
   EXPECT_EQ(mesh.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3}));
 }
 

@@ -161,6 +161,9 @@ def rewrite(node, parent=None):
         raise Skip(f"<{tag} type=\"{kind}\"> is not a Mitsuba 3 plugin")
     if node.get("name") == "strictNormals":
         raise Skip("Mitsuba 3's integrators have no strictNormals")
+    if tag == "texture" and kind == "vertexcolors":
+        raise Skip("Mitsuba 3 reads vertex colours through a mesh_attribute texture, and its "
+                   "PLY reader has no srgb switch")
     if tag == "emitter" and kind == "sunsky":
         raise Skip("Mitsuba 3's sunsky (3.6) is another sky model, with other parameters")
     if tag in ("srgb", "blackbody"):

@@ -165,12 +165,15 @@ def write_serialized(path, meshes):
         f.write(body)
 
 
-def write_ply(path, positions, normals, faces, binary):
+def write_ply(path, positions, normals, faces, binary, colors=None, color_type="uchar"):
+    """colors: one (r, g, b) per vertex, stored as color_type (uchar 0..255 or float)."""
     header = ["ply", "format %s 1.0" % ("binary_little_endian" if binary else "ascii"),
               "comment emlt conformance asset", "element vertex %d" % len(positions),
               "property float x", "property float y", "property float z"]
     if normals:
         header += ["property float nx", "property float ny", "property float nz"]
+    if colors:
+        header += ["property %s %s" % (color_type, c) for c in ("red", "green", "blue")]
     header += ["element face %d" % len(faces), "property list uchar int vertex_indices",
                "end_header"]
     with open(path, "wb") as f:
@@ -179,7 +182,11 @@ def write_ply(path, positions, normals, faces, binary):
             values = list(p) + (list(normals[i]) if normals else [])
             if binary:
                 f.write(struct.pack("<%df" % len(values), *values))
+                if colors:
+                    f.write(struct.pack("<3B" if color_type == "uchar" else "<3f", *colors[i]))
             else:
+                if colors:
+                    values += list(colors[i])
                 f.write((" ".join("%g" % v for v in values) + "\n").encode())
         for face in faces:
             if binary:
@@ -293,6 +300,16 @@ def write_assets():
     # directions below the panel but above its shading plane are where the modes differ.
     lean = (math.sin(math.radians(60)), 0, math.cos(math.radians(60)))
     write_obj(os.path.join(ASSETS, "panel_normals_lean.obj"), panel, [lean] * 4, [], [(1, 2, 3, 4)])
+    # Vertex colours: a quad fanned about its centre, a different colour at every corner
+    # (8-bit, binary, sRGB-encoded by default), and the same geometry with float colours
+    # (ASCII, read as linear with srgb false).
+    fan = [(0, 0, 0), (-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)]
+    fan_faces = [(0, 1, 2), (0, 2, 3), (0, 3, 4), (0, 4, 1)]
+    write_ply(os.path.join(ASSETS, "quad_colors_uchar.ply"), fan, None, fan_faces, binary=True,
+              colors=[(200, 200, 200), (230, 20, 20), (20, 200, 30), (30, 40, 220), (240, 220, 10)])
+    write_ply(os.path.join(ASSETS, "quad_colors_float.ply"), fan, None, fan_faces, binary=False,
+              colors=[(0.05, 0.05, 0.05), (0.9, 0.6, 0.1), (0.1, 0.8, 0.8), (0.7, 0.1, 0.6), (0.3, 0.3, 0.9)],
+              color_type="float")
     prism = [(-1, 0, -1), (1, 0, -1), (1, 0, 1), (-1, 0, 1), (0, 1.5, 0)]
     write_ply(os.path.join(ASSETS, "pyramid_binary.ply"), prism, None,
               [(0, 1, 2, 3), (0, 4, 1), (1, 4, 2), (2, 4, 3), (3, 4, 0)], binary=True)
@@ -756,6 +773,16 @@ def build():
                                 '<float name="uscale" value="1.5"/><float name="uoffset" value="-0.75"/>'
                                 '<float name="vscale" value="2"/></texture></bsdf>',
                                 '<scale x="0.45" y="0.45"/><translate x="0.48" y="0.8" z="-0.2"/>')), pt_bdpt)
+    vertex_colors = '<bsdf type="diffuse"><texture type="vertexcolors" name="reflectance"/></bsdf>'
+    s["tex-vertexcolors"] = ("vertexcolors: PLY colours interpolated barycentrically; uchar / 255 "
+                             "sRGB-decoded (binary), float as stored with srgb false (ASCII)",
+                             scene('  <shape type="ply">\n    <string name="filename" value="assets/quad_colors_uchar.ply"/>\n'
+                                   '    <transform name="toWorld"><scale x="0.45" y="0.6"/><translate x="-0.48" y="0.8" z="-0.2"/></transform>\n    ' +
+                                   vertex_colors + '\n  </shape>\n'
+                                   '  <shape type="ply">\n    <string name="filename" value="assets/quad_colors_float.ply"/>\n'
+                                   '    <boolean name="srgb" value="false"/>\n'
+                                   '    <transform name="toWorld"><scale x="0.45" y="0.6"/><translate x="0.48" y="0.8" z="-0.2"/></transform>\n    ' +
+                                   vertex_colors + '\n  </shape>\n'), pt_bdpt)
     s["tex-sphere-uv"] = ("a bitmap on a sphere uses Mitsuba's sphere parametrisation",
                           scene(sphere(TEXTURED % bitmap()), cam=sensor()), pt_bdpt)
 

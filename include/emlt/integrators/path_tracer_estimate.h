@@ -64,8 +64,8 @@ Rgb path_tracer_estimate(const Scene& scene, const RenderSettings& settings, con
     }
 
     const float u_lobe = rng.uniform();
-    const auto bs = hit.bsdf->sample(BsdfContext{hit.uv, TransportMode::Radiance}, wo_local, u_lobe,
-                                     rng.uniform2());
+    const auto bs = hit.bsdf->sample(BsdfContext{hit.uv, TransportMode::Radiance, hit.vertex_color},
+                                     wo_local, u_lobe, rng.uniform2());
     if (!bs || is_black(bs->weight)) break;
     const Vec3 wi = hit.shading.to_world(bs->wi);
     // Under strict normals, a direction on the wrong side of the geometric surface would

@@ -54,6 +54,7 @@ struct PathVertex {
   Vec3 normal{0.0f};    // geometric normal; camera: its forward axis; sky: zero
   Frame shading;        // shading frame (z = shading normal)
   Vec2 uv{0.0f};
+  Rgb vertex_color{0.0f};    // the hit's (SurfaceHit::vertex_color), for textures reading it
   Vec3 sky_direction{0.0f};  // environment only: unit direction from the scene to the sky
 
   const Bsdf* bsdf = nullptr;    // surface vertices

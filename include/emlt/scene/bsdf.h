@@ -37,6 +37,9 @@ enum LobeFlags : uint32_t {
 struct BsdfContext {
   Vec2 uv{0.0f};  // surface texture coordinates (for textured parameters)
   TransportMode mode = TransportMode::Radiance;
+  // The mesh's per-vertex colours interpolated at the point (black without them), for
+  // textures that read them (Mitsuba's `vertexcolors`).
+  Rgb vertex_color{0.0f};
 };
 
 struct BsdfSample {

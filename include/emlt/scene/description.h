@@ -21,6 +21,8 @@ struct MeshDesc {
   std::vector<Vec3> positions;  // world space
   std::vector<Vec3> normals;    // per vertex, world space; empty = flat shading
   std::vector<Vec2> uvs;        // per vertex; may be empty
+  // Per vertex, linear RGB (a PLY file's colours, a serialized mesh's); empty = none.
+  std::vector<Rgb> colors;
   std::vector<uint32_t> indices;  // 3 per triangle
   int material = -1;              // index into SceneDescription::materials
   Rgb emission{0.0f};             // area-light radiance, emitted on the normal side
@@ -65,6 +67,9 @@ struct MaterialDesc {
   // Some parameter varies over uv: a mesh without texture coordinates then gets a
   // planar projection (with a warning) instead of per-triangle barycentrics.
   bool textured = false;
+  // Some parameter is a `vertexcolors` texture: a surface without per-vertex colours
+  // then reads black, with a warning.
+  bool reads_vertex_colors = false;
 };
 
 struct EnvironmentDesc {

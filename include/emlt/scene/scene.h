@@ -26,6 +26,8 @@ struct SurfaceHit {
   Vec3 shading_normal{0.0f};    // unit; interpolated normal, same side as geometric
   Frame shading;                // z = shading_normal, s = dpdu made orthogonal to it (Mitsuba's)
   Vec2 uv{0.0f};
+  // The mesh's per-vertex colours interpolated at the hit; black on surfaces without them.
+  Rgb vertex_color{0.0f};
   // Surface derivatives with respect to uv (not normalised; an arbitrary tangent pair
   // when the uv mapping is degenerate). Bump mapping tilts the shading frame with them.
   // Filled on meshes whose material has a bump map or an anisotropic BSDF (the only
@@ -122,6 +124,8 @@ class Scene {
   const SceneStats& stats() const { return stats_; }
   Vec3 bounds_center() const { return bounds_center_; }
   float bounds_radius() const { return bounds_radius_; }
+  // Some mesh carries per-vertex colours (SurfaceHit::vertex_color is not always black).
+  bool has_vertex_colors() const { return has_vertex_colors_; }
 
  private:
   Scene() = default;
@@ -148,6 +152,7 @@ class Scene {
   SceneStats stats_;
   Vec3 bounds_center_{0.0f};
   float bounds_radius_ = 1.0f;
+  bool has_vertex_colors_ = false;
   mutable std::once_flag surface_bvh_built_;
   mutable SurfaceBvh surface_bvh_;
   mutable std::once_flag clearance_field_built_;

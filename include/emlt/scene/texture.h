@@ -29,6 +29,14 @@ class Texture {
  public:
   virtual ~Texture() = default;
   virtual Rgb eval(const Vec2& uv) const = 0;
+  // The lookup at a surface point, where `vertex_color` is the mesh's per-vertex colours
+  // interpolated there (black on a surface without them). Only textures that read those
+  // colours (reads_vertex_colors()) look at it, so callers that have no surface point may
+  // use eval(uv) for every other texture.
+  virtual Rgb eval_at(const Vec2& uv, const Rgb& /*vertex_color*/) const { return eval(uv); }
+  // Whether eval_at reads the vertex colour (Mitsuba's `vertexcolors`, or a texture
+  // wrapping one); such a texture does not vary with uv.
+  virtual bool reads_vertex_colors() const { return false; }
   // Scalar readings of the colour, as Mitsuba takes them: the channel mean for
   // roughness, the luminance for bump heights and mask opacity.
   float eval_average(const Vec2& uv) const {
@@ -76,6 +84,10 @@ TexturePtr load_bitmap_texture(const std::string& path, std::optional<float> gam
 template <std::same_as<bool> Bool>
 TexturePtr load_bitmap_texture(const std::string& path, Bool, const UvTransform& = {},
                                TextureWrap = {}) = delete;
+
+// Mitsuba's `vertexcolors`: the mesh's per-vertex colour, interpolated barycentrically at
+// the surface point (eval_at); without a surface point (eval), black.
+TexturePtr make_vertex_colors_texture();
 
 // Mitsuba's `scale`: the nested texture times a factor.
 TexturePtr make_scale_texture(TexturePtr inner, const Rgb& factor);

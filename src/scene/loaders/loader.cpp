@@ -137,6 +137,7 @@ void transform_sphere(SphereDesc& sphere, const Mat4& to_world, const std::strin
 void drop_non_finite_triangles(SceneDescription& desc, MeshDesc& mesh, const std::string& file) {
   const bool has_normals = mesh.normals.size() == mesh.positions.size();
   const bool has_uvs = mesh.uvs.size() == mesh.positions.size();
+  const bool has_colors = mesh.colors.size() == mesh.positions.size();
   auto finite_vertex = [&](uint32_t v) {
     // Indices out of range are Scene::build's to report; they are kept here.
     return v >= mesh.positions.size() ||
@@ -177,12 +178,14 @@ void drop_non_finite_triangles(SceneDescription& desc, MeshDesc& mesh, const std
       compact.positions.push_back(mesh.positions[v]);
       if (has_normals) compact.normals.push_back(mesh.normals[v]);
       if (has_uvs) compact.uvs.push_back(mesh.uvs[v]);
+      if (has_colors) compact.colors.push_back(mesh.colors[v]);
     }
     v = renumbered[v];
   }
   mesh.positions = std::move(compact.positions);
   if (has_normals) mesh.normals = std::move(compact.normals);
   if (has_uvs) mesh.uvs = std::move(compact.uvs);
+  if (has_colors) mesh.colors = std::move(compact.colors);
   mesh.indices = std::move(kept);
 
   const std::string message = file + ": " + std::to_string(dropped) +

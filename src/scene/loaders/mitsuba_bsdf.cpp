@@ -35,8 +35,10 @@ class BsdfReader {
     const std::string type = doc_.attribute(node, "type");
     Properties props(doc_, node);
     const int textures_before = varying_textures_;
+    const int vertex_color_textures_before = vertex_color_textures_;
     MaterialDesc material = build(type, node, props);
     material.textured |= varying_textures_ > textures_before || material.bump;
+    material.reads_vertex_colors |= vertex_color_textures_ > vertex_color_textures_before;
     props.warn_unused();
     if (doc_.has_attribute(node, "id")) {
       material.name = doc_.attribute(node, "id");
@@ -46,10 +48,14 @@ class BsdfReader {
   }
 
  private:
-  // A parameter that may be a texture; counts the ones that vary over the surface.
+  // A parameter that may be a texture; counts the ones that vary over the surface and,
+  // apart, those that read the mesh's vertex colours (which do not vary with uv).
   TexturePtr texture(Properties& props, const char* name, const Rgb& fallback) {
     TexturePtr t = props.get_texture(name, fallback, named_);
-    if (!t->constant()) ++varying_textures_;
+    if (t->reads_vertex_colors())
+      ++vertex_color_textures_;
+    else if (!t->constant())
+      ++varying_textures_;
     return t;
   }
 
@@ -261,7 +267,7 @@ class BsdfReader {
         doc_.warn(node, "nested masks: only the outer opacity is used",
                   Document::Warning::Approximated);
       inner.opacity = opacity;
-      inner.textured |= !opacity->constant();
+      inner.textured |= !opacity->constant() && !opacity->reads_vertex_colors();
       return inner;
     }
     if (type == "bumpmap") {
@@ -608,6 +614,7 @@ class BsdfReader {
   const Document& doc_;
   NamedObjects& named_;
   int varying_textures_ = 0;
+  int vertex_color_textures_ = 0;
 };
 
 }  // namespace

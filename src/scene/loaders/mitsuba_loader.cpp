@@ -563,9 +563,9 @@ class MitsubaSceneReader {
           LoadPrefetch::mesh({LoadPrefetch::MeshFile::Format::Ply, file, 0});
       mesh = prefetched ? place_ply_mesh(std::move(*prefetched), to_world, &desc_.warnings)
                         : load_ply_mesh(file, to_world, &desc_.warnings);
+      if (props.get_boolean("srgb", true)) decode_srgb_vertex_colors(mesh);
       loader::drop_non_finite_triangles(desc_, mesh, file);
       read_mesh_normal_options(node, props, mesh, flip);
-      props.ignore({"srgb"});  // how vertex colours are read; they are not used
     } else if (type == "cylinder") {
       const Vec3 p0 = props.get_point("p0", Vec3(0.0f));
       const Vec3 p1 = props.get_point("p1", Vec3(0.0f, 0.0f, 1.0f));

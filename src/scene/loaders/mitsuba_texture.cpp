@@ -1,5 +1,5 @@
-// Mitsuba 0.6 <texture> elements: bitmap, checkerboard, gridtexture, scale, and references to
-// textures declared with an id.
+// Mitsuba 0.6 <texture> elements: bitmap, checkerboard, gridtexture, scale, vertexcolors, and
+// references to textures declared with an id.
 #include <fmt/core.h>
 
 #include <filesystem>
@@ -171,6 +171,9 @@ TexturePtr read_texture(const Document& doc, pugi::xml_node node, NamedObjects& 
     const Rgb color1 = props.get_color("color1", Rgb(0.4f));
     const float line_width = props.get_float("lineWidth", 0.01f);
     texture = make_grid_texture(color0, color1, line_width, uv_transform(doc, props));
+  } else if (type == "vertexcolors" && !doc.mitsuba3()) {
+    // No parameters: the colours come from the mesh (Mitsuba 3 has no such plugin).
+    texture = make_vertex_colors_texture();
   } else if (type == "scale") {
     const Rgb factor = props.get_color("scale", Rgb(1.0f));
     TexturePtr inner = doc.mitsuba3() ? nested_texture(doc, node, props, named)

@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -211,6 +212,45 @@ int find_property(const Element& element, std::initializer_list<const char*> nam
   return -1;
 }
 
+// Mitsuba's PLY reader takes a vertex colour channel from a property named `red` or
+// `diffuse_red` (and likewise green and blue) of type uchar (divided by 255) or float (as
+// it is); a property of another type it never sees. Colours exist when a red channel does;
+// a missing green or blue reads 0. Of two properties for one channel, the later in the
+// vertex wins (Mitsuba's reader sets the channel once for each).
+struct ColorProperties {
+  std::array<int, 3> index{-1, -1, -1};  // red, green, blue; -1: none
+  bool present() const { return index[0] >= 0; }
+  Rgb read(const Element& vertex, const std::vector<double>& values) const {
+    Rgb color(0.0f);
+    for (int c = 0; c < 3; ++c) {
+      if (index[size_t(c)] < 0) continue;
+      const auto i = size_t(index[size_t(c)]);
+      const auto value = float(values[i]);
+      color[c] = vertex.properties[i].type == Type::UInt8 ? value / 255.0f : value;
+    }
+    return color;
+  }
+};
+
+ColorProperties color_properties(const Element& vertex, const std::string& path,
+                                 std::vector<std::string>& warnings) {
+  static const char* const kNames[3][2] = {
+      {"red", "diffuse_red"}, {"green", "diffuse_green"}, {"blue", "diffuse_blue"}};
+  ColorProperties colors;
+  for (size_t i = 0; i < vertex.properties.size(); ++i) {
+    const Property& p = vertex.properties[i];
+    for (int c = 0; c < 3; ++c) {
+      if (p.is_list || (p.name != kNames[c][0] && p.name != kNames[c][1])) continue;
+      if (p.type == Type::UInt8 || p.type == Type::Float32)
+        colors.index[size_t(c)] = int(i);
+      else
+        warnings.push_back(path + ": vertex colour property '" + p.name +
+                           "' ignored: Mitsuba reads colours of type uchar or float only");
+    }
+  }
+  return colors;
+}
+
 }  // namespace
 
 MeshDesc load_ply_mesh(const std::string& path, const Mat4& to_world,
@@ -225,6 +265,14 @@ MeshDesc place_ply_mesh(MeshInFileSpace ply, const Mat4& to_world,
   // serialized loader, leaves the winding alone under a mirroring transform.
   transform_mesh(ply.mesh, to_world, false);
   return std::move(ply.mesh);
+}
+
+void decode_srgb_vertex_colors(MeshDesc& mesh) {
+  const auto decode = [](float value) {
+    if (value <= 0.04045f) return value / 12.92f;
+    return std::pow((value + 0.055f) / 1.055f, 2.4f);
+  };
+  for (Rgb& color : mesh.colors) color = Rgb(decode(color.x), decode(color.y), decode(color.z));
 }
 
 MeshInFileSpace read_ply_file(const std::string& path) {
@@ -344,6 +392,7 @@ MeshInFileSpace read_ply_file(const std::string& path) {
   const int u = find_property(*vertex, {"u", "s", "texture_u"}),
             v = find_property(*vertex, {"v", "t", "texture_v"});
   const bool has_normals = nx >= 0 && ny >= 0 && nz >= 0, has_uvs = u >= 0 && v >= 0;
+  const ColorProperties colors = color_properties(*vertex, path, *warnings);
   if (vertex->count > UINT32_MAX) fail_at(path, "more vertices than 32-bit indices can address");
 
   mesh.name = std::filesystem::path(path).filename().string();
@@ -370,6 +419,7 @@ MeshInFileSpace read_ply_file(const std::string& path) {
       mesh.positions.reserve(size_t(vertex->count));
       if (has_normals) mesh.normals.reserve(size_t(vertex->count));
       if (has_uvs) mesh.uvs.reserve(size_t(vertex->count));
+      if (colors.present()) mesh.colors.reserve(size_t(vertex->count));
     }
     std::vector<double> values(element.properties.size(), 0.0);
     for (uint64_t item = 0; item < element.count; ++item) {
@@ -388,6 +438,7 @@ MeshInFileSpace read_ply_file(const std::string& path) {
           mesh.normals.push_back(Vec3(float(values[size_t(nx)]), float(values[size_t(ny)]),
                                       float(values[size_t(nz)])));
         if (has_uvs) mesh.uvs.push_back(Vec2(float(values[size_t(u)]), float(values[size_t(v)])));
+        if (colors.present()) mesh.colors.push_back(colors.read(*vertex, values));
         continue;
       }
       for (size_t i = 0; i < element.properties.size(); ++i) {

@@ -264,10 +264,11 @@ MeshDesc read_serialized_mesh(const std::string& path, int shape_index) {
               std::to_string(compressed) + " compressed bytes can hold");
 
   const std::vector<float> positions = read_reals(in, vertex_count * 3, real, "positions");
-  std::vector<float> normals, uvs;
+  std::vector<float> normals, uvs, colors;
   if (flags & kHasNormals) normals = read_reals(in, vertex_count * 3, real, "normals");
   if (flags & kHasTexcoords) uvs = read_reals(in, vertex_count * 2, real, "texture coordinates");
-  if (flags & kHasColors) read_reals(in, vertex_count * 3, real, "vertex colours");  // unused
+  // Linear RGB as stored (no sRGB curve: Mitsuba reads them as they are).
+  if (flags & kHasColors) colors = read_reals(in, vertex_count * 3, real, "vertex colours");
 
   MeshDesc mesh;
   mesh.name = std::filesystem::path(path).filename().string() + "@" + std::to_string(shape_index);
@@ -278,6 +279,8 @@ MeshDesc read_serialized_mesh(const std::string& path, int shape_index) {
     if (!normals.empty())
       mesh.normals.push_back(Vec3(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]));
     if (!uvs.empty()) mesh.uvs.push_back(Vec2(uvs[2 * v], uvs[2 * v + 1]));
+    if (!colors.empty())
+      mesh.colors.push_back(Rgb(colors[3 * v], colors[3 * v + 1], colors[3 * v + 2]));
   }
 
   mesh.indices.reserve(size_t(std::min<uint64_t>(triangle_count * 3, 3 << 20)));

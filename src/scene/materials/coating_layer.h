@@ -52,7 +52,7 @@ class CoatingLayer {
   // interface: exp(-sigma_a d (1 / |cos wo'| + 1 / |cos wi'|)) for the refracted pair.
   Rgb attenuation(const BsdfContext& ctx, const Vec3& wo_in, const Vec3& wi_in) const {
     if (sigma_a_.is_constant() && is_black(sigma_a_.constant_value())) return Rgb(1.0f);
-    const Rgb optical_depth = sigma_a_.at(ctx.uv) * thickness_;
+    const Rgb optical_depth = sigma_a_.at(ctx) * thickness_;
     return glm::exp(-optical_depth * (1.0f / std::abs(wo_in.z) + 1.0f / std::abs(wi_in.z)));
   }
 

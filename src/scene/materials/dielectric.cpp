@@ -28,7 +28,7 @@ class Dielectric final : public Bsdf {
     if (u_lobe < fresnel) {
       s.wi = Vec3(-wo.x, -wo.y, wo.z);
       s.pdf = fresnel;
-      const Rgb tint = reflectance_.at(ctx.uv);
+      const Rgb tint = reflectance_.at(ctx);
       s.value = tint * (fresnel / std::abs(s.wi.z));
       s.weight = tint;
       s.lobe = kLobeSpecular | kLobeReflection;
@@ -43,7 +43,7 @@ class Dielectric final : public Bsdf {
       // Radiance is compressed by (n_wo / n_wi)^2 on refraction; importance is not.
       const float scale =
           ctx.mode == TransportMode::Radiance ? 1.0f / (eta_rel * eta_rel) : 1.0f;
-      const Rgb tint = transmittance_.at(ctx.uv);
+      const Rgb tint = transmittance_.at(ctx);
       s.value = tint * (scale * (1.0f - fresnel) / std::abs(s.wi.z));
       s.weight = tint * scale;
       s.lobe = kLobeSpecular | kLobeTransmission;

@@ -19,7 +19,7 @@ class DiffuseTransmitter final : public Bsdf {
 
   Rgb eval(const BsdfContext& ctx, const Vec3& wo, const Vec3& wi) const override {
     if (!(wo.z * wi.z < 0.0f)) return Rgb(0.0f);
-    return transmittance_.at(ctx.uv) * kInvPi;
+    return transmittance_.at(ctx) * kInvPi;
   }
 
   float pdf(const BsdfContext&, const Vec3& wo, const Vec3& wi) const override {
@@ -35,7 +35,7 @@ class DiffuseTransmitter final : public Bsdf {
     if (wo.z > 0.0f) s.wi.z = -s.wi.z;
     s.pdf = std::abs(s.wi.z) * kInvPi;
     if (!(s.pdf > 0.0f)) return std::nullopt;
-    const Rgb transmittance = transmittance_.at(ctx.uv);
+    const Rgb transmittance = transmittance_.at(ctx);
     s.value = transmittance * kInvPi;
     s.weight = transmittance;  // (T / pi) |cos| / (|cos| / pi)
     s.pdf_reverse = std::abs(wo.z) * kInvPi;

@@ -14,7 +14,7 @@ class Lambertian final : public Bsdf {
 
   Rgb eval(const BsdfContext& ctx, const Vec3& wo, const Vec3& wi) const override {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return Rgb(0.0f);
-    return reflectance_.at(ctx.uv) * kInvPi;
+    return reflectance_.at(ctx) * kInvPi;
   }
 
   float pdf(const BsdfContext&, const Vec3& wo, const Vec3& wi) const override {
@@ -29,7 +29,7 @@ class Lambertian final : public Bsdf {
     s.wi = square_to_cosine_hemisphere(u);
     s.pdf = cosine_hemisphere_pdf(s.wi);
     if (s.pdf <= 0.0f) return std::nullopt;
-    const Rgb reflectance = reflectance_.at(ctx.uv);
+    const Rgb reflectance = reflectance_.at(ctx);
     s.value = reflectance * kInvPi;
     s.weight = reflectance;  // (R / pi) * cos / (cos / pi)
     s.pdf_reverse = cosine_hemisphere_pdf(wo);

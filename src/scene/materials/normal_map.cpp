@@ -67,7 +67,7 @@ class NormalMap final : public Bsdf {
 
  private:
   Frame perturbed(const BsdfContext& ctx) const {
-    const Vec3 n = 2.0f * normals_->eval(ctx.uv) - Vec3(1.0f);
+    const Vec3 n = 2.0f * normals_->eval_at(ctx.uv, ctx.vertex_color) - Vec3(1.0f);
     const float length = glm::length(n);
     if (!(length > 0.0f) || !std::isfinite(length)) return Frame(Vec3(0.0f, 0.0f, 1.0f));
     // Gram-Schmidt of dp/du = (1, 0, 0) against the new normal; t' = n' x s'.

@@ -35,7 +35,7 @@ class Phong final : public Bsdf {
 
   float pdf(const BsdfContext& ctx, const Vec3& wo, const Vec3& wi) const override {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
-    return density(exponent_.average_at(ctx.uv), wo, wi);
+    return density(exponent_.average_at(ctx), wo, wi);
   }
 
   std::optional<BsdfSample> sample(const BsdfContext& ctx, const Vec3& wo, float u_lobe,
@@ -74,7 +74,7 @@ class Phong final : public Bsdf {
     Rgb ks, kd;
   };
   Parameters parameters(const BsdfContext& ctx) const {
-    return {exponent_.average_at(ctx.uv), specular_.at(ctx.uv), diffuse_.at(ctx.uv)};
+    return {exponent_.average_at(ctx), specular_.at(ctx), diffuse_.at(ctx)};
   }
 
   // The cosine between wi and wo's mirror direction (equal to wo's with wi's mirror).

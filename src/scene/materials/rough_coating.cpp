@@ -49,7 +49,7 @@ class RoughCoating final : public Bsdf {
               std::max(alpha_max, alpha_.average_at(Vec2((i + 0.5f) / kSide, (j + 0.5f) / kSide)));
       alpha_max = std::clamp(alpha_max, 1.0f, kMaxTabulatedAlpha);
     }
-    transmittance_.emplace(type_, layer_.eta(), clamped_alpha(Vec2(0.0f)), alpha_max);
+    transmittance_.emplace(type_, layer_.eta(), clamped_alpha(BsdfContext{}), alpha_max);
   }
 
   Rgb eval(const BsdfContext& ctx, const Vec3& wo, const Vec3& wi) const override {
@@ -118,11 +118,11 @@ class RoughCoating final : public Bsdf {
     MicrofacetDistribution distribution;
   };
 
-  float clamped_alpha(const Vec2& uv) const {
-    return std::max(alpha_.average_at(uv), MicrofacetDistribution::kMinAlpha);
+  float clamped_alpha(const BsdfContext& ctx) const {
+    return std::max(alpha_.average_at(ctx), MicrofacetDistribution::kMinAlpha);
   }
   Parameters parameters(const BsdfContext& ctx) const {
-    const float alpha = clamped_alpha(ctx.uv);
+    const float alpha = clamped_alpha(ctx);
     return Parameters{alpha, MicrofacetDistribution(type_, alpha)};
   }
 

@@ -29,7 +29,7 @@ class RoughConductor final : public Bsdf {
     const float d = dist.D(h);
     if (d == 0.0f) return Rgb(0.0f);
     const Rgb fresnel = fresnel_conductor(glm::dot(wi, h), eta_, k_);
-    return reflectance_.at(ctx.uv) * fresnel * (d * dist.G(wo, wi, h) / (4.0f * wo.z * wi.z));
+    return reflectance_.at(ctx) * fresnel * (d * dist.G(wo, wi, h) / (4.0f * wo.z * wi.z));
   }
 
   float pdf(const BsdfContext& ctx, const Vec3& wo, const Vec3& wi) const override {
@@ -66,8 +66,8 @@ class RoughConductor final : public Bsdf {
 
  private:
   MicrofacetDistribution distribution(const BsdfContext& ctx) const {
-    const float alpha_u = alpha_u_.average_at(ctx.uv);
-    return MicrofacetDistribution(type_, alpha_u, alpha_v_ ? alpha_v_->average_at(ctx.uv) : alpha_u);
+    const float alpha_u = alpha_u_.average_at(ctx);
+    return MicrofacetDistribution(type_, alpha_u, alpha_v_ ? alpha_v_->average_at(ctx) : alpha_u);
   }
 
   TextureParam alpha_u_;
@@ -92,7 +92,7 @@ class SmoothConductor final : public Bsdf {
     s.wi = Vec3(-wo.x, -wo.y, wo.z);
     s.pdf = 1.0f;
     s.pdf_reverse = 1.0f;
-    s.weight = reflectance_.at(ctx.uv) * fresnel_conductor(wo.z, eta_, k_);
+    s.weight = reflectance_.at(ctx) * fresnel_conductor(wo.z, eta_, k_);
     s.value = s.weight / s.wi.z;
     s.lobe = kLobeSpecular | kLobeReflection;
     if (!is_finite(s.value)) return std::nullopt;

@@ -39,13 +39,12 @@ class RoughDielectric final : public Bsdf {
     const float fresnel = fresnel_dielectric(glm::dot(wo, g.m), eta_);
     const float masking = dist.G(wo, wi, g.m);
     const float cos_product = std::abs(wo.z * wi.z);
-    if (g.reflection)
-      return reflectance_.at(ctx.uv) * (fresnel * d * masking / (4.0f * cos_product));
+    if (g.reflection) return reflectance_.at(ctx) * (fresnel * d * masking / (4.0f * cos_product));
     const float wi_m = glm::dot(wi, g.m), wo_m = glm::dot(wo, g.m);
     const float denom = square(wi_m + wo_m / g.eta_prime);
     float f = (1.0f - fresnel) * d * masking * std::abs(wi_m * wo_m) / (cos_product * denom);
     if (ctx.mode == TransportMode::Radiance) f /= square(g.eta_prime);
-    return transmittance_.at(ctx.uv) * f;
+    return transmittance_.at(ctx) * f;
   }
 
   float pdf(const BsdfContext& ctx, const Vec3& wo, const Vec3& wi) const override {
@@ -127,8 +126,8 @@ class RoughDielectric final : public Bsdf {
   }
 
   MicrofacetDistribution distribution(const BsdfContext& ctx) const {
-    const float alpha_u = alpha_u_.average_at(ctx.uv);
-    return MicrofacetDistribution(type_, alpha_u, alpha_v_ ? alpha_v_->average_at(ctx.uv) : alpha_u);
+    const float alpha_u = alpha_u_.average_at(ctx);
+    return MicrofacetDistribution(type_, alpha_u, alpha_v_ ? alpha_v_->average_at(ctx) : alpha_u);
   }
 
   TextureParam alpha_u_;

@@ -46,7 +46,7 @@ class RoughDiffuse final : public Bsdf {
 
   Rgb eval(const BsdfContext& ctx, const Vec3& wo, const Vec3& wi) const override {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return Rgb(0.0f);
-    return value(reflectance_.at(ctx.uv), alpha_.average_at(ctx.uv), wo, wi);
+    return value(reflectance_.at(ctx), alpha_.average_at(ctx), wo, wi);
   }
 
   float pdf(const BsdfContext&, const Vec3& wo, const Vec3& wi) const override {
@@ -61,7 +61,7 @@ class RoughDiffuse final : public Bsdf {
     s.wi = square_to_cosine_hemisphere(u);
     s.pdf = cosine_hemisphere_pdf(s.wi);
     if (s.pdf <= 0.0f) return std::nullopt;
-    s.value = value(reflectance_.at(ctx.uv), alpha_.average_at(ctx.uv), wo, s.wi);
+    s.value = value(reflectance_.at(ctx), alpha_.average_at(ctx), wo, s.wi);
     s.weight = s.value * (s.wi.z / s.pdf);
     if (!is_finite(s.weight)) return std::nullopt;
     s.pdf_reverse = cosine_hemisphere_pdf(wo);

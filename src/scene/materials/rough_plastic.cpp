@@ -105,8 +105,8 @@ class RoughPlastic final : public Bsdf {
   };
 
   Parameters parameters(const BsdfContext& ctx) const {
-    const float alpha = alpha_.average_at(ctx.uv);
-    return Parameters{diffuse_.at(ctx.uv), specular_.at(ctx.uv),
+    const float alpha = alpha_.average_at(ctx);
+    return Parameters{diffuse_.at(ctx), specular_.at(ctx),
                       smooth_ ? 0.0f : glm::max(alpha, MicrofacetDistribution::kMinAlpha),
                       MicrofacetDistribution(type_, alpha)};
   }

@@ -25,12 +25,12 @@ class ThinDielectric final : public Bsdf {
     if (u_lobe < slab_reflectance) {
       s.wi = Vec3(-wo.x, -wo.y, wo.z);
       s.pdf = slab_reflectance;
-      s.weight = reflectance_.at(ctx.uv);
+      s.weight = reflectance_.at(ctx);
       s.lobe = kLobeSpecular | kLobeReflection;
     } else {
       s.wi = -wo;
       s.pdf = 1.0f - slab_reflectance;
-      s.weight = transmittance_.at(ctx.uv);
+      s.weight = transmittance_.at(ctx);
       s.lobe = kLobeSpecular | kLobeTransmission;
     }
     if (!(s.pdf > 0.0f)) return std::nullopt;

@@ -89,9 +89,8 @@ class Ward final : public Bsdf {
     Rgb ks, kd;
   };
   Parameters parameters(const BsdfContext& ctx) const {
-    return {glm::max(alpha_u_.average_at(ctx.uv), kMinAlpha),
-            glm::max(alpha_v_.average_at(ctx.uv), kMinAlpha), specular_.at(ctx.uv),
-            diffuse_.at(ctx.uv)};
+    return {glm::max(alpha_u_.average_at(ctx), kMinAlpha),
+            glm::max(alpha_v_.average_at(ctx), kMinAlpha), specular_.at(ctx), diffuse_.at(ctx)};
   }
 
   static Vec3 reflect(const Vec3& w, const Vec3& h) { return 2.0f * glm::dot(w, h) * h - w; }

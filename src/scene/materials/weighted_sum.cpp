@@ -29,23 +29,24 @@ class WeightedSum final : public Bsdf {
         blend_.reset();
       }
     }
+    blend_reads_vertex_colors_ = blend_ && blend_->reads_vertex_colors();
     for (float w : weights_) total_ += w;
   }
 
   Rgb eval(const BsdfContext& ctx, const Vec3& wo, const Vec3& wi) const override {
     Rgb sum(0.0f);
     for (size_t i = 0; i < parts_.size(); ++i) {
-      const float w = weight(ctx.uv, i);
+      const float w = weight(ctx, i);
       if (w > 0.0f) sum += w * parts_[i]->eval(ctx, wo, wi);
     }
     return sum;
   }
 
   float pdf(const BsdfContext& ctx, const Vec3& wo, const Vec3& wi) const override {
-    const float total = total_weight(ctx.uv);
+    const float total = total_weight();
     float sum = 0.0f;
     for (size_t i = 0; i < parts_.size(); ++i) {
-      const float w = weight(ctx.uv, i);
+      const float w = weight(ctx, i);
       if (w > 0.0f) sum += w / total * parts_[i]->pdf(ctx, wo, wi);
     }
     return sum;
@@ -53,14 +54,14 @@ class WeightedSum final : public Bsdf {
 
   std::optional<BsdfSample> sample(const BsdfContext& ctx, const Vec3& wo, float u_lobe,
                                    const Vec2& u) const override {
-    const float total = total_weight(ctx.uv);
+    const float total = total_weight();
     if (!(total > 0.0f)) return std::nullopt;
     // The part whose share of [0, 1) holds u_lobe; u_lobe rescaled within that share is
     // the part's own lobe choice.
     size_t chosen = parts_.size();
     float below = 0.0f, probability = 0.0f;
     for (size_t i = 0; i < parts_.size(); ++i) {
-      const float p = weight(ctx.uv, i) / total;
+      const float p = weight(ctx, i) / total;
       if (p <= 0.0f) continue;
       chosen = i;
       probability = p;
@@ -71,7 +72,7 @@ class WeightedSum final : public Bsdf {
     const float u_part = std::min((u_lobe - below) / probability, 0x1.fffffep-1f);
     std::optional<BsdfSample> s = parts_[chosen]->sample(ctx, wo, std::max(u_part, 0.0f), u);
     if (!s) return std::nullopt;
-    const float w = weight(ctx.uv, chosen);
+    const float w = weight(ctx, chosen);
     if (s->is_delta()) {
       s->value *= w;
       s->pdf *= probability;
@@ -100,22 +101,25 @@ class WeightedSum final : public Bsdf {
     return glm::clamp((value.x + value.y + value.z) / 3.0f, 0.0f, 1.0f);
   }
 
-  float blend_at(const Vec2& uv) const {
-    return blend_ ? blend_fraction(blend_->eval(uv)) : constant_blend_;
+  float blend_at(const BsdfContext& ctx) const {
+    if (!blend_) return constant_blend_;
+    return blend_fraction(blend_reads_vertex_colors_ ? blend_->eval_at(ctx.uv, ctx.vertex_color)
+                                                     : blend_->eval(ctx.uv));
   }
 
-  float weight(const Vec2& uv, size_t part) const {
+  float weight(const BsdfContext& ctx, size_t part) const {
     if (!is_blend()) return weights_[part];
-    const float w = blend_at(uv);
+    const float w = blend_at(ctx);
     return part == 0 ? 1.0f - w : w;
   }
 
-  float total_weight(const Vec2&) const { return is_blend() ? 1.0f : total_; }
+  float total_weight() const { return is_blend() ? 1.0f : total_; }
   bool is_blend() const { return weights_.empty(); }
 
   std::vector<BsdfPtr> parts_;
   std::vector<float> weights_;  // empty for a blended pair
   TexturePtr blend_;            // a blended pair's varying weight; null when constant
+  bool blend_reads_vertex_colors_ = false;
   float constant_blend_ = 0.5f;
   float total_ = 0.0f;
   uint32_t lobes_ = kLobeNone;

@@ -21,6 +21,10 @@ class ScaleTexture final : public Texture {
  public:
   ScaleTexture(TexturePtr inner, const Rgb& factor) : inner_(std::move(inner)), factor_(factor) {}
   Rgb eval(const Vec2& uv) const override { return inner_->eval(uv) * factor_; }
+  Rgb eval_at(const Vec2& uv, const Rgb& vertex_color) const override {
+    return inner_->eval_at(uv, vertex_color) * factor_;
+  }
+  bool reads_vertex_colors() const override { return inner_->reads_vertex_colors(); }
   std::optional<Rgb> constant() const override {
     if (auto c = inner_->constant()) return *c * factor_;
     return std::nullopt;
