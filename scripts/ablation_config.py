@@ -33,6 +33,9 @@ METHODS = {
     "pssmlt": (["--integrator", "pssmlt"], "--mpp"),  # Kelemen et al. 2002 over the path tracer
     "pssmlt-bdpt": (["--integrator", "pssmlt", "--pss-tracer", "bdpt"], "--mpp"),  # ... over BDPT
     "mmlt": (["--integrator", "mmlt"], "--mpp"),  # Hachisuka et al. 2014, Multiplexed MLT
+    # Cline et al. 2005: N seeds per pixel (BDPT samples), their chains --erpt-chains per pixel
+    # over the budget (under a time budget, per pass) of 100 steps.
+    "erpt": (["--integrator", "erpt"], "--spp"),
     # Ensemble-informed ideas beyond the paper (docs/experiments.md, "Beyond the paper"):
     # the ensemble driver with Veach's mix, then with the density jump and/or the
     # spread-scaled perturbations in place of Veach's lens, caustic and multi-chain moves.

@@ -33,11 +33,12 @@ LAYERS = [
     ("integrators", ["integrators/*"]),
     ("integrators/mlt", ["integrators/mlt/*"]),
     ("integrators/pss", ["integrators/pss/*"]),
+    ("integrators/erpt", ["integrators/erpt/*"]),  # its chains are path-space MLT's
     ("cli", ["cli/*"]),
 ]
 # Rank of each layer: the registry names every integrator, so it ranks above all of them.
 RANK = {name: i for i, (name, _) in enumerate(LAYERS)}
-RANK["integrators/registry"] = RANK["integrators/pss"] + 0.5
+RANK["integrators/registry"] = RANK["integrators/erpt"] + 0.5
 
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
 

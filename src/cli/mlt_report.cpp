@@ -15,11 +15,20 @@ namespace emlt::cli {
 
 void report_mlt_statistics(const std::string& name, const MltStatistics& st,
                            const std::string& json_path) {
-  std::fprintf(stderr,
-               "%s: b = %.6g +- %.2g (%llu bootstrap samples), %llu chains, %llu mutations, %.3f "
-               "M mutations/s\n",
-               name.c_str(), st.b, st.b_standard_error,
-               static_cast<unsigned long long>(st.bootstrap_samples),
+  // b's samples: the bootstrap's, and any drawn beside the chains.
+  char samples[160];
+  if (st.b_samples > st.bootstrap_samples)
+    std::snprintf(samples, sizeof samples,
+                  "%llu samples: %llu bootstrap, %llu beside the chains; the largest %.2g of b",
+                  static_cast<unsigned long long>(st.b_samples),
+                  static_cast<unsigned long long>(st.bootstrap_samples),
+                  static_cast<unsigned long long>(st.b_samples - st.bootstrap_samples),
+                  st.b_largest_share);
+  else
+    std::snprintf(samples, sizeof samples, "%llu bootstrap samples",
+                  static_cast<unsigned long long>(st.bootstrap_samples));
+  std::fprintf(stderr, "%s: b = %.6g +- %.2g (%s), %llu chains, %llu mutations, %.3f M mutations/s\n",
+               name.c_str(), st.b, st.b_standard_error, samples,
                static_cast<unsigned long long>(st.chains),
                static_cast<unsigned long long>(st.mutations),
                st.seconds > 0.0 ? double(st.mutations) / st.seconds * 1e-6 : 0.0);
@@ -30,8 +39,9 @@ void report_mlt_statistics(const std::string& name, const MltStatistics& st,
                   st.prepare_seconds);
   std::fprintf(
       stderr,
-      "  time: %.3f s direct light (%d spp), %.3f s bootstrap, chains alone %.3f M mutations/s%s\n",
-      st.direct_seconds, st.direct_spp, st.bootstrap_seconds,
+      "  time: %.3f s direct light (%d spp), %.3f s bootstrap, %.3f s normalisation beside the "
+      "chains, chains alone %.3f M mutations/s%s\n",
+      st.direct_seconds, st.direct_spp, st.bootstrap_seconds, st.normalisation_seconds,
       st.chain_mutations_per_second() * 1e-6, prepared);
   if (st.ensemble_size > 0)
     std::fprintf(stderr,
@@ -80,6 +90,10 @@ void report_mlt_statistics(const std::string& name, const MltStatistics& st,
       {"b", st.b},
       {"b_standard_error", st.b_standard_error},
       {"bootstrap_samples", st.bootstrap_samples},
+      {"bootstrap_b", st.bootstrap_b},
+      {"b_samples", st.b_samples},
+      {"b_largest_share", st.b_largest_share},
+      {"normalisation_seconds", st.normalisation_seconds},
       {"chains", st.chains},
       {"mutations", st.mutations},
       {"seconds", st.seconds},

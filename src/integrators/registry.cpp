@@ -3,6 +3,7 @@
 #include "emlt/core/error.h"
 #include "emlt/integrators/bdpt.h"
 #include "emlt/integrators/direct_integrator.h"
+#include "emlt/integrators/erpt/erpt_integrator.h"
 #include "emlt/integrators/mlt/mlt_integrator.h"
 #include "emlt/integrators/mlt/mlt_options.h"
 #include "emlt/integrators/path_tracer.h"
@@ -58,6 +59,7 @@ const Registration kIntegrators[] = {
        options.multiplexed = true;
        return std::make_unique<PssMltIntegrator>(options);
      }},
+    {"erpt", []() { return make_erpt(); }},
 };
 
 // Each part's options, in the order the command line lists them: the run loop's and path
@@ -65,7 +67,8 @@ const Registration kIntegrators[] = {
 // emlt groups (the ga-* and emlt-* strategies read theirs in any mix), and pssmlt/mmlt's.
 using OptionGroup = const std::vector<RenderOption>& (*)();
 const OptionGroup kOptionGroups[] = {run_options,   sampling_options, bdpt_options, mlt_options,
-                                     gamlt_options, ensemble_options, pss_options};
+                                     gamlt_options, ensemble_options, pss_options,
+                                     erpt_options};
 
 }  // namespace
 

@@ -147,6 +147,10 @@ RenderResult ChainSweeper::run(ChainSteps& chains, const std::string& label) {
       stopped = stopped_in_direct = true;
       break;
     }
+    if (!chains.keep_pace(chains.sweep_end())) {
+      stopped = true;
+      break;
+    }
     const double sweep_start = run_.elapsed();
     const double steps_start = profile_.enabled ? SweepProfile::now() : 0.0,
                  steps_cpu_start = profile_.enabled ? SweepProfile::thread_cpu() : 0.0;

@@ -61,9 +61,10 @@ Contents read(const std::string& path) {
   const uint64_t size = prefix.get<uint64_t>();
   if (byte_order != kByteOrder)
     throw file_error(path, "checkpoint was written on a machine of another byte order");
-  if (version != kVersion)
+  if (version < kOldestReadable || version > kVersion)
     throw file_error(path, "checkpoint has format version " + std::to_string(version) +
-                               ", this emlt reads version " + std::to_string(kVersion));
+                               ", this emlt reads versions " + std::to_string(kOldestReadable) +
+                               " to " + std::to_string(kVersion));
   const uint64_t expected = kPrefix + size + sizeof(uint64_t);
   if (size > file.size() || file.size() < expected)
     throw file_error(path, "checkpoint is truncated (" + std::to_string(file.size()) + " of " +

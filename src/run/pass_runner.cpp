@@ -162,7 +162,11 @@ void PassRunner::merge_pass_splats() {
 Image PassRunner::image_now() {
   const PixelRenderState::Totals totals = state_.totals();
   samples_ = totals.samples();
-  if (!step_.splats()) return totals.image(width_, height_);
+  if (!step_.splats()) {
+    Image image = totals.image(width_, height_);
+    step_.add_own_film(image, samples_);
+    return image;
+  }
   const uint64_t light_paths = samples_;
   splat_scale_ = light_paths > 0 ? double(pixels_) / double(light_paths) : 0.0;
   Image image(width_, height_);
@@ -189,6 +193,7 @@ RenderResult PassRunner::run(const std::function<void()>& on_pause) {
     for (uint64_t i = 0; i < pixels_; ++i)
       image.pixels[i] =
           Rgb(DVec3(totals.sums[3 * i], totals.sums[3 * i + 1], totals.sums[3 * i + 2]) * scale);
+    step_.add_own_film(image, uint64_t(samples) * pixels_);
     return image;
   };
 

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iterator>
 #include <random>
+#include <nlohmann/json.hpp>
 #include <thread>
 
 #include "emlt/image/image.h"
@@ -114,6 +115,8 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"pssmlt", "--pss-tracer bdpt --direct mlt --mpp 16", 16 * 1024,
                            "pssmlt_bdpt"},
                       Case{"mmlt", "--direct mlt --mpp 16", 16 * 1024},
+                      // Chains inside their pixel samples, depositing into fixed-point films.
+                      Case{"erpt", "--spp 8 --erpt-chains 4 --erpt-chain-length 16", 8 * 1024},
                       // Chains whose paths start on a point or a directional light: their
                       // saved vertices are checked against the light's point or direction.
                       Case{"mlt", "--direct mlt --mpp 16", 16 * 1024, "mlt_point_light",
@@ -403,6 +406,33 @@ TEST(Checkpoint, AnOlderCheckpointResumesWithTheDefaultOfAnOptionAddedSince) {
             std::string::npos)
       << text;
   EXPECT_FALSE(fs::exists(refused));
+}
+
+// An MLT checkpoint of format 4 holds the bootstrap's b but none of the samples drawn beside
+// the chains since: it resumes, the normalisation starting from the bootstrap's figures and
+// drawing the samples due for every mutation at once, and the image is the whole render's
+// but for the chains' noise (the scene is a light filling the view: every pixel is 1).
+TEST(Checkpoint, AnMltCheckpointOfFormatFourResumesWithItsNormalisationStartedThen) {
+  const fs::path dir = test::scratch_dir("older_mlt_checkpoint");
+  const std::string data = test::source_path("tests/e2e/data/older-checkpoint");
+  const std::string args = " --integrator mlt --direct mlt --mpp 64 --bootstrap 2000 -q";
+  const fs::path resumed = dir / "resumed.pfm", stats = dir / "stats.json";
+  std::string text;
+  ASSERT_EQ(0, test::run_command(test::emlt_binary() + " render " + data + "/scene.xml" + args +
+                                     " -o " + resumed.string() + " --resume " + data +
+                                     "/mlt.ckpt --checkpoint " + (dir / "saved.ckpt").string() +
+                                     " --stats " + stats.string(),
+                                 &text))
+      << text;
+  std::ifstream in(stats);
+  const nlohmann::json st = nlohmann::json::parse(in);
+  EXPECT_EQ(st["bootstrap_samples"].get<uint64_t>(), 2000u);
+  EXPECT_EQ(st["b_samples"].get<uint64_t>(), 2000u + 1024u);  // 4,096 mutations at 1/64
+  const Image image = read_image(resumed.string());
+  double mean = 0.0;
+  for (const Rgb& p : image.pixels) mean += double(luminance(p));
+  mean /= double(image.pixels.size());
+  EXPECT_NEAR(mean, 1.0, 0.01);
 }
 
 // Primary-sample-space checkpoints: one made by pssmlt (path tracer) is refused by a run of

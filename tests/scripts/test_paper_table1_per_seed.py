@@ -40,7 +40,8 @@ class PerSeed(unittest.TestCase):
         write_run(self.out, "MLT", 1, [(32, 40.0, 1.2), (64, 32.92, 1.0713)],
                   "mlt: b = 0.0852681 +- 0.011 (461510 bootstrap samples), 16384 chains")
         write_run(self.out, "MLT", 2, [(64, 0.1949, 0.9961)],
-                  "mlt: b = 0.0731525 +- 0.00047 (175582 bootstrap samples), 16384 chains")
+                  "mlt: b = 0.0731525 +- 0.00047 (175582 samples: 100000 bootstrap, 75582 beside "
+                  "the chains; the largest 0.0013 of b), 16384 chains")
         write_run(self.out, "PT", 1, [(64, 0.5, 1.001)])  # no normalisation printed
         write_run(self.out, "MLT-4096", 1, [(32, 0.4, 1.0)],  # still going: left out
                   "mlt: b = 0.07 +- 0.001 (100000 bootstrap samples), 4096 chains")

@@ -48,12 +48,50 @@ TEST(MitsubaIntegrator, PssmltIsEmltsPssmltAndItsTuningIsANote) {
 }
 
 // An integrator emlt does not have falls back to its default and says so: the verdict is
-// approximated (ERPT converges to the same image, by other means).
+// approximated (stochastic progressive photon mapping converges to the same image, by other
+// means).
 TEST(MitsubaIntegrator, AnIntegratorEmltLacksFallsBackLoudly) {
-  const SceneDescription erpt = with_integrator("erpt.xml", R"(<integrator type="erpt"/>)");
-  EXPECT_TRUE(erpt.render.integrator.empty());
-  EXPECT_EQ(erpt.verdict(), "approximated: 1 item");
-  EXPECT_TRUE(any_contains(erpt.warnings, "integrator type 'erpt' is not supported"));
+  const SceneDescription sppm = with_integrator("sppm.xml", R"(<integrator type="sppm"/>)");
+  EXPECT_TRUE(sppm.render.integrator.empty());
+  EXPECT_EQ(sppm.verdict(), "approximated: 1 item");
+  EXPECT_TRUE(any_contains(sppm.warnings, "integrator type 'sppm' is not supported"));
+}
+
+// Mitsuba's ERPT is emlt's: its chain counts, chain length, direct samples (-1: the chains
+// take the direct light too), luminance samples and perturbation switches under emlt's
+// flags; the manifold perturbation, which emlt does not have, a note (it changes the noise
+// only); every perturbation switched off refused, as Mitsuba refuses it.
+TEST(MitsubaIntegrator, ErptIsEmltsErptWithItsParameters) {
+  const SceneDescription erpt = with_integrator(
+      "erpt-params.xml",
+      R"(<integrator type="erpt"><integer name="maxDepth" value="5"/>
+      <float name="numChains" value="2.5"/><integer name="maxChains" value="4"/>
+      <integer name="chainLength" value="50"/><integer name="directSamples" value="-1"/>
+      <integer name="luminanceSamples" value="2000"/>
+      <boolean name="causticPerturbation" value="false"/>
+      <boolean name="manifoldPerturbation" value="true"/></integrator>)");
+  EXPECT_EQ(erpt.render.integrator, "erpt");
+  EXPECT_EQ(erpt.verdict(), "exact");
+  EXPECT_EQ(erpt.render.said("--max-depth"), "5");
+  EXPECT_EQ(std::stod(*erpt.render.said("--erpt-chains")), 2.5);
+  EXPECT_EQ(std::stod(*erpt.render.said("--erpt-max-chains")), 4.0);
+  EXPECT_EQ(erpt.render.said("--erpt-chain-length"), "50");
+  EXPECT_EQ(erpt.render.said("--direct"), "mlt");
+  EXPECT_EQ(erpt.render.said("--bootstrap"), "2000");
+  EXPECT_EQ(erpt.render.said("--mutations"), "lens=1,multichain=1");
+  EXPECT_TRUE(any_contains(erpt.warnings, "no manifold perturbation"));
+
+  const SceneDescription plain = with_integrator("erpt.xml", R"(<integrator type="erpt"/>)");
+  EXPECT_EQ(plain.render.integrator, "erpt");
+  EXPECT_EQ(plain.verdict(), "exact");
+  EXPECT_EQ(plain.render.said("--mutations"), "lens=1,caustic=1,multichain=1");
+  EXPECT_FALSE(plain.render.said("--erpt-chains").has_value());
+
+  EXPECT_THROW(with_integrator("erpt-none.xml", R"(<integrator type="erpt">
+      <boolean name="lensPerturbation" value="false"/>
+      <boolean name="causticPerturbation" value="false"/>
+      <boolean name="multiChainPerturbation" value="false"/></integrator>)"),
+               std::exception);
 }
 
 // The rest of PSSMLT's tuning, and bdpt's strategy images, change no render either.

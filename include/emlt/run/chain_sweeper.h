@@ -11,9 +11,9 @@
 // - the rank share (a contiguous range of the blocks on each rank) and the exact
 //   reductions of films and block counters across ranks, so `mpirun -n R` gives the
 //   one-process image and statistics;
-// - the separate direct light (mcmc_run.h) in slices that keep pace with the chains, so that
-//   a render stopped at any moment has both parts of the image, each normalised for the
-//   work done;
+// - the separate direct light (mcmc_run.h) and the chains' own paced work (keep_pace()) in
+//   slices that keep pace with the chains, so that a render stopped at any moment has both
+//   parts of the image, each normalised for the work done;
 // - stops and checkpoints: the blocks return at a stop signal or a checkpoint falling due,
 //   every rank agrees on what to do (interruption.h), and the state is saved
 //   (render_control.h, mcmc_run.h) or the render ends with the image of the steps taken;
@@ -55,6 +55,14 @@ class ChainSteps {
   // Whether the time budget may end the render here, before a sweep (false: the chains get
   // a first sweep even when the bootstrap spent the time).
   virtual bool may_end_for_time() const { return true; }
+
+  // Work besides the direct light that keeps pace with the mutations (path-space MLT's
+  // normalisation, normalisation_pass.h), brought up to `mutations` (every rank's) before
+  // the sweep that ends there; false when a stop cut it short. A collective call.
+  virtual bool keep_pace(uint64_t mutations) {
+    (void)mutations;
+    return true;
+  }
 
   // Whether a sweep is under way (a resumed render may be inside one).
   virtual bool in_sweep() const = 0;

@@ -13,7 +13,11 @@ namespace emlt::checkpoint_file {
 
 // Raised whenever the layout of any integrator's state or of the header changes.
 // 2: PSSMLT's per-length counters. 3: MLT/EMLT's counters in up to 256 blocks (were 64).
-inline constexpr uint32_t kVersion = 4;
+// 5: the path-space chains' normalisation drawn beside them (normalisation_pass.h).
+inline constexpr uint32_t kVersion = 5;
+// The oldest version still read: 4 lacks only the sums of the normalisation at the end of the
+// path-space chains' section, which a resumed render then starts from the bootstrap's figures.
+inline constexpr uint32_t kOldestReadable = 4;
 
 struct Contents {
   std::string header;

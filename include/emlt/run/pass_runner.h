@@ -54,6 +54,14 @@ class PixelSampleStep {
   // Layers of the film besides the image (SplatFilm), which SplatRecord::layer names.
   virtual int film_layers() const { return 0; }
 
+  // A step that deposits into a film of its own (ERPT's chains, which land anywhere): adds
+  // that film, as image values after `samples` pixel samples of every pixel together, to
+  // `image` (complete on rank 0). A collective call, made at every image the runner takes.
+  virtual void add_own_film(Image& image, uint64_t samples) {
+    (void)image;
+    (void)samples;
+  }
+
   // The step's own state, checkpointed after the pixels' (e.g. per-pixel sums of its own).
   // load() throws StateError for a state that does not fit.
   virtual void save(StateWriter&) const {}

@@ -54,6 +54,16 @@ struct RenderSettings {
   // chains' alone. Unset: --seed.
   std::optional<uint64_t> bootstrap_seed;
   uint64_t start_seed() const { return bootstrap_seed.value_or(seed); }
+  // --normalisation-rate: bootstrap samples drawn per chain mutation beside the chains of
+  // mlt, gamlt and emlt, so that b keeps converging (normalisation_pass.h); 0: the
+  // bootstrap's b alone. 1/64 costs about a tenth of the render (a sample took 4.2 to 7.2
+  // mutations' time on the Cornell box, the caustic pool and the door).
+  double normalisation_rate = 1.0 / 64.0;
+  // ERPT (erpt_integrator.h): chains started per pixel on average over the --spp seeds
+  // (Mitsuba's numChains), at most this many per seed path (0: no bound), steps per chain.
+  double erpt_chains = 1.0;
+  double erpt_max_chains = 0.0;
+  int erpt_chain_length = 100;
   // --mutations name=weight,...; empty: the integrator's own default mix (mlt_integrator.h).
   std::string mutations;
   bool direct_separate = true;  // --direct separate|mlt

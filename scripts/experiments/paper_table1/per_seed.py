@@ -1,20 +1,21 @@
 #!/usr/bin/env python3
 """Per-seed figures of one scene of an ablation run: each method's MSE, its image mean over
 the reference's, and the normalisation b with the error the engine printed for it and the
-bootstrap samples it came from, so that a seed whose error is the normalisation's shows as such.
+samples it came from, so that a seed whose error is the normalisation's shows as such.
 
     per_seed.py OUT SCENE [--methods M1,M2,...] > table.md
 
 OUT is an ablation folder (scripts/ablation.py: OUT/runs/SCENE/METHOD/pp-N/seed-S/ with
 run.csv, the last row the run's final figures, and engine.log, where an MCMC run prints
-"b = B +- E (N bootstrap samples)")."""
+"b = B +- E (N bootstrap samples)", or with samples drawn beside the chains
+"b = B +- E (N samples: M bootstrap, K beside the chains; ...)")."""
 import argparse
 import csv
 import os
 import re
 import sys
 
-B_LINE = re.compile(r"b = ([0-9.eE+-]+) \+- ([0-9.eE+-]+) \((\d+) bootstrap samples\)")
+B_LINE = re.compile(r"b = ([0-9.eE+-]+) \+- ([0-9.eE+-]+) \((?:(\d+) bootstrap samples\)|(\d+) samples: )")
 
 
 def final_row(path):
@@ -24,12 +25,14 @@ def final_row(path):
 
 
 def normalisation(log_path):
-    """(b, its printed error, bootstrap samples), or None when the log has no such line."""
+    """(b, its printed error, the samples behind it), or None when the log has no such line."""
     if not os.path.exists(log_path):
         return None
     with open(log_path) as f:
         match = B_LINE.search(f.read())
-    return (float(match.group(1)), float(match.group(2)), int(match.group(3))) if match else None
+    if not match:
+        return None
+    return float(match.group(1)), float(match.group(2)), int(match.group(3) or match.group(4))
 
 
 def main():
@@ -42,7 +45,7 @@ def main():
     if not os.path.isdir(scene_dir):
         sys.exit(f"per_seed: {scene_dir}: no runs of scene '{args.scene}'")
     methods = args.methods.split(",") if args.methods else sorted(os.listdir(scene_dir))
-    print("| method | seed | MSE | image mean / reference | b | b's printed error | bootstrap samples |")
+    print("| method | seed | MSE | image mean / reference | b | b's printed error | samples behind b |")
     print("|---|---|---|---|---|---|---|")
     for method in methods:
         method_dir = os.path.join(scene_dir, method)

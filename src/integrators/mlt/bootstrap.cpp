@@ -26,32 +26,33 @@ struct SampleScratch {
   VertexDensity densities[kMaxPathVertices];
 };
 
-// What a visitor sees of one strategy: its subpaths (for rebuilding the path) and the
-// MIS-weighted contribution. Returning false stops the enumeration.
-using StrategyVisitor =
-    std::function<bool(int s, int t, const Rgb& contribution, std::span<const PathVertex> light,
-                       std::span<const PathVertex> camera_side)>;
+// The two subpaths of a sample whose camera subpath starts at `raster`, drawn from `rng`,
+// which is left where the strategies' own draws begin.
+void generate_subpaths_at(const Scene& scene, const BootstrapParams& p, Rng& rng,
+                          const Vec2& raster, SampleScratch& scratch) {
+  const Vec2 u_lens = rng.uniform2();
+  generate_camera_subpath(scene, rng, raster, u_lens,
+                          {p.max_edges + 1, subpath_rr_depth(p.rr_depth)}, scratch.camera);
+  generate_light_subpath(scene, rng, {p.max_edges, subpath_rr_depth(p.rr_depth)}, scratch.light);
+}
 
-// The sample's two subpaths, from the start of its stream; `rng` is left where the
-// strategies' own draws begin.
+// A bootstrap sample's two subpaths, from the start of its stream (its raster uniform over
+// the image); `rng` is left where the strategies' own draws begin.
 Rng generate_subpaths(const Scene& scene, const BootstrapParams& p, uint32_t sample,
                       SampleScratch& scratch) {
   Rng rng(derive_stream_seed(p.seed, kBootstrapStream + sample), sample);
   const Camera& camera = scene.camera();
   const Vec2 raster(rng.uniform() * float(camera.width()), rng.uniform() * float(camera.height()));
-  const Vec2 u_lens = rng.uniform2();
-  generate_camera_subpath(scene, rng, raster, u_lens,
-                          {p.max_edges + 1, subpath_rr_depth(p.rr_depth)}, scratch.camera);
-  generate_light_subpath(scene, rng, {p.max_edges, subpath_rr_depth(p.rr_depth)}, scratch.light);
+  generate_subpaths_at(scene, p, rng, raster, scratch);
   return rng;
 }
 
-// Every strategy of one bidirectional sample, in a fixed order that consumes the sample's
-// stream identically each time. The only draws after the subpaths are the lens points of
-// the t = 1 strategies, one pair each for s = 0, 1, ... (rebuild_candidate relies on it).
-void enumerate_sample(const Scene& scene, const BootstrapParams& p, uint32_t sample,
-                      SampleScratch& scratch, const StrategyVisitor& visit) {
-  Rng rng = generate_subpaths(scene, p, sample, scratch);
+// Every strategy of one bidirectional sample whose subpaths are in `scratch`, in a fixed
+// order that consumes `rng` identically each time. The only draws after the subpaths are the
+// lens points of the t = 1 strategies, one pair each for s = 0, 1, ... (rebuild_candidate
+// relies on it).
+void enumerate_strategies(const Scene& scene, const BootstrapParams& p, Rng& rng,
+                          SampleScratch& scratch, const StrategyVisitor& visit) {
   const auto& cam = scratch.camera;
   const auto& light = scratch.light;
 
@@ -96,7 +97,21 @@ void enumerate_sample(const Scene& scene, const BootstrapParams& p, uint32_t sam
   }
 }
 
+// Every strategy of bootstrap sample `sample`.
+void enumerate_sample(const Scene& scene, const BootstrapParams& p, uint32_t sample,
+                      SampleScratch& scratch, const StrategyVisitor& visit) {
+  Rng rng = generate_subpaths(scene, p, sample, scratch);
+  enumerate_strategies(scene, p, rng, scratch, visit);
+}
+
 }  // namespace
+
+void enumerate_sample_at(const Scene& scene, const BootstrapParams& params, Rng& rng,
+                         const Vec2& raster, const StrategyVisitor& visit) {
+  thread_local SampleScratch scratch;
+  generate_subpaths_at(scene, params, rng, raster, scratch);
+  enumerate_strategies(scene, params, rng, scratch, visit);
+}
 
 size_t Bootstrap::choose(double u) const {
   const double target = u * cumulative.back();
@@ -124,7 +139,7 @@ void grow_bootstrap(const Scene& scene, const BootstrapParams& p, uint64_t total
   // block's sums and the pool's end pointer.
   struct alignas(64) Block {
     std::vector<BootstrapCandidate> candidates;
-    double sum = 0.0, sum_squares = 0.0;
+    double sum = 0.0, sum_squares = 0.0, largest = 0.0;
   };
   std::vector<Block> results(blocks);
   std::atomic<bool> interrupted{false};
@@ -159,6 +174,7 @@ void grow_bootstrap(const Scene& scene, const BootstrapParams& p, uint64_t total
         });
         out.sum += sample_total;
         out.sum_squares += sample_total * sample_total;
+        out.largest = std::max(out.largest, sample_total);
       }
     });
   });
@@ -172,6 +188,7 @@ void grow_bootstrap(const Scene& scene, const BootstrapParams& p, uint64_t total
       mine.put<uint64_t>(b);
       mine.put(results[b].sum);
       mine.put(results[b].sum_squares);
+      mine.put(results[b].largest);
       mine.put_vector(results[b].candidates);
     }
     for (const std::string_view part : cluster::gather_everywhere(mine.data())) {
@@ -181,6 +198,7 @@ void grow_bootstrap(const Scene& scene, const BootstrapParams& p, uint64_t total
         Block& block = results.at(in.get<uint64_t>());
         block.sum = in.get<double>();
         block.sum_squares = in.get<double>();
+        block.largest = in.get<double>();
         block.candidates =
             in.get_vector_up_to<BootstrapCandidate>(UINT64_MAX / sizeof(BootstrapCandidate));
       }
@@ -200,6 +218,7 @@ void grow_bootstrap(const Scene& scene, const BootstrapParams& p, uint64_t total
   for (Block& block : results) {  // block order: the same pool at any thread count
     sum += block.sum;
     sum_squares += block.sum_squares;
+    result.largest_sample = std::max(result.largest_sample, block.largest);
     result.candidates.insert(result.candidates.end(), block.candidates.begin(),
                              block.candidates.end());
     for (const BootstrapCandidate& c : block.candidates) {
@@ -214,6 +233,20 @@ void grow_bootstrap(const Scene& scene, const BootstrapParams& p, uint64_t total
     const double n = double(result.samples);
     result.b = sum / n;
     result.standard_error = std::sqrt(std::max(sum_squares / n - result.b * result.b, 0.0) / n);
+  }
+}
+
+void bootstrap_sample_totals(const Scene& scene, const BootstrapParams& p, uint32_t first,
+                             uint32_t last, const std::function<void(double)>& each) {
+  SampleScratch scratch;
+  for (uint32_t sample = first; sample < last; ++sample) {
+    double total = 0.0;
+    enumerate_sample(scene, p, sample, scratch, [&](int, int, const Rgb& c, auto, auto) {
+      const float weight = luminance(c);
+      if (weight > 0.0f) total += weight;
+      return true;
+    });
+    each(total);
   }
 }
 

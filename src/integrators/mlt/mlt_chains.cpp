@@ -76,7 +76,7 @@ std::vector<std::string> strategy_names(const StrategyMix& mix) {
 
 std::vector<MltChain> MltChains::load_chains(StateReader& in, const PathCodec& codec,
                                              MltStatistics& stats, uint64_t ensemble_chains) {
-  stats.b = in.get<double>();
+  stats.bootstrap_b = in.get<double>();
   stats.b_standard_error = in.get<double>();
   stats.bootstrap_samples = in.get<uint64_t>();
   stats.bootstrap_seconds = in.get<double>();
@@ -134,7 +134,7 @@ bool MltChains::owns_chain(uint64_t c) const {
 }
 
 void MltChains::save(StateWriter& out) const {
-  out.put<double>(stats_.b);
+  out.put<double>(stats_.bootstrap_b);
   out.put<double>(stats_.b_standard_error);
   out.put<uint64_t>(stats_.bootstrap_samples);
   out.put<double>(stats_.bootstrap_seconds);
@@ -164,6 +164,7 @@ void MltChains::save(StateWriter& out) const {
   out.put(alpha);
   out.put(ensemble ? ensemble->swaps : uint64_t(0));
   out.put(ensemble ? ensemble->tree_seconds : 0.0);
+  setup_.normalisation.save(out);
 }
 
 void MltChains::load(StateReader& in) {
@@ -186,6 +187,12 @@ void MltChains::load(StateReader& in) {
   blocks_.front().alpha = in.get<AlphaTally>();
   const uint64_t swaps = in.get<uint64_t>();
   const double tree_seconds = in.get<double>();
+  // A checkpoint of format 4 ends here: its normalisation starts from the bootstrap's figures.
+  if (in.remaining() > 0)
+    setup_.normalisation.load(in);
+  else
+    setup_.normalisation.start(stats_.bootstrap_samples, stats_.bootstrap_b,
+                               stats_.b_standard_error);
   in.expect_end();
   EnsembleSchedule* ensemble = setup_.ensemble.get();
   if (ensemble) {
@@ -200,7 +207,9 @@ void MltChains::load(StateReader& in) {
   uint64_t left = 0;
   bool consistent = half <= 1 && (ensemble || half == 0) && is_checkpoint(next_checkpoint_) &&
                     next_checkpoint_ <= (1ull << 40) && is_checkpoint(timed_rounds_) &&
-                    timed_rounds_ <= (1ull << 40) && std::isfinite(stats_.b) && stats_.b > 0.0 &&
+                    timed_rounds_ <= (1ull << 40) && std::isfinite(stats_.bootstrap_b) &&
+                    stats_.bootstrap_b > 0.0 &&
+                    setup_.normalisation.bootstrap_samples() == stats_.bootstrap_samples &&
                     std::isfinite(alpha_sum);
   // A filter's negative lobes may leave a pixel's sum below zero.
   const bool signed_sums = has_negative_lobes(setup_.scene.description().camera.filter);
@@ -377,7 +386,8 @@ Image MltChains::compose(uint64_t mutations_done) {
     }
   }
   const double splatted = double(mutations_done) * double(live_) / double(chain_count_);
-  const double scale = splatted > 0.0 ? double(pixels_) * stats_.b / splatted : 0.0;
+  const double b = setup_.normalisation.sums().b();
+  const double scale = splatted > 0.0 ? double(pixels_) * b / splatted : 0.0;
   Image image = run_.direct_image();
   for (uint64_t p = 0; p < pixels_; ++p) image.pixels[p] += Rgb(total[p] * scale);
   return image;
@@ -394,6 +404,12 @@ RenderResult MltChains::render(const std::string& name) {
 }
 
 void MltChains::finish_statistics() {
+  const NormalisationSums& sums = setup_.normalisation.sums();
+  stats_.b = sums.b();
+  stats_.b_standard_error = sums.error();
+  stats_.b_samples = sums.samples;
+  stats_.b_largest_share = sums.largest_share();
+  stats_.normalisation_seconds = setup_.normalisation.seconds();
   if (record_moves_) {
     std::vector<int64_t> units;
     if (!FixedPointFilm::total_units(move_films_, units))

@@ -95,6 +95,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
                                           : default_chain_count(timed ? pixels * 16 : budget);
 
   const PathCodec codec(scene);
+  NormalisationPass normalisation(scene, bp, settings.normalisation_rate);
   std::optional<StateReader> chain_in;
   std::vector<MltChain> chains;
   if (!chain_section.empty()) {
@@ -124,7 +125,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
       grow_bootstrap(scene, bp, grown, bootstrap);
     }
     if (run.stopped_in_bootstrap(bootstrap.interrupted, result, stats_)) return result;
-    stats_.b = bootstrap.b;
+    stats_.b = stats_.bootstrap_b = bootstrap.b;
     stats_.b_standard_error = bootstrap.standard_error;
     stats_.bootstrap_samples = bootstrap.samples;
     if (bootstrap.empty()) {
@@ -136,6 +137,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
     // (In --stats: on Veach's door the pool is worth some 8,800 candidates, and 16,384
     // default chains of 2,300 steps gave 2.5x the variance of 1,024 chains; docs/performance.md.)
     stats_.bootstrap_effective_candidates = bootstrap.effective_candidates();
+    normalisation.start(bootstrap);
     // Seeds: each chain resamples the bootstrap pool from its own stream (in EMLT, both
     // ensembles come from the one pool, §3.4).
     // In parallel: each chain has its own stream, so the order does not matter (serial, the
@@ -168,7 +170,8 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
                  StepRules{options_.ignore_selection_probability, settings.mlt_expected_values,
                            options_.drop_rejected_steps},
                  planned,
-                 std::move(ensemble)};
+                 std::move(ensemble),
+                 std::move(normalisation)};
   MltChains mlt(std::move(setup), std::move(chains), run, progress, stats_,
                 chain_in ? &*chain_in : nullptr);
   chain_in.reset();

@@ -64,6 +64,11 @@ const std::vector<RenderOption>& mlt_options() {
       return s.bootstrap_seed ? recorded_number(*s.bootstrap_seed) : std::string("(--seed)");
     };
     o.push_back(start);
+    o.push_back(real_option("--normalisation-rate", &RenderSettings::normalisation_rate, 0.0,
+                            false, 64.0, "a number from 0 to 64",
+                            "mlt/gamlt/emlt: bootstrap samples per mutation drawn beside the "
+                            "chains, so that b (the image's scale) keeps converging (default "
+                            "1/64, about a tenth of the time; 0: the bootstrap's b alone)"));
     RenderOption mix;
     mix.flag = "--mutations";
     mix.help =
@@ -206,6 +211,14 @@ const std::vector<RenderOption>& ensemble_options() {
                               "image points of the step's guides, or of the whole complementary "
                               "ensemble"));
     apply_only_where(o, path_space_family);
+    // ERPT's chains take the same strategies, and its chain counts the bootstrap's b; its
+    // direct light is left to BDPT as the family's is to the direct pass.
+    for (RenderOption& option : o)
+      if (option.flag == "--mutations" || option.flag == "--bootstrap" ||
+          option.flag == "--bootstrap-seed" || option.flag == "--direct")
+        option.applies = [](const RenderSettings& s) {
+          return path_space_family(s) || s.integrator == "erpt";
+        };
     return o;
   }();
   return options;

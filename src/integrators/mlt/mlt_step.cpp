@@ -24,7 +24,7 @@ size_t film_index(const Path& path, int width, int height) {
 void FilmSlot::splat(int width, int height, const Path& path, const DVec3& contribution,
                      double target, double weight) const {
   if (!(weight > 0.0) || !(target > 0.0)) return;
-  const DVec3 value = contribution * (weight / target);
+  const DVec3 value = contribution * (weight * scale / target);
   if (filter.is_box()) {
     film.add(film_index(path, width, height), value, shared);
     return;

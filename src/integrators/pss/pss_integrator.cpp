@@ -188,7 +188,9 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
   }
   const double b = boot.b();
   if (!(b > 0.0) || !std::isfinite(b)) throw StateError("the saved bootstrap is inconsistent");
-  stats_.b = b;
+  // PSSMLT and MMLT scale by the bootstrap's b alone.
+  stats_.b = stats_.bootstrap_b = b;
+  stats_.b_samples = stats_.bootstrap_samples;
 
   PssChains pss(PssSetup{scene, settings, tracer, options_, min_edges, max_edges, std::move(boot)},
                 run, progress, stats_, chain_in ? &*chain_in : nullptr);

@@ -25,6 +25,44 @@ void read_scene_file_options(Properties& props, MitsubaElement element,
   }
 }
 
+// Mitsuba's ERPT parameters under emlt's flags: they change only how its chains spread the
+// seeds' energy (the image is the same), but a comparison at equal work needs them.
+void read_erpt(const Document& doc, pugi::xml_node node, Properties& props,
+               SceneRenderRequest& request) {
+  const auto number = [](double value) { return std::to_string(value); };
+  if (props.has("numChains"))
+    request.set("--erpt-chains", number(props.get_float("numChains", 1.0f)));
+  if (props.has("maxChains"))
+    request.set("--erpt-max-chains", number(props.get_float("maxChains", 0.0f)));
+  if (props.has("chainLength"))
+    request.set("--erpt-chain-length", std::to_string(props.get_integer("chainLength", 100)));
+  // directSamples -1 leaves the direct light to the chains; otherwise it is rendered apart
+  // (by Mitsuba's direct integrator, here by the seeds' BDPT strategies: the same image).
+  if (props.has("directSamples"))
+    request.set("--direct", props.get_integer("directSamples", 16) < 0 ? "mlt" : "separate");
+  if (props.has("luminanceSamples"))
+    request.set("--bootstrap", std::to_string(props.get_integer("luminanceSamples", 15000)));
+  // The chains' strategies, Mitsuba's defaults for ERPT: Veach's perturbations alone.
+  std::string mix;
+  const auto take = [&](const char* flag, bool fallback, const char* strategy) {
+    if (!props.get_boolean(flag, fallback)) return;
+    if (!mix.empty()) mix.push_back(',');
+    mix.append(strategy);
+  };
+  take("bidirectionalMutation", false, "bidir=1");
+  take("lensPerturbation", true, "lens=1");
+  take("causticPerturbation", true, "caustic=1");
+  take("multiChainPerturbation", true, "multichain=1");
+  if (props.get_boolean("manifoldPerturbation", false))
+    doc.warn(props.node_of("manifoldPerturbation"),
+             "'manifoldPerturbation': emlt has no manifold perturbation; its chains use the "
+             "other perturbations (the image is the same)",
+             Document::Warning::Note);
+  if (mix.empty())
+    doc.fail(node, "erpt: every perturbation is switched off (Mitsuba needs at least one)");
+  request.set("--mutations", mix);
+}
+
 }  // namespace
 
 bool read_integrator(const Document& doc, pugi::xml_node node, SceneRenderRequest& request) {
@@ -42,6 +80,8 @@ bool read_integrator(const Document& doc, pugi::xml_node node, SceneRenderReques
     request.integrator = "pssmlt";
   else if (type == "ptracer")
     request.integrator = "ptracer";
+  else if (type == "erpt")
+    request.integrator = "erpt";
   else if (doc.mitsuba3() && (type == "volpath" || type == "volpathmis" || type == "prb" ||
                               type == "prb_basic" || type == "prbvolpath")) {
     // Mitsuba 3's path tracers with media or differentiation: without a medium (emlt has
@@ -58,6 +98,7 @@ bool read_integrator(const Document& doc, pugi::xml_node node, SceneRenderReques
                  (request.integrator.empty() ? RenderSettings().integrator : request.integrator) +
                  "'",
              Document::Warning::Approximated);
+  if (type == "erpt") read_erpt(doc, node, props, request);
   // Parameters that steer how fast an integrator converges, never what it converges to:
   // emlt's integrators have their own (command line) controls.
   std::vector<std::string> tuning;
@@ -70,6 +111,10 @@ bool read_integrator(const Document& doc, pugi::xml_node node, SceneRenderReques
                            "bidirectionalMutation",
                            "lensPerturbation",
                            "multiChainPerturbation",
+                           // the names Mitsuba's documentation gives the two above (its
+                           // code does not read them: it warns and ignores them)
+                           "multiChain",
+                           "caustic",
                            "causticPerturbation",
                            "manifoldPerturbation",
                            "bidirectional",
@@ -88,7 +133,7 @@ bool read_integrator(const Document& doc, pugi::xml_node node, SceneRenderReques
                            "bsdfSamples",
                            "shadingSamples",
                            "granularity"})
-    if (props.has(name)) tuning.push_back(name);
+    if (props.has(name) && !props.used(name)) tuning.push_back(name);
   for (const std::string& name : tuning) props.ignore({name.c_str()});
   if (type == "ptracer" && doc.mitsuba3()) {
     // Mitsuba 3 changed this: its particle tracer reads hide_emitters (every integrator

@@ -7,9 +7,12 @@
 // Candidates are stored as (sample, s, t) only: a seed path is rebuilt by replaying its
 // sample's random stream, so the pool costs 12 bytes a candidate however long its paths.
 #include <cstdint>
+#include <functional>
 #include <optional>
+#include <span>
 #include <vector>
 
+#include "emlt/core/rng.h"
 #include "emlt/path/path.h"
 #include "emlt/settings/settings.h"
 
@@ -36,6 +39,20 @@ struct BootstrapParams {
   }
 };
 
+// What a visitor sees of one strategy of a bidirectional sample: its subpaths (for joining
+// the path: join_subpaths) and the MIS-weighted contribution. Returning false stops the
+// enumeration.
+using StrategyVisitor =
+    std::function<bool(int s, int t, const Rgb& contribution, std::span<const PathVertex> light,
+                       std::span<const PathVertex> camera_side)>;
+
+// One bidirectional sample as the bootstrap draws it (every strategy (s, t) with paths of
+// params' lengths, MIS-weighted), but from `rng` and with its camera subpath through
+// `raster`: a pixel sample's, whose contributions are then in the same units as a bootstrap
+// sample's (W_e of the whole film). Not reentrant for the visitor (a scratch per thread).
+void enumerate_sample_at(const Scene& scene, const BootstrapParams& params, Rng& rng,
+                         const Vec2& raster, const StrategyVisitor& visit);
+
 struct BootstrapCandidate {
   uint32_t sample = 0;
   uint8_t s = 0, t = 0;
@@ -49,6 +66,7 @@ struct Bootstrap {
   std::vector<BootstrapCandidate> candidates;
   std::vector<double> cumulative;       // running sum of candidate weights
   double sum = 0.0, sum_squares = 0.0;  // of the samples' summed weights (b's, for growing)
+  double largest_sample = 0.0;          // the largest of them
   bool interrupted = false;             // a stop signal cut it short: not to be used
 
   bool empty() const { return candidates.empty() || !(b > 0.0); }
@@ -66,6 +84,11 @@ Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& params);
 // bits, being summed in other groups). A stop signal marks the pool interrupted.
 void grow_bootstrap(const Scene& scene, const BootstrapParams& params, uint64_t total,
                     Bootstrap& pool);
+
+// The summed candidate weights of each of samples [first, last), the terms whose mean is b,
+// in sample order to `each` (one thread; a stop signal is left to the caller).
+void bootstrap_sample_totals(const Scene& scene, const BootstrapParams& params, uint32_t first,
+                             uint32_t last, const std::function<void(double)>& each);
 
 // How many samples the pool should have, given what `samples` of them are worth
 // (effective_candidates) and the chains they seed: chains seeded from a pool worth fewer

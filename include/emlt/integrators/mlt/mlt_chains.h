@@ -12,6 +12,7 @@
 #include "emlt/integrators/mlt/mlt_chain.h"
 #include "emlt/integrators/mlt/mlt_integrator.h"
 #include "emlt/integrators/mlt/mlt_step.h"
+#include "emlt/integrators/mlt/normalisation_pass.h"
 #include "emlt/run/chain_sweeper.h"
 
 namespace emlt {
@@ -25,6 +26,7 @@ struct MltSetup {
   StepRules rules;
   uint64_t planned;                            // mutations (UINT64_MAX: the time budget alone)
   std::unique_ptr<EnsembleSchedule> ensemble;  // EMLT only
+  NormalisationPass normalisation;  // started from the bootstrap (a resumed one is loaded)
 };
 
 class MltChains final : public ChainSteps {
@@ -50,6 +52,7 @@ class MltChains final : public ChainSteps {
   bool in_sweep() const override { return sweep_.active; }
   void begin_sweep(uint64_t rounds) override;
   uint64_t sweep_end() const override { return sweep_.done_before + sweep_.size; }
+  bool keep_pace(uint64_t mutations) override { return setup_.normalisation.up_to(mutations); }
   void continue_sweep() override;
   uint64_t sweep_block(int block, size_t film) override;
   bool behind() const override { return steps_left() > 0; }

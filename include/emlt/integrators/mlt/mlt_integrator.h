@@ -23,12 +23,19 @@
 namespace emlt {
 
 struct MltStatistics {
-  double b = 0.0, b_standard_error = 0.0;
+  // b as the image is scaled by it, from b_samples samples: the bootstrap's and, in mlt,
+  // gamlt and emlt, those drawn beside the chains (normalisation_pass.h); the largest single
+  // sample's share of their sum (0: not known).
+  double b = 0.0, b_standard_error = 0.0, b_largest_share = 0.0;
+  uint64_t b_samples = 0;
+  // The bootstrap's own b and samples.
+  double bootstrap_b = 0.0;
   uint64_t bootstrap_samples = 0, chains = 0, mutations = 0;
   double seconds = 0.0;            // the whole render: direct pass, bootstrap and chains
   double direct_seconds = 0.0;     // the separate direct-lighting pass (--direct separate)
   int direct_spp = 0;              // its samples per pixel (0 with --direct mlt)
   double bootstrap_seconds = 0.0;  // bootstrap and chain seeding
+  double normalisation_seconds = 0.0;  // the samples drawn beside the chains
   // The strategies' searches built before the chains (Mutation::prepare: gamlt's surface
   // hierarchy and clearance field), in this run; not the chains' time.
   double prepare_seconds = 0.0;
@@ -37,7 +44,8 @@ struct MltStatistics {
   double bootstrap_effective_candidates = 0.0;
   // Mutations per second of the chains alone (what the benchmark calls "chain only").
   double chain_mutations_per_second() const {
-    const double chain_seconds = seconds - direct_seconds - bootstrap_seconds - prepare_seconds;
+    const double chain_seconds =
+        seconds - direct_seconds - bootstrap_seconds - prepare_seconds - normalisation_seconds;
     return chain_seconds > 0.0 ? double(mutations) / chain_seconds : 0.0;
   }
   std::vector<std::string> strategy_names;

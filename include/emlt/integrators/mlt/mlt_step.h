@@ -46,6 +46,7 @@ struct FilmSlot {
   FixedPointFilm* moves;
   bool shared;
   const PixelFilter& filter;
+  double scale = 1.0;  // on every splat's weight (ERPT's chains of another energy)
   // Out of line so that a profile of the chains (bench/suite.py, callgrind) can tell
   // splatting from the driver's bookkeeping; one call per splat, below 1 % of a mutation.
   [[gnu::noinline]] void splat(int width, int height, const Path& path, const DVec3& contribution,
