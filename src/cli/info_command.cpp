@@ -4,6 +4,7 @@
 
 #include "cli/commands.h"
 #include "cli/fidelity.h"
+#include "emlt/integrators/registry.h"
 #include "emlt/run/scene_settings.h"
 #include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/scene.h"
@@ -63,7 +64,8 @@ int run_info(const InfoOptions& options) {
   fmt::print("materials    {}\n", d.materials.size());
   for (const auto& m : d.materials)
     fmt::print("  {:<20} {}\n", m.name, m.bsdf ? m.bsdf->name() : std::string("(none)"));
-  const RenderSettings s = settings_for(d.render);  // the file's, else the engine's defaults
+  RenderSettings s = settings_for(d.render);  // the file's, else the engine's defaults
+  apply_integrator_options(d.render, s);
   fmt::print("integrator   {} (max depth {}, roulette after {} segments, {} spp{})\n", s.integrator,
              s.max_depth, s.rr_depth, s.spp, s.hide_emitters ? ", emitters hidden" : "");
   fmt::print("warnings     {}\n", scene->warnings().size());

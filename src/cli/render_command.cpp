@@ -126,6 +126,7 @@ int run_render(const CLI::App& command, RenderOptions& o) {
 
   // The engine's defaults, then what the scene file says, then what the command line says.
   RenderSettings settings = settings_for(desc.render);
+  apply_integrator_options(desc.render, settings);
   const auto given = [&](const char* name) { return command.count(name) > 0; };
   if (given("--integrator")) settings.integrator = o.integrator;
   for (const RenderOption& option : render_options())

@@ -86,6 +86,16 @@ const std::vector<RenderOption>& render_options() {
   return options;
 }
 
+void apply_integrator_options(const SceneRenderRequest& request, RenderSettings& settings) {
+  for (const auto& [flag, text] : request.integrator_options) {
+    const RenderOption* found = nullptr;
+    for (const RenderOption& option : render_options())
+      if (option.flag == flag) found = &option;
+    if (!found) throw Error("no integrator has the option " + flag);
+    found->set(settings, text);
+  }
+}
+
 std::vector<std::string> integrator_names() {
   std::vector<std::string> names;
   for (const Registration& r : kIntegrators) names.push_back(r.name);

@@ -31,7 +31,18 @@ namespace emlt {
 std::optional<std::string> SceneRenderRequest::said(std::string_view flag) const {
   for (const auto& [f, text] : options)
     if (f == flag) return text;
+  for (const auto& [f, text] : integrator_options)
+    if (f == flag) return text;
   return std::nullopt;
+}
+
+void SceneRenderRequest::set_integrator_option(const std::string& flag, std::string text) {
+  for (auto& [f, t] : integrator_options)
+    if (f == flag) {
+      t = std::move(text);
+      return;
+    }
+  integrator_options.emplace_back(flag, std::move(text));
 }
 
 void SceneRenderRequest::set(const std::string& flag, std::string text) {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "emlt/run/integrator.h"
+#include "emlt/scene/description.h"
 #include "emlt/settings/render_option.h"
 
 namespace emlt {
@@ -17,5 +18,8 @@ std::vector<std::string> integrator_names();
 // Every option the integrators and the run loop declare (render_option.h), each flag once,
 // in the order the command line lists them.
 const std::vector<RenderOption>& render_options();
+// A scene file's options of its integrator's own (SceneRenderRequest::integrator_options),
+// set through their flags; a flag no integrator declares is an Error naming it.
+void apply_integrator_options(const SceneRenderRequest& request, RenderSettings& settings);
 
 }  // namespace emlt

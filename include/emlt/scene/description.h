@@ -144,6 +144,11 @@ struct SceneRenderRequest {
   std::optional<std::string> said(std::string_view flag) const;
   // Records `text` for `flag`, replacing what an earlier element said.
   void set(const std::string& flag, std::string text);
+  // Options of the file's integrator that only it has (ERPT's chain counts and length, its
+  // strategies, in their flags' words): the command line sets them through its registry
+  // before its own flags. said() reports them too.
+  std::vector<std::pair<std::string, std::string>> integrator_options;
+  void set_integrator_option(const std::string& flag, std::string text);
 };
 
 struct SceneDescription {

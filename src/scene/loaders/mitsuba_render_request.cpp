@@ -31,17 +31,20 @@ void read_erpt(const Document& doc, pugi::xml_node node, Properties& props,
                SceneRenderRequest& request) {
   const auto number = [](double value) { return std::to_string(value); };
   if (props.has("numChains"))
-    request.set("--erpt-chains", number(props.get_float("numChains", 1.0f)));
+    request.set_integrator_option("--erpt-chains", number(props.get_float("numChains", 1.0f)));
   if (props.has("maxChains"))
-    request.set("--erpt-max-chains", number(props.get_float("maxChains", 0.0f)));
+    request.set_integrator_option("--erpt-max-chains", number(props.get_float("maxChains", 0.0f)));
   if (props.has("chainLength"))
-    request.set("--erpt-chain-length", std::to_string(props.get_integer("chainLength", 100)));
+    request.set_integrator_option("--erpt-chain-length",
+                                  std::to_string(props.get_integer("chainLength", 100)));
   // directSamples -1 leaves the direct light to the chains; otherwise it is rendered apart
   // (by Mitsuba's direct integrator, here by the seeds' BDPT strategies: the same image).
   if (props.has("directSamples"))
-    request.set("--direct", props.get_integer("directSamples", 16) < 0 ? "mlt" : "separate");
+    request.set_integrator_option("--direct",
+                                  props.get_integer("directSamples", 16) < 0 ? "mlt" : "separate");
   if (props.has("luminanceSamples"))
-    request.set("--bootstrap", std::to_string(props.get_integer("luminanceSamples", 15000)));
+    request.set_integrator_option("--bootstrap",
+                                  std::to_string(props.get_integer("luminanceSamples", 15000)));
   // The chains' strategies, Mitsuba's defaults for ERPT: Veach's perturbations alone.
   std::string mix;
   const auto take = [&](const char* flag, bool fallback, const char* strategy) {
@@ -60,7 +63,7 @@ void read_erpt(const Document& doc, pugi::xml_node node, Properties& props,
              Document::Warning::Note);
   if (mix.empty())
     doc.fail(node, "erpt: every perturbation is switched off (Mitsuba needs at least one)");
-  request.set("--mutations", mix);
+  request.set_integrator_option("--mutations", mix);
 }
 
 }  // namespace
@@ -102,37 +105,15 @@ bool read_integrator(const Document& doc, pugi::xml_node node, SceneRenderReques
   // Parameters that steer how fast an integrator converges, never what it converges to:
   // emlt's integrators have their own (command line) controls.
   std::vector<std::string> tuning;
-  for (const char* name : {"lightImage",
-                           "sampleDirect",
-                           "luminanceSamples",
-                           "twoStage",
-                           "directSamples",
-                           "separateDirect",
-                           "bidirectionalMutation",
-                           "lensPerturbation",
-                           "multiChainPerturbation",
-                           // the names Mitsuba's documentation gives the two above (its
-                           // code does not read them: it warns and ignores them)
-                           "multiChain",
-                           "caustic",
-                           "causticPerturbation",
-                           "manifoldPerturbation",
-                           "bidirectional",
-                           "pLarge",
-                           "kelemenStyleWeights",
-                           "directSampling",
-                           "mutationSizeLow",
-                           "mutationSizeHigh",
-                           "firstStage",
-                           "lambda",
-                           "probFactor",
-                           "firstStageSizeReduction",
-                           "workUnits",
-                           "timeout",
-                           "emitterSamples",
-                           "bsdfSamples",
-                           "shadingSamples",
-                           "granularity"})
+  for (const char* name :
+       {"lightImage", "sampleDirect", "luminanceSamples", "twoStage", "directSamples",
+        "separateDirect", "bidirectionalMutation", "lensPerturbation", "multiChainPerturbation",
+        // multiChain and caustic: the names Mitsuba's documentation gives the multi-chain and
+        // caustic perturbations' switches (its code does not read them: it warns, ignores them)
+        "multiChain", "caustic", "causticPerturbation", "manifoldPerturbation", "bidirectional",
+        "pLarge", "kelemenStyleWeights", "directSampling", "mutationSizeLow", "mutationSizeHigh",
+        "firstStage", "lambda", "probFactor", "firstStageSizeReduction", "workUnits", "timeout",
+        "emitterSamples", "bsdfSamples", "shadingSamples", "granularity"})
     if (props.has(name) && !props.used(name)) tuning.push_back(name);
   for (const std::string& name : tuning) props.ignore({name.c_str()});
   if (type == "ptracer" && doc.mitsuba3()) {

@@ -53,6 +53,14 @@ def add_scenes(s):
                                    '\n    <boolean name="bidirectional" value="true"/>'
                                    '\n    <float name="pLarge" value="0.3"/>\n  </integrator>\n'),
         ["pssmlt"])
+    # Mitsuba's ERPT: its image is the path tracer's (Cline et al.'s estimator is unbiased),
+    # and its parameters (chains per pixel, their length, the direct light apart) are read.
+    s["integrator-erpt"] = ("a file naming Mitsuba's erpt (maxDepth 4) renders with emlt's erpt; reference: Mitsuba's path tracer",
+        scene(bidir_subject, integ='  <integrator type="erpt">\n    <integer name="maxDepth" value="4"/>'
+                                   '\n    <float name="numChains" value="2"/>'
+                                   '\n    <integer name="chainLength" value="50"/>'
+                                   '\n    <integer name="directSamples" value="16"/>\n  </integrator>\n'),
+        ["erpt"])
 
     # Parallel projection: toWorld's scale sizes the film (x in [-1.1, 1.1], y over the
     # aspect's share of it); a view from above one corner shows two walls and the floor.
