@@ -36,22 +36,25 @@ std::optional<std::string> SceneRenderRequest::said(std::string_view flag) const
   return std::nullopt;
 }
 
-void SceneRenderRequest::set_integrator_option(const std::string& flag, std::string text) {
-  for (auto& [f, t] : integrator_options)
+namespace {
+// Records `text` for `flag` in `list`, replacing what was said before.
+void record(std::vector<std::pair<std::string, std::string>>& list, const std::string& flag,
+            std::string text) {
+  for (auto& [f, t] : list)
     if (f == flag) {
       t = std::move(text);
       return;
     }
-  integrator_options.emplace_back(flag, std::move(text));
+  list.emplace_back(flag, std::move(text));
 }
+}  // namespace
 
 void SceneRenderRequest::set(const std::string& flag, std::string text) {
-  for (auto& [f, t] : options)
-    if (f == flag) {
-      t = std::move(text);
-      return;
-    }
-  options.emplace_back(flag, std::move(text));
+  record(options, flag, std::move(text));
+}
+
+void SceneRenderRequest::set_integrator_option(const std::string& flag, std::string text) {
+  record(integrator_options, flag, std::move(text));
 }
 
 std::string SceneDescription::verdict() const {
@@ -62,7 +65,8 @@ std::string SceneDescription::verdict() const {
   auto items = [](size_t n) { return std::to_string(n) + (n == 1 ? " item" : " items"); };
   std::string text;
   if (approximated) text = "approximated: " + items(approximated);
-  if (unsupported) text += (text.empty() ? "" : ", ") + std::string("unsupported: ") + items(unsupported);
+  if (unsupported)
+    text += (text.empty() ? "" : ", ") + std::string("unsupported: ") + items(unsupported);
   return text;
 }
 

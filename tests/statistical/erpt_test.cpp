@@ -9,7 +9,7 @@
 
 #include "emlt/integrators/bdpt.h"
 #include "emlt/integrators/erpt/erpt_integrator.h"
-#include "emlt/scene/loaders/loader.h"
+#include "support/mlt_test_helpers.h"
 #include "support/test_scenes.h"
 #include "support/test_support.h"
 
@@ -19,11 +19,7 @@ namespace {
 
 const Rgb kAlbedo(0.9f, 0.5f, 0.1f);
 
-RenderResult render(const Integrator& integrator, const Scene& scene, RenderSettings s) {
-  s.progress = false;
-  ProgressReporter progress(false);
-  return integrator.render(scene, s, progress);
-}
+using test::render;
 
 DVec3 mean_of(const Image& image) {
   DVec3 sum(0.0);
@@ -61,7 +57,7 @@ TEST_P(ErptClosedBox, ReproducesTheExactColour) {
   const int max_depth = 5;
   const auto scene = test::emissive_box(kAlbedo, 1.0f);
   const Rgb exact = test::emissive_box_radiance(kAlbedo, 1.0f, max_depth);
-  const Image image = render(*make_erpt(), *scene, erpt_settings(max_depth, direct_separate)).image;
+  const Image image = render(*make_erpt(), *scene, erpt_settings(max_depth, direct_separate));
   const DVec3 mean = mean_of(image);
   std::printf("[ info     ] direct separate %d: %.4f %.4f %.4f of the exact colour\n",
               int(direct_separate), mean.x / exact.x, mean.y / exact.y, mean.z / exact.z);
@@ -81,18 +77,16 @@ TEST(ErptInjectedBugs, ChainCountsRoundedDownOrBoundsIgnoredAreCaught) {
   RenderSettings s = erpt_settings(max_depth, false);
   s.spp = 16;
   s.erpt_chains = 8.0;  // half a chain per seed
-  const double good = worst_relative_error(render(*make_erpt(), *scene, s).image, exact);
+  const double good = worst_relative_error(render(*make_erpt(), *scene, s), exact);
   ErptOptions rounded;
   rounded.chains_rounded_down = true;
-  const double rounded_error =
-      worst_relative_error(render(*make_erpt(rounded), *scene, s).image, exact);
+  const double rounded_error = worst_relative_error(render(*make_erpt(rounded), *scene, s), exact);
   s.erpt_chains = 64.0;  // four chains per seed, at most one
   s.erpt_max_chains = 1.0;
-  const double bounded = worst_relative_error(render(*make_erpt(), *scene, s).image, exact);
+  const double bounded = worst_relative_error(render(*make_erpt(), *scene, s), exact);
   ErptOptions ignored;
   ignored.deposit_ignores_bound = true;
-  const double ignored_error =
-      worst_relative_error(render(*make_erpt(ignored), *scene, s).image, exact);
+  const double ignored_error = worst_relative_error(render(*make_erpt(ignored), *scene, s), exact);
   std::printf(
       "[ info     ] worst channel error: %.4f, rounded down %.4f; bounded %.4f, bound "
       "ignored %.4f\n",
@@ -110,10 +104,7 @@ TEST(ErptInjectedBugs, ChainCountsRoundedDownOrBoundsIgnoredAreCaught) {
 // within 3-5 % of BDPT's (six seeds: 0.974-1.054, mean 1.005; BDPT's own at 128 spp: 1.004,
 // 1.042), so two seeds are averaged and held to 5 %.
 TEST(ErptCausticPool, ConvergesToBdpt) {
-  SceneDescription d =
-      load_scene_description(test::source_path("scenes/caustic-pool/scene.json"), {});
-  d.camera.width = d.camera.height = 16;
-  const auto scene = Scene::build(std::move(d));
+  const auto scene = test::shipped_scene("caustic-pool", 16);
   RenderSettings s;
   s.integrator = "erpt";
   s.max_depth = 6;
@@ -124,11 +115,11 @@ TEST(ErptCausticPool, ConvergesToBdpt) {
   RenderSettings r;
   r.max_depth = 6;
   r.spp = 2048;
-  const double bdpt = luminance(Rgb(mean_of(render(BidirectionalPathTracer(), *scene, r).image)));
+  const double bdpt = luminance(Rgb(mean_of(render(BidirectionalPathTracer(), *scene, r))));
   double sum = 0.0;
   for (uint64_t seed : {1u, 2u}) {
     s.seed = seed;
-    const double ratio = luminance(Rgb(mean_of(render(*make_erpt(), *scene, s).image))) / bdpt;
+    const double ratio = luminance(Rgb(mean_of(render(*make_erpt(), *scene, s)))) / bdpt;
     std::printf("[ info     ] seed %llu: erpt / bdpt %.4f\n", static_cast<unsigned long long>(seed),
                 ratio);
     EXPECT_NEAR(ratio, 1.0, 0.08);
@@ -144,9 +135,9 @@ TEST(ErptDeterminism, SameBitsOnOneAndThreeThreads) {
   RenderSettings s = erpt_settings(5, true);
   s.spp = 4;
   s.threads = 1;
-  const Image one = render(*make_erpt(), *scene, s).image;
+  const Image one = render(*make_erpt(), *scene, s);
   s.threads = 3;
-  const Image three = render(*make_erpt(), *scene, s).image;
+  const Image three = render(*make_erpt(), *scene, s);
   ASSERT_EQ(one.pixels.size(), three.pixels.size());
   EXPECT_EQ(0,
             std::memcmp(one.pixels.data(), three.pixels.data(), one.pixels.size() * sizeof(Rgb)));

@@ -14,19 +14,12 @@
 #include "emlt/integrators/bdpt.h"
 #include "emlt/integrators/mlt/bootstrap.h"
 #include "emlt/integrators/mlt/mlt_integrator.h"
-#include "emlt/scene/loaders/loader.h"
+#include "support/mlt_test_helpers.h"
 #include "support/test_support.h"
 
 using namespace emlt;
 
 namespace {
-
-std::unique_ptr<Scene> small_scene(const std::string& name, int size) {
-  SceneDescription d =
-      load_scene_description(test::source_path("scenes/" + name + "/scene.json"), {});
-  d.camera.width = d.camera.height = size;
-  return Scene::build(std::move(d));
-}
 
 BootstrapParams params(uint64_t seed, int samples, int threads) {
   BootstrapParams p;
@@ -49,7 +42,7 @@ bool same_sums(const NormalisationSums& a, const NormalisationSums& b) {
 // pass numbering its samples from 0 again (injected: it would count the bootstrap's paths
 // twice) the sums differ.
 TEST(NormalisationPass, DrawsTheBootstrapsNextSamples) {
-  const auto scene = small_scene("cornell-box", 16);
+  const auto scene = test::shipped_scene("cornell-box", 16);
   const BootstrapParams p = params(7, 3000, 2);
   const Bootstrap bootstrap = run_bootstrap(*scene, p);
   NormalisationPass pass(*scene, p, 1.0);
@@ -80,7 +73,7 @@ TEST(NormalisationPass, DrawsTheBootstrapsNextSamples) {
 // Slices end on whole groups, which are summed in order: one slice or many, one thread or
 // several, the same bits; a rate of 0 draws nothing and keeps the bootstrap's b.
 TEST(NormalisationPass, SameBitsHoweverSlicedOrThreaded) {
-  const auto scene = small_scene("cornell-box", 16);
+  const auto scene = test::shipped_scene("cornell-box", 16);
   const Bootstrap bootstrap = run_bootstrap(*scene, params(3, 2000, 1));
   NormalisationPass once(*scene, params(3, 2000, 1), 0.5);
   once.start(bootstrap);
@@ -105,7 +98,7 @@ TEST(NormalisationPass, SameBitsHoweverSlicedOrThreaded) {
 
 // A checkpoint's figures read back to the same pass; figures no pass can have are refused.
 TEST(NormalisationPass, StateRoundTripsAndDamageIsRefused) {
-  const auto scene = small_scene("cornell-box", 16);
+  const auto scene = test::shipped_scene("cornell-box", 16);
   const Bootstrap bootstrap = run_bootstrap(*scene, params(5, 2000, 2));
   NormalisationPass pass(*scene, params(5, 2000, 2), 0.25);
   pass.start(bootstrap);
@@ -182,7 +175,7 @@ Coverage caustic_pool_coverage(const Scene& scene, int seeds, int edges, uint64_
 // rate), the printed errors cover the spread. Deterministic (fixed seeds); the margins are
 // the sampling spread of a mean z^2 over 16 seeds (about 0.35).
 TEST(NormalisationPass, ErrorCoversTheSpreadOverSeedsOnceEnoughSamplesAreDrawn) {
-  const auto scene = small_scene("caustic-pool", 16);
+  const auto scene = test::shipped_scene("caustic-pool", 16);
   const Coverage few = caustic_pool_coverage(*scene, 16, 6, 0);
   const Coverage many = caustic_pool_coverage(*scene, 16, 6, 397312);
   EXPECT_GT(few.z2_printed, 5.0);  // the bootstrap alone: errors far too small
@@ -197,7 +190,7 @@ TEST(NormalisationPass, ErrorCoversTheSpreadOverSeedsOnceEnoughSamplesAreDrawn) 
 //   emlt_statistical_tests --gtest_also_run_disabled_tests
 //     --gtest_filter=NormalisationPass.DISABLED_ErrorCoverageByCount
 TEST(NormalisationPass, DISABLED_ErrorCoverageByCount) {
-  const auto scene = small_scene("caustic-pool", 16);
+  const auto scene = test::shipped_scene("caustic-pool", 16);
   std::vector<Coverage> rows;
   for (uint64_t drawn : {0ull, 18432ull, 198656ull, 397312ull, 1046528ull})
     rows.push_back(caustic_pool_coverage(*scene, 32, 8, drawn));
