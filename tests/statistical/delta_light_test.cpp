@@ -174,6 +174,17 @@ RenderSettings chain_settings(double mpp, int max_depth, uint64_t seed) {
   return s;
 }
 
+// ERPT's settings: `spp` seeds per pixel, a chain of 32 steps per seed on average, every path
+// (direct light included) redistributed by the chains.
+RenderSettings erpt_settings(int spp, int max_depth, uint64_t seed) {
+  RenderSettings s = settings_for(spp, max_depth, seed);
+  s.bootstrap_samples = 20000;
+  s.direct_separate = false;
+  s.erpt_chains = double(spp);
+  s.erpt_chain_length = 32;
+  return s;
+}
+
 }  // namespace
 
 // --- The lights themselves -----------------------------------------------------------
@@ -296,6 +307,8 @@ TEST(DeltaLightIntegrators, PointLightInASphereGivesTheExactRadiance) {
     const double value = mean_of(render_with(name, *scene, chain_settings(400, depth, 5)));
     EXPECT_NEAR(value, exact, 0.03 * exact) << name;
   }
+  const double erpt = mean_of(render_with("erpt", *scene, erpt_settings(16, depth, 5)));
+  EXPECT_NEAR(erpt, exact, 0.03 * exact) << "erpt";
 }
 
 // Only light tracing finds a beam: the path tracer's image is black (as Mitsuba's), every
@@ -313,6 +326,9 @@ TEST(DeltaLightIntegrators, CollimatedBeamInASphereGivesTheExactRadianceByLightT
     const double value = mean_of(render_with(name, *scene, chain_settings(400, depth, 5)));
     EXPECT_NEAR(value, exact, 0.03 * exact) << name;
   }
+  // ERPT's seeds are BDPT's: their light tracing finds the beam.
+  const double erpt = mean_of(render_with("erpt", *scene, erpt_settings(256, depth, 5)));
+  EXPECT_NEAR(erpt, exact, 0.03 * exact) << "erpt";
 }
 
 TEST(DeltaLightIntegrators, DirectionalLightOnAFloorGivesTheExactRadiance) {
@@ -332,6 +348,8 @@ TEST(DeltaLightIntegrators, DirectionalLightOnAFloorGivesTheExactRadiance) {
     const double value = mean_of(render_with(name, *scene, chain_settings(200, 5, 9)));
     EXPECT_NEAR(value, exact, 0.02 * exact) << name;
   }
+  const double erpt = mean_of(render_with("erpt", *scene, erpt_settings(16, 5, 9)));
+  EXPECT_NEAR(erpt, exact, 0.02 * exact) << "erpt";
 }
 
 // Shadows, colour and several bounces under a directional light and a spot: every
@@ -348,6 +366,9 @@ TEST(DeltaLightIntegrators, CourtyardConvergesToBdptInEveryIntegrator) {
     test::expect_converged_to(render_with(name, *scene, chain_settings(2000, 5, 3)), reference, 2,
                               0.06, 0.04);
   }
+  SCOPED_TRACE("erpt");
+  test::expect_converged_to(render_with("erpt", *scene, erpt_settings(128, 5, 3)), reference, 2,
+                            0.06, 0.04);
 }
 
 TEST(DeltaLightIntegrators, SpotInASphereAgreesBetweenThePathTracerAndBdpt) {
