@@ -87,6 +87,20 @@ TEST(MitsubaIntegrator, ErptIsEmltsErptWithItsParameters) {
   EXPECT_EQ(plain.render.said("--mutations"), "lens=1,caustic=1,multichain=1");
   EXPECT_FALSE(plain.render.said("--erpt-chains").has_value());
 
+  // A value the flag would refuse is refused in the file, naming it and the parameter.
+  const std::string bad = test::error_of([&] {
+    with_integrator("erpt-bad.xml", R"(<integrator type="erpt"><float name="numChains" value="0"/>
+      </integrator>)");
+  });
+  EXPECT_NE(bad.find("erpt-bad.xml"), std::string::npos) << bad;
+  EXPECT_NE(bad.find("numChains"), std::string::npos) << bad;
+  EXPECT_NE(bad.find("a positive number"), std::string::npos) << bad;
+  // Small counts keep their digits (a fixed six decimals would read 1e-7 as 0).
+  EXPECT_EQ(std::stod(*with_integrator("erpt-small.xml", R"(<integrator type="erpt">
+      <float name="numChains" value="1e-7"/></integrator>)")
+                           .render.said("--erpt-chains")),
+            double(1e-7f));
+
   EXPECT_THROW(with_integrator("erpt-none.xml", R"(<integrator type="erpt">
       <boolean name="lensPerturbation" value="false"/>
       <boolean name="causticPerturbation" value="false"/>

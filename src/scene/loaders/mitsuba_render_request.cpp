@@ -29,22 +29,34 @@ void read_scene_file_options(Properties& props, MitsubaElement element,
 // seeds' energy (the image is the same), but a comparison at equal work needs them.
 void read_erpt(const Document& doc, pugi::xml_node node, Properties& props,
                SceneRenderRequest& request) {
-  const auto number = [](double value) { return std::to_string(value); };
+  // The ranges of the flags the parameters set (erpt_integrator.cpp declares them above this
+  // layer), so that a bad value is refused here, naming the file, its line and the parameter.
+  constexpr loader::RealRange kChains{0.0f, true, 1e9f, false,
+                                      "a positive number, at most a billion"};
+  constexpr loader::RealRange kMaxChains{0.0f, false, 1e6f, false,
+                                         "a number from 0 (no bound) to a million"};
+  constexpr loader::IntegerRange kChainLength{1, 1 << 24, "a whole number from 1 to 2^24"};
+  constexpr loader::IntegerRange kLuminanceSamples{1, kMaxBootstrapSamples,
+                                                   "a whole number from 1 to 2^24"};
   if (props.has("numChains"))
-    request.set_integrator_option("--erpt-chains", number(props.get_float("numChains", 1.0f)));
+    request.set_integrator_option(
+        "--erpt-chains", recorded_number(double(props.get_float("numChains", 1.0f, kChains))));
   if (props.has("maxChains"))
-    request.set_integrator_option("--erpt-max-chains", number(props.get_float("maxChains", 0.0f)));
+    request.set_integrator_option(
+        "--erpt-max-chains",
+        recorded_number(double(props.get_float("maxChains", 0.0f, kMaxChains))));
   if (props.has("chainLength"))
-    request.set_integrator_option("--erpt-chain-length",
-                                  std::to_string(props.get_integer("chainLength", 100)));
+    request.set_integrator_option(
+        "--erpt-chain-length", std::to_string(props.get_integer("chainLength", 100, kChainLength)));
   // directSamples -1 leaves the direct light to the chains; otherwise it is rendered apart
   // (by Mitsuba's direct integrator, here by the seeds' BDPT strategies: the same image).
   if (props.has("directSamples"))
     request.set_integrator_option("--direct",
                                   props.get_integer("directSamples", 16) < 0 ? "mlt" : "separate");
   if (props.has("luminanceSamples"))
-    request.set_integrator_option("--bootstrap",
-                                  std::to_string(props.get_integer("luminanceSamples", 15000)));
+    request.set_integrator_option(
+        "--bootstrap",
+        std::to_string(props.get_integer("luminanceSamples", 15000, kLuminanceSamples)));
   // The chains' strategies, Mitsuba's defaults for ERPT: Veach's perturbations alone.
   std::string mix;
   const auto take = [&](const char* flag, bool fallback, const char* strategy) {
