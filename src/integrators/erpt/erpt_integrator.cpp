@@ -1,10 +1,13 @@
 #include "emlt/integrators/erpt/erpt_integrator.h"
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 
 #include "emlt/core/cluster.h"
@@ -71,7 +74,7 @@ class ErptStep final : public PixelSampleStep {
         films_(size_t(std::clamp(threads, 1, kMaxFilms)),
                FixedPointFilm(size_t(width_) * size_t(height_))),
         shared_(threads > kMaxFilms),
-        stats_(mix.size()) {}
+        stats_([n = mix.size()] { return std::vector<BlockCounter>(n); }) {}
 
   void sample(int x, int y, Rng& rng, DVec3&, TileOutput&) override {
     const Vec2 raster(float(x) + rng.uniform(), float(y) + rng.uniform());
@@ -129,7 +132,8 @@ class ErptStep final : public PixelSampleStep {
                                      settings_.erpt_chain_length)) /
                                unit_;
           const FilmSlot slot{film, nullptr, shared_, filter, scale};
-          BlockOutput out{local_stats(), {}};
+          BlockOutput out{stats_.local(), {}};
+          chains_started_.fetch_add(uint64_t(chains), std::memory_order_relaxed);
           const StrategyMask applicable = mix_.applicable(path, ctx_);
           for (int k = 0; k < chains; ++k) {
             MltChain chain;
@@ -176,16 +180,24 @@ class ErptStep final : public PixelSampleStep {
                                in.get_vector<int64_t>(3 * size_t(width_) * size_t(height_)));
   }
 
-  double b() const { return b_; }
-
- private:
-  // This thread's strategy counters (the statistics are not part of the image's bits).
-  std::vector<BlockCounter>& local_stats() {
-    thread_local std::vector<BlockCounter> counters;
-    if (counters.size() != stats_.size()) counters.assign(stats_.size(), BlockCounter{});
-    return counters;
+  // What the chains did, on stderr: how many started, and each strategy's steps and mean
+  // acceptance (this run's and this rank's; the counts do not depend on the thread count, the sums'
+  // last bits may).
+  void report(const StrategyMix& mix) const {
+    if (!cluster::is_root()) return;
+    std::vector<StrategyStats> total(mix.size());
+    for (const std::vector<BlockCounter>& local : stats_)
+      for (size_t i = 0; i < local.size(); ++i) total[i].merge(local[i]);
+    std::fprintf(stderr, "erpt: %llu chains of %d steps; b = %.6g\n",
+                 static_cast<unsigned long long>(chains_started_.load()),
+                 settings_.erpt_chain_length, b_);
+    for (size_t i = 0; i < mix.size(); ++i)
+      std::fprintf(stderr, "  %-16s proposed %llu, accepted %llu, mean a %.4f\n",
+                   mix.name(i).c_str(), static_cast<unsigned long long>(total[i].proposed),
+                   static_cast<unsigned long long>(total[i].accepted), total[i].mean_acceptance());
   }
 
+ private:
   ErptOptions options_;
   const Scene& scene_;
   const RenderSettings& settings_;
@@ -199,7 +211,9 @@ class ErptStep final : public PixelSampleStep {
   uint64_t chain_seed_;
   std::vector<FixedPointFilm> films_;
   bool shared_;
-  std::vector<BlockCounter> stats_;
+  // The strategies' counters, one set per thread (run_chain counts into them).
+  tbb::enumerable_thread_specific<std::vector<BlockCounter>> stats_;
+  std::atomic<uint64_t> chains_started_{0};
 };
 
 class Erpt final : public Integrator {
@@ -230,7 +244,9 @@ class Erpt final : public Integrator {
                              BootstrapParams::of(settings, ctx.min_edges, ctx.max_edges, threads),
                              uint64_t(std::max(settings.bootstrap_samples, 0)), threads);
     ErptStep step(scene, settings, mix, ctx, seeds, b, threads, options_);
-    return PassRunner(scene, settings, progress, step).render();
+    RenderResult result = PassRunner(scene, settings, progress, step).render();
+    if (settings.progress) step.report(mix);
+    return result;
   }
 
  private:
