@@ -70,13 +70,14 @@ std::optional<PathVertex> trace_surface(const Scene& scene, const Ray& ray) {
 }
 
 std::optional<Vec3> continue_through_delta(const PathVertex& v, const Vec3& w_back,
-                                           TransportMode mode, bool transmission) {
+                                           TransportMode mode, bool transmission, float* eta) {
   const Vec3 wo_local = v.shading.to_local(w_back);
   if (!consistent_side(v, w_back, wo_local)) return std::nullopt;
   const auto s = sample_delta_lobe(v, wo_local, mode, transmission);
   if (!s) return std::nullopt;
   const Vec3 wi = glm::normalize(v.shading.to_world(s->wi));
   if (!consistent_side(v, wi, s->wi)) return std::nullopt;
+  if (eta) *eta = s->eta;
   return wi;
 }
 

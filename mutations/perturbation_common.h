@@ -50,8 +50,11 @@ std::optional<PathVertex> trace_surface(const Scene& scene, const Ray& ray);
 // direction independently of u (documented assumption; no BSDF interface change needed).
 // Empty when no such lobe exists there (the path type would change) or the direction is on
 // inconsistent sides of the shading and geometric normals.
+// `eta`, when given, receives the lobe's relative IOR crossed (n on the side left towards
+// over n on the side arrived from; 1 for a reflection).
 std::optional<Vec3> continue_through_delta(const PathVertex& v, const Vec3& w_back,
-                                           TransportMode mode, bool transmission);
+                                           TransportMode mode, bool transmission,
+                                           float* eta = nullptr);
 
 // Fills v's Dirac record (probability, value, IOR ratio) for the path through it between
 // eye-side neighbour `eye` and light-side neighbour `light`, exactly as random_walk would

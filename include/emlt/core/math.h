@@ -14,6 +14,7 @@ using Vec4 = glm::vec4;
 using Mat3 = glm::mat3;
 using Mat4 = glm::mat4;
 using DVec3 = glm::dvec3;
+using DMat3 = glm::dmat3;
 using Rgb = glm::vec3;  // linear RGB (radiance, reflectance or throughput)
 
 inline constexpr float kPi = 3.14159265358979323846f;

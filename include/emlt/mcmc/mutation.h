@@ -25,6 +25,9 @@ struct MutationContext {
   // Image-plane perturbation radii in pixels (Veach: 0.1 px and 5 % of the image area).
   float lens_min_radius = 0.1f;
   float lens_max_radius = 0.0f;
+  // The manifold perturbation's step factor λ (mutations/manifold_perturbation.h; Mitsuba's
+  // probFactor): its direction lobe's peak is λ² times the start vertex's own density.
+  double manifold_prob_factor = 50.0;
   // EMLT (ensemble_guides.h): the frozen complementary ensemble, and the key of the current
   // step (the chain and how many steps it has taken) that fixes Υ. Null outside EMLT; the
   // guided strategies then behave as their unguided fallbacks.

@@ -85,6 +85,13 @@ class Scene {
   // distance and query.hit names the geometry and primitive.
   bool closest_hit(const Ray& ray, RTCRayHit& query) const;
   bool occluded(const Ray& ray) const;
+  // How the shading normal turns as the point moves on the surface at `hit`: the map W
+  // with dN = W dP for displacements dP in the tangent plane (the shape operator of the
+  // shading normal, which the manifold walk's derivatives need). Spheres: +-(I - N N^T)/r;
+  // smooth-shaded triangles: from the three vertex normals; flat triangles: zero. False
+  // where the normal is not the smooth function of position this describes (a bump map
+  // tilts it by a texture's slope).
+  bool shading_normal_derivative(const SurfaceHit& hit, DMat3* dn_dp) const;
   // Mutual visibility of two surface points (each offset along its normal).
   bool visible(const Vec3& a, const Vec3& na, const Vec3& b, const Vec3& nb) const;
   // The surfaces near p, for queries that need the geometry itself. The visitor sees every triangle whose bounds

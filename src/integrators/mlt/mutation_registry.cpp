@@ -11,6 +11,7 @@
 #include "mutations/ensemble/spread_scaled_perturbation.h"
 #include "mutations/geometry_aware/ga_perturbations.h"
 #include "mutations/lens_perturbation.h"
+#include "mutations/manifold_perturbation.h"
 #include "mutations/multichain_perturbation.h"
 
 namespace emlt {
@@ -20,6 +21,7 @@ std::vector<std::string> mutation_names() {
           "lens",
           "caustic",
           "multichain",
+          "manifold",
           "ga-lens",
           "ga-caustic",
           "ga-multichain",
@@ -41,6 +43,7 @@ std::unique_ptr<Mutation> make_mutation(const std::string& name) {
   if (name == "caustic") return std::make_unique<CausticPerturbation>();
   if (name == "multichain" || name == "multi-chain")
     return std::make_unique<MultiChainPerturbation>();
+  if (name == "manifold") return std::make_unique<ManifoldPerturbation>();
   if (name == "ga-lens") return std::make_unique<GaLensPerturbation>();
   if (name == "ga-caustic") return std::make_unique<GaCausticPerturbation>();
   if (name == "ga-multichain" || name == "ga-multi-chain")

@@ -1,0 +1,296 @@
+#include "mutations/manifold_perturbation.h"
+
+#include <cmath>
+
+#include "emlt/path/connection.h"
+#include "mutations/manifold/specular_chain.h"
+#include "mutations/perturbation_common.h"
+
+namespace emlt {
+
+// Acceptance ratio. The move keeps everything but x_{a+step} .. x_{c-step} (and the lens
+// point's raster when a or c is the lens). Its free variable is the direction ω leaving x_a:
+// the traced vertices x_{a+step} .. x_b follow from ω, and the chain between x_b and the
+// fixed x_c from x_b. In the path layer's reference measure ν (perturbation_common.h) the
+// vertices a walk from x_a reaches through Dirac lobes have dν = dω / K_ab, K_ab the walk's
+// area conversions without its lobe probabilities (as for the caustic perturbation), and a
+// Dirac chain walked from x_c to x_b has dν = dω_c / K_cb. With x_c fixed, ω_c is a function
+// of x_b: dω_c = D dA(x_b), D = |dω_c/dA(x_b)| the chain's generalized geometry term over
+// the end cosines (Jakob & Marschner §4.3), which the walk's Jacobian gives. The measure of
+// the moved vertices given the fixed ones is therefore dω · D / (K_ab K_cb), and
+//     T(x -> y) = p(ω_y | x) K_ab(y) K_cb(y) / D(y),
+//     log T(y->x)/T(x->y) = log p(ω_x|y) - log p(ω_y|x)
+//                           + log(K_ab K_cb / D)(x) - log(K_ab K_cb / D)(y),
+// with p the von Mises-Fisher lobe (its concentration set at each path by its own start
+// density, so the two lobes differ). Without a chain (c = b + step), K_cb = D = cos/d² and
+// the chain terms vanish. x's D comes from the reverse walk, which must find x's chain
+// again (otherwise y could not propose x and the move is refused, as Mitsuba does). Dirac
+// values are rewritten in the walks' modes and x's converted (log_convention_correction).
+namespace {
+
+// Where a walk may turn or a chain may end: a non-specular point with a position.
+bool fixed_point(const PathVertex& v) {
+  return !v.delta && !v.is_environment() && v.kind != VertexKind::OrthographicCamera;
+}
+
+// log K of the vertices from + step .. to, walked from `from` (perturbation_common.h's
+// log_light_jacobian and log_eye_jacobian in either direction).
+double log_walk_jacobian(const Path& path, int from, int to, int step) {
+  const auto& v = path.vertices;
+  double log_jacobian = 0.0;
+  for (int i = from + step;; i += step) {
+    const PathVertex &z = v[size_t(i)], &before = v[size_t(i - step)];
+    const double stored = step > 0 ? double(z.pdf_from_light) : double(z.pdf_from_eye);
+    const double factor = i == from + step || !before.delta
+                              ? double(solid_angle_to_vertex_measure(1.0f, before, z))
+                              : stored / double(before.delta_probability);
+    log_jacobian += std::log(factor);
+    if (i == to) break;
+  }
+  return log_jacobian;
+}
+
+double chain_length(const Path& path, int from, int to) {
+  double length = 0.0;
+  const int step = to > from ? 1 : -1;
+  for (int i = from; i != to; i += step)
+    length += glm::length(DVec3(path.vertices[size_t(i + step)].position) -
+                          DVec3(path.vertices[size_t(i)].position));
+  return length;
+}
+
+// The walk must end this close to its target, relative to the chain's length (the float
+// geometry's hits resolve about 1e-7 of it).
+constexpr double kRelativeTolerance = 1e-5;
+// The reverse walk must find each of x's links this close (Mitsuba's relative 1e-3).
+constexpr double kReversibilityTolerance = 1e-3;
+
+Vec3 sample_vmf(const DVec3& mode, double kappa, const Vec2& u) {
+  const double cos_theta =
+      kappa > 1e-6
+          ? std::clamp(1.0 + std::log1p(double(u.x) * std::expm1(-2.0 * kappa)) / kappa, -1.0, 1.0)
+          : 1.0 - 2.0 * double(u.x);
+  const double sin_theta = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
+  const double phi = 2.0 * M_PI * double(u.y);
+  const DVec3 helper = std::abs(mode.x) < 0.9 ? DVec3(1.0, 0.0, 0.0) : DVec3(0.0, 1.0, 0.0);
+  const DVec3 s = glm::normalize(glm::cross(helper, mode)), t = glm::cross(mode, s);
+  return Vec3(
+      glm::normalize(cos_theta * mode + sin_theta * (std::cos(phi) * s + std::sin(phi) * t)));
+}
+
+}  // namespace
+
+double ManifoldPerturbation::concentration_for_peak(double peak) {
+  // The density at the mode is κ / (2π (1 - e^{-2κ})), at least 1/4π (κ -> 0).
+  const double target = 2.0 * M_PI * peak;
+  if (!(target > 0.5 + 1e-9)) return 0.0;
+  // Newton on g(κ) = κ - target (1 - e^{-2κ}), convex, from the right of its root.
+  double kappa = target;
+  for (int i = 0; i < 50; ++i) {
+    const double e = std::exp(-2.0 * kappa);
+    const double next = kappa - (kappa - target * (1.0 - e)) / (1.0 - 2.0 * target * e);
+    if (!(next > 0.0)) break;
+    const bool settled = std::abs(next - kappa) <= 1e-14 * kappa;
+    kappa = next;
+    if (settled) break;
+  }
+  return kappa;
+}
+
+double ManifoldPerturbation::log_vmf_density(double kappa, double cos_theta) {
+  if (!(kappa > 1e-6)) return -std::log(4.0 * M_PI);
+  return std::log(kappa) + kappa * (cos_theta - 1.0) - std::log(2.0 * M_PI) -
+         std::log(-std::expm1(-2.0 * kappa));
+}
+
+double ManifoldPerturbation::direction_density(const Path& path, int a, int step) {
+  const auto& v = path.vertices;
+  const PathVertex &from = v[size_t(a)], &to = v[size_t(a + step)];
+  const double stored = step > 0 ? double(to.pdf_from_light) : double(to.pdf_from_eye);
+  const double conversion = double(solid_angle_to_vertex_measure(1.0f, from, to));
+  return conversion > 0.0 ? stored / conversion : 0.0;
+}
+
+std::vector<ManifoldPerturbation::Move> ManifoldPerturbation::moves(const Path& x) {
+  std::vector<Move> found;
+  const auto& v = x.vertices;
+  const int k = x.edges();
+  for (int a = 0; a <= k; ++a) {
+    if (!fixed_point(v[size_t(a)])) continue;
+    for (const int step : {-1, 1}) {
+      int b = a + step;
+      while (b >= 0 && b <= k && v[size_t(b)].delta) b += step;
+      if (b <= 0 || b >= k || !v[size_t(b)].is_surface()) continue;
+      int c = b + step;
+      while (c >= 0 && c <= k && v[size_t(c)].delta) c += step;
+      if (c < 0 || c > k || !fixed_point(v[size_t(c)])) continue;
+      found.push_back({a, b, c, step});
+    }
+  }
+  return found;
+}
+
+bool ManifoldPerturbation::applies_to(const Path& x, const MutationContext&) const {
+  return !moves(x).empty();
+}
+
+std::optional<Proposal> ManifoldPerturbation::propose(const Path& x, Rng& rng,
+                                                      const MutationContext& ctx) const {
+  const std::vector<Move> options = moves(x);
+  if (options.empty()) return std::nullopt;
+  const int k = x.edges();
+  const auto from_lens =
+      std::find_if(options.begin(), options.end(), [k](const Move& m) { return m.a == k; });
+  const float u = rng.uniform();
+  Move move;
+  if (from_lens != options.end() && (options.size() == 1 || u < 0.25f)) {
+    move = *from_lens;
+  } else {
+    // The others uniformly (u rescaled onto them when the lens move had its quarter).
+    std::vector<Move> others;
+    for (const Move& m : options)
+      if (m.a != k) others.push_back(m);
+    const float v = from_lens != options.end() ? (u - 0.25f) / 0.75f : u;
+    move = others[std::min(others.size() - 1, size_t(v * float(others.size())))];
+  }
+  const auto direction = sample_direction(x, move, ctx, rng.uniform2());
+  if (!direction) return std::nullopt;
+  return perturb_to(x, move, *direction, ctx);
+}
+
+std::optional<Vec3> ManifoldPerturbation::sample_direction(const Path& x, const Move& move,
+                                                           const MutationContext& ctx,
+                                                           const Vec2& u) {
+  const double density = direction_density(x, move.a, move.step);
+  if (!(density > 0.0)) return std::nullopt;
+  const double lambda = ctx.manifold_prob_factor;
+  const double kappa =
+      concentration_for_peak(lambda * lambda * std::max(1.0 / (4.0 * M_PI), density));
+  const DVec3 old_direction = perturbation::precise_direction(
+      x.vertices[size_t(move.a)], x.vertices[size_t(move.a + move.step)]);
+  return sample_vmf(old_direction, kappa, u);
+}
+
+std::optional<Proposal> ManifoldPerturbation::perturb_to(const Path& x, const Move& move,
+                                                         const Vec3& direction,
+                                                         const MutationContext& ctx) const {
+  const Scene& scene = ctx.scene;
+  const int k = x.edges();
+  const int a = move.a, b = move.b, c = move.c, step = move.step;
+  const auto& xv = x.vertices;
+  Proposal proposal;
+  Path& y = proposal.path;
+  y = x;
+  auto& yv = y.vertices;
+  const auto crosses = [&xv](int i) {
+    return perturbation::crosses_surface(xv[size_t(i)], xv[size_t(i + 1)], xv[size_t(i - 1)]);
+  };
+
+  // 1. From x_a along the new direction through the same lobes to the new x_b.
+  const TransportMode walk_mode = step > 0 ? TransportMode::Importance : TransportMode::Radiance;
+  const PathVertex& start = xv[size_t(a)];
+  Ray ray = start.is_surface() ? spawn_ray(start.position, start.normal, direction)
+                               : Ray{start.position, direction, 0.0f, kInfinity};
+  for (int i = a + step;; i += step) {
+    auto hit = perturbation::trace_surface(scene, ray);
+    if (!hit || hit->bsdf != xv[size_t(i)].bsdf) return std::nullopt;
+    hit->throughput = xv[size_t(i)].throughput;
+    yv[size_t(i)] = *hit;
+    if (i == b) break;
+    const auto next = perturbation::continue_through_delta(
+        yv[size_t(i)], direction_between(yv[size_t(i)], yv[size_t(i - step)]), walk_mode,
+        crosses(i));
+    if (!next) return std::nullopt;
+    ray = spawn_ray(yv[size_t(i)].position, yv[size_t(i)].normal, *next);
+  }
+  for (int i = a + step; i != b; i += step)
+    if (!perturbation::fill_delta_record(yv[size_t(i)], yv[size_t(i + 1)], yv[size_t(i - 1)],
+                                         walk_mode, crosses(i)))
+      return std::nullopt;
+
+  // 2. The chain from the fixed x_c to the moved x_b, and back to x's x_b.
+  const TransportMode chain_mode = step > 0 ? TransportMode::Radiance : TransportMode::Importance;
+  double log_chain_x = 0.0, log_chain_y = 0.0;  // -log D of each path's chain
+  if (std::abs(c - b) > 1) {
+    manifold::ChainProblem problem;
+    problem.scene = &scene;
+    problem.start = xv[size_t(c)];
+    problem.mode = chain_mode;
+    for (int i = c - step; i != b; i -= step)
+      problem.links.push_back({xv[size_t(i)].bsdf, crosses(i)});
+    problem.target = DVec3(yv[size_t(b)].position);
+    problem.target_normal = DVec3(yv[size_t(b)].normal);
+    const double length = chain_length(x, c, b);
+    const double tolerance = kRelativeTolerance * length;
+    const auto forward = manifold::solve_chain(
+        problem, perturbation::precise_direction(xv[size_t(c)], xv[size_t(c - step)]), tolerance,
+        faults_.accept_unconverged);
+    if (!forward) return std::nullopt;
+    for (size_t j = 0; j < forward->links.size(); ++j) {
+      const int i = c - step * int(j + 1);
+      yv[size_t(i)] = forward->links[j];
+      yv[size_t(i)].throughput = xv[size_t(i)].throughput;
+    }
+    // The reverse move: the walk from y's chain to x's x_b must find x's chain.
+    problem.target = DVec3(xv[size_t(b)].position);
+    problem.target_normal = DVec3(xv[size_t(b)].normal);
+    const auto reverse = manifold::solve_chain(
+        problem, perturbation::precise_direction(yv[size_t(c)], yv[size_t(c - step)]), tolerance,
+        faults_.accept_unconverged);
+    if (!reverse) return std::nullopt;
+    for (size_t j = 0; j < reverse->links.size(); ++j) {
+      const int i = c - step * int(j + 1);
+      if (glm::length(DVec3(reverse->links[j].position) - DVec3(xv[size_t(i)].position)) >
+          kReversibilityTolerance * length)
+        return std::nullopt;
+    }
+    for (int i = c - step; i != b; i -= step)
+      if (!perturbation::fill_delta_record(yv[size_t(i)], yv[size_t(i + 1)], yv[size_t(i - 1)],
+                                           chain_mode, crosses(i)))
+        return std::nullopt;
+    if (!mutually_visible(scene, yv[size_t(b + step)], yv[size_t(b)])) return std::nullopt;
+    // D = |dω_c / dA(x_b)| = 1 / |dA/dω| of each path's own chain.
+    const double area_y = forward->area_per_solid_angle(), area_x = reverse->area_per_solid_angle();
+    if (!(area_x > 0.0) || !(area_y > 0.0)) return std::nullopt;
+    if (!faults_.drop_generalized_geometry) {
+      log_chain_x = std::log(area_x);  // - log D(x)
+      log_chain_y = std::log(area_y);
+    }
+  } else if (!mutually_visible(scene, yv[size_t(b)], yv[size_t(c)])) {
+    return std::nullopt;
+  }
+
+  // The lens point stays; where it sees its neighbour (its raster) moves with it.
+  if ((a == k || c == k) && !perturbation::aim_lens_at(scene, yv[size_t(k)], yv[size_t(k - 1)]))
+    return std::nullopt;
+  const int low = std::min(a, c), high = std::max(a, c);
+  if (!perturbation::finish_proposal(scene, x, y, low + 1, high == k ? k : high - 1))
+    return std::nullopt;
+  if (!(path_luminance(scene, y) > 0.0)) return std::nullopt;
+
+  // 3. The ratio.
+  const double lambda2 = ctx.manifold_prob_factor * ctx.manifold_prob_factor;
+  const double density_x = direction_density(x, a, step), density_y = direction_density(y, a, step);
+  if (!(density_x > 0.0) || !(density_y > 0.0)) return std::nullopt;
+  const double kappa_x = concentration_for_peak(lambda2 * std::max(1.0 / (4.0 * M_PI), density_x));
+  const double kappa_y = concentration_for_peak(lambda2 * std::max(1.0 / (4.0 * M_PI), density_y));
+  const double cos_theta =
+      glm::dot(perturbation::precise_direction(xv[size_t(a)], xv[size_t(a + step)]),
+               perturbation::precise_direction(yv[size_t(a)], yv[size_t(a + step)]));
+  double log_ratio = log_vmf_density(kappa_y, cos_theta) - log_vmf_density(kappa_x, cos_theta);
+  log_ratio += log_walk_jacobian(x, a, b, step) - log_walk_jacobian(y, a, b, step);
+  if (std::abs(c - b) > 1)  // K_cb, from the densities finish_proposal recomputed
+    log_ratio += log_walk_jacobian(x, c, b, -step) - log_walk_jacobian(y, c, b, -step);
+  log_ratio += log_chain_x - log_chain_y;
+  const int first_turn = std::min(a, b) + 1, last_turn = std::max(a, b) - 1;
+  if (first_turn <= last_turn)
+    log_ratio -= perturbation::log_convention_correction(x, first_turn, last_turn, walk_mode);
+  const int first_link = std::min(b, c) + 1, last_link = std::max(b, c) - 1;
+  if (first_link <= last_link)
+    log_ratio -= perturbation::log_convention_correction(x, first_link, last_link, chain_mode);
+  if (std::isnan(log_ratio)) return std::nullopt;
+  proposal.log_reverse_over_forward = log_ratio;
+  return proposal;
+}
+
+}  // namespace emlt
