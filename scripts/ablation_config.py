@@ -27,6 +27,8 @@ METHODS = {
     "bdpt": (["--integrator", "bdpt"], "--spp"),
     "mlt": (["--integrator", "mlt"], "--mpp"),  # the engine's default mutation mix
     "gamlt": (["--integrator", "gamlt"], "--mpp"),  # geometry-aware MLT
+    # Jakob & Marschner 2012, manifold exploration: bidir and the manifold perturbation.
+    "memlt": (["--integrator", "memlt"], "--mpp"),
     "emlt": (["--integrator", "emlt"], "--mpp"),  # ensemble MLT, all strategies
     "emlt-ani": (["--integrator", "emlt", "--mutations", "emlt-ani"], "--mpp"),  # paper Table 1 "Ani"
     "emlt-lin": (["--integrator", "emlt", "--mutations", "emlt-lin"], "--mpp"),  # paper Table 1 "Lin"

@@ -22,7 +22,7 @@ from tools.images import read_pfm  # noqa: E402  (shared with ablation.py)
 
 
 # Integrators whose per-pixel budget is mutations (--mpp) rather than samples (--spp).
-MCMC_INTEGRATORS = ("mlt", "gamlt", "emlt", "pssmlt", "mmlt")
+MCMC_INTEGRATORS = ("mlt", "gamlt", "memlt", "emlt", "pssmlt", "mmlt")
 
 
 def render(emlt, scene, out, integrator, spp, seed, extra):

@@ -42,6 +42,14 @@ const Registration kIntegrators[] = {
        options.default_mix = kGamltMix;
        return std::make_unique<MltIntegrator>(std::move(options));
      }},
+    // MLT with the manifold perturbation (manifold exploration, MEMLT) as its default mix.
+    {"memlt",
+     []() -> std::unique_ptr<Integrator> {
+       MltOptions options;
+       options.name = "memlt";
+       options.default_mix = kMemltMix;
+       return std::make_unique<MltIntegrator>(std::move(options));
+     }},
     // MLT run as two swapped ensembles, with the guided strategies.
     {"emlt",
      []() -> std::unique_ptr<Integrator> {

@@ -11,6 +11,7 @@ std::string expand_mix_preset(const std::string& spec) {
   if (spec == "mlt-paper") return kMltPaperMix;
   if (spec == "emlt-added") return kEmltAddedMix;
   if (spec == "gamlt") return kGamltMix;
+  if (spec == "memlt") return kMemltMix;
   if (spec == "emlt") return kEmltMix;
   if (spec == "emlt-ani") return kEmltAniMix;
   if (spec == "emlt-lin") return kEmltLinMix;

@@ -45,9 +45,9 @@ except ModuleNotFoundError as error:  # run by hand without it: say how, not a t
 MEAN_TOLERANCE = 0.01
 ERROR_RATIO_LIMIT = 2.0
 DEFAULT_SPP = {"pt": 64, "bdpt": 32, "mlt": 64, "direct": 64, "ptracer": 64, "gamlt": 64,
-               "emlt": 64, "pssmlt": 64, "mmlt": 64, "erpt": 64}
+               "memlt": 64, "emlt": 64, "pssmlt": 64, "mmlt": 64, "erpt": 64}
 # Integrators whose budget is mutations per pixel (--mpp), not samples.
-MUTATION_BUDGET = ("mlt", "gamlt", "emlt", "pssmlt", "mmlt")
+MUTATION_BUDGET = ("mlt", "gamlt", "memlt", "emlt", "pssmlt", "mmlt")
 
 
 def load_suite():

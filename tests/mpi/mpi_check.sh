@@ -39,7 +39,7 @@ case $mode in
     # 7700 samples, and MLT's ranks as many mutations after them): inside the passes, or
     # (MLT) in the direct-light pass and in the chains.
     stops=(2000 5000)
-    case $integrator in mlt | gamlt | emlt | pssmlt | mmlt) stops=(3000 11000) ;; esac
+    case $integrator in mlt | gamlt | memlt | emlt | pssmlt | mmlt) stops=(3000 11000) ;; esac
     for stop in "${stops[@]}"; do
       rm -f "$work"/c.ckpt*
       status=0

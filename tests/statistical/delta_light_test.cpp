@@ -303,7 +303,7 @@ TEST(DeltaLightIntegrators, PointLightInASphereGivesTheExactRadiance) {
   }
   const double direct = mean_of(render_with("direct", *scene, settings_for(16, -1, 5)));
   EXPECT_NEAR(direct, double(kAlbedo), 0.01 * kAlbedo) << "direct";
-  for (const char* name : {"mlt", "gamlt", "emlt", "pssmlt", "mmlt"}) {
+  for (const char* name : {"mlt", "gamlt", "memlt", "emlt", "pssmlt", "mmlt"}) {
     const double value = mean_of(render_with(name, *scene, chain_settings(400, depth, 5)));
     EXPECT_NEAR(value, exact, 0.03 * exact) << name;
   }
@@ -322,7 +322,7 @@ TEST(DeltaLightIntegrators, CollimatedBeamInASphereGivesTheExactRadianceByLightT
     const double value = mean_of(render_with(name, *scene, settings_for(1024, depth, 5)));
     EXPECT_NEAR(value, exact, 0.02 * exact) << name;
   }
-  for (const char* name : {"mlt", "gamlt", "emlt", "mmlt"}) {
+  for (const char* name : {"mlt", "gamlt", "memlt", "emlt", "mmlt"}) {
     const double value = mean_of(render_with(name, *scene, chain_settings(400, depth, 5)));
     EXPECT_NEAR(value, exact, 0.03 * exact) << name;
   }
@@ -344,7 +344,7 @@ TEST(DeltaLightIntegrators, DirectionalLightOnAFloorGivesTheExactRadiance) {
     if (std::string(name) != "direct" && std::string(name) != "pt") continue;
     for (const Rgb& p : image.pixels) ASSERT_NEAR(p.x, exact, 1e-3 * exact) << name;
   }
-  for (const char* name : {"mlt", "gamlt", "emlt", "pssmlt", "mmlt"}) {
+  for (const char* name : {"mlt", "gamlt", "memlt", "emlt", "pssmlt", "mmlt"}) {
     const double value = mean_of(render_with(name, *scene, chain_settings(200, 5, 9)));
     EXPECT_NEAR(value, exact, 0.02 * exact) << name;
   }
@@ -361,7 +361,7 @@ TEST(DeltaLightIntegrators, CourtyardConvergesToBdptInEveryIntegrator) {
   ASSERT_GT(mean_of(reference), 0.05);
   test::expect_converged_to(render_with("pt", *scene, settings_for(2048, 5, 2)), reference, 4, 0.03,
                             0.02);
-  for (const char* name : {"mlt", "gamlt", "emlt", "pssmlt", "mmlt"}) {
+  for (const char* name : {"mlt", "gamlt", "memlt", "emlt", "pssmlt", "mmlt"}) {
     SCOPED_TRACE(name);
     test::expect_converged_to(render_with(name, *scene, chain_settings(2000, 5, 3)), reference, 2,
                               0.06, 0.04);

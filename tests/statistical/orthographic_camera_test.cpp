@@ -299,7 +299,7 @@ TEST(OrthographicIntegrators, RoomConvergesToThePathTracer) {
   }
   // The chains: every mutation that moves x_{k-1} moves the film point with it. (EMLT's
   // ensembles are the noisiest at a small budget: 3000 mutations per pixel.)
-  for (const char* name : {"mlt", "gamlt", "emlt", "pssmlt", "mmlt"}) {
+  for (const char* name : {"mlt", "gamlt", "memlt", "emlt", "pssmlt", "mmlt"}) {
     SCOPED_TRACE(name);
     const double mpp = std::string(name) == "emlt" ? 3000 : 1000;
     test::expect_converged_to(render_with(name, *scene, chain_settings(mpp, 5, 4)), reference, 2,

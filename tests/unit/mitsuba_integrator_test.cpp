@@ -58,9 +58,9 @@ TEST(MitsubaIntegrator, AnIntegratorEmltLacksFallsBackLoudly) {
 }
 
 // Mitsuba's ERPT is emlt's: its chain counts, chain length, direct samples (-1: the chains
-// take the direct light too), luminance samples and perturbation switches under emlt's
-// flags; the manifold perturbation, which emlt does not have, a note (it changes the noise
-// only); every perturbation switched off refused, as Mitsuba refuses it.
+// take the direct light too), luminance samples, perturbation switches and the manifold
+// perturbation's lambda under emlt's flags; every perturbation switched off refused, as
+// Mitsuba refuses it.
 TEST(MitsubaIntegrator, ErptIsEmltsErptWithItsParameters) {
   const SceneDescription erpt = with_integrator(
       "erpt-params.xml",
@@ -69,7 +69,8 @@ TEST(MitsubaIntegrator, ErptIsEmltsErptWithItsParameters) {
       <integer name="chainLength" value="50"/><integer name="directSamples" value="-1"/>
       <integer name="luminanceSamples" value="2000"/>
       <boolean name="causticPerturbation" value="false"/>
-      <boolean name="manifoldPerturbation" value="true"/></integrator>)");
+      <boolean name="manifoldPerturbation" value="true"/><float name="lambda" value="20"/>
+      </integrator>)");
   EXPECT_EQ(erpt.render.integrator, "erpt");
   EXPECT_EQ(erpt.verdict(), "exact");
   EXPECT_EQ(erpt.render.said("--max-depth"), "5");
@@ -78,8 +79,8 @@ TEST(MitsubaIntegrator, ErptIsEmltsErptWithItsParameters) {
   EXPECT_EQ(erpt.render.said("--erpt-chain-length"), "50");
   EXPECT_EQ(erpt.render.said("--direct"), "mlt");
   EXPECT_EQ(erpt.render.said("--bootstrap"), "2000");
-  EXPECT_EQ(erpt.render.said("--mutations"), "lens=1,multichain=1");
-  EXPECT_TRUE(any_contains(erpt.warnings, "no manifold perturbation"));
+  EXPECT_EQ(erpt.render.said("--mutations"), "lens=1,multichain=1,manifold=1");
+  EXPECT_EQ(erpt.render.said("--manifold-lambda"), "20");
 
   const SceneDescription plain = with_integrator("erpt.xml", R"(<integrator type="erpt"/>)");
   EXPECT_EQ(plain.render.integrator, "erpt");
@@ -106,6 +107,33 @@ TEST(MitsubaIntegrator, ErptIsEmltsErptWithItsParameters) {
       <boolean name="causticPerturbation" value="false"/>
       <boolean name="multiChainPerturbation" value="false"/></integrator>)"),
                std::exception);
+}
+
+// Mitsuba's mlt with the manifold perturbation is manifold exploration: emlt's memlt with
+// the strategies the file switches on (Mitsuba's defaults: Veach's set and the manifold
+// perturbation) and its lambda; without it, mlt with its own mix.
+TEST(MitsubaIntegrator, MltWithTheManifoldPerturbationIsMemlt) {
+  const SceneDescription memlt = with_integrator(
+      "memlt.xml", R"(<integrator type="mlt"><boolean name="manifoldPerturbation" value="true"/>
+      <boolean name="lensPerturbation" value="false"/><float name="probFactor" value="30"/>
+      </integrator>)");
+  EXPECT_EQ(memlt.render.integrator, "memlt");
+  EXPECT_EQ(memlt.verdict(), "exact");
+  EXPECT_EQ(memlt.render.said("--mutations"), "bidir=1,caustic=1,multichain=1,manifold=1");
+  EXPECT_EQ(memlt.render.said("--manifold-lambda"), "30");
+  const SceneDescription mlt = with_integrator(
+      "mlt.xml", R"(<integrator type="mlt"><float name="lambda" value="30"/></integrator>)");
+  EXPECT_EQ(mlt.render.integrator, "mlt");
+  EXPECT_EQ(mlt.verdict(), "exact");
+  EXPECT_FALSE(mlt.render.said("--mutations").has_value());
+  EXPECT_FALSE(mlt.render.said("--manifold-lambda").has_value());
+  const std::string bad = test::error_of([&] {
+    with_integrator("memlt-bad.xml", R"(<integrator type="mlt">
+      <boolean name="manifoldPerturbation" value="true"/><float name="lambda" value="-1"/>
+      </integrator>)");
+  });
+  EXPECT_NE(bad.find("memlt-bad.xml"), std::string::npos) << bad;
+  EXPECT_NE(bad.find("lambda"), std::string::npos) << bad;
 }
 
 // The rest of PSSMLT's tuning, and bdpt's strategy images, change no render either.

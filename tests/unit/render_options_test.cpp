@@ -114,12 +114,14 @@ TEST(RenderOptions, OnlyTheOptionsAnIntegratorReadsApplyToIt) {
       if (o.flag == flag) return !o.applies || o.applies(s);
     throw Error("no option " + flag);
   };
-  for (const char* integrator : {"mlt", "gamlt", "emlt"}) {
+  for (const char* integrator : {"mlt", "gamlt", "memlt", "emlt"}) {
+    EXPECT_TRUE(applies("--manifold-lambda", integrator)) << integrator;
     EXPECT_TRUE(applies("--gamlt-cone", integrator)) << integrator;
     EXPECT_TRUE(applies("--ensemble-alpha", integrator)) << integrator;
     EXPECT_FALSE(applies("--pss-sigma", integrator)) << integrator;
   }
   for (const char* integrator : {"pt", "bdpt", "direct", "ptracer", "pssmlt", "mmlt"}) {
+    EXPECT_FALSE(applies("--manifold-lambda", integrator)) << integrator;
     EXPECT_FALSE(applies("--gamlt-cone", integrator)) << integrator;
     EXPECT_FALSE(applies("--ensemble-size", integrator)) << integrator;
   }

@@ -27,6 +27,12 @@ namespace emlt {
 inline constexpr const char* kMltMix = "bidir=3,lens=2,caustic=2,multichain=2";
 // Geometry-aware MLT (mutations/geometry_aware/ga_perturbations.h):
 inline constexpr const char* kGamltMix = "bidir=3,ga-lens=2,ga-caustic=2,ga-multichain=2";
+// Manifold exploration MLT (Jakob & Marschner 2012; mutations/manifold_perturbation.h): the
+// bidirectional mutation and the manifold perturbation, which generalises Veach's three
+// perturbations (the paper's §5), in the same 1/3 : 2/3 proportion as the mixes above.
+// Mitsuba's mlt with only these two switched on picks each with probability 1/2:
+// --mutations bidir=1,manifold=1.
+inline constexpr const char* kMemltMix = "bidir=1,manifold=2";
 // Ensemble MLT (mutations/ensemble/), all its strategies:
 // the paper's mix exactly: the bidirectional mutation at 1/3 of the proposals, the guided
 // strategies that apply sharing the rest equally (the guided moves replacing Veach's):
@@ -47,7 +53,7 @@ inline constexpr const char* kEmltLinMix = "bidir=1/3,emlt-lens=1,emlt-caustic=1
 inline constexpr const char* kMltPaperMix = "bidir=1/3,lens=1,caustic=1,multichain=1";
 
 // The mix a preset name stands for ("mlt", "mlt-paper", "gamlt", "emlt", "emlt-added",
-// "emlt-ani", "emlt-lin"), or the
+// "emlt-ani", "emlt-lin", "memlt"), or the
 // spec itself when it is not a preset.
 std::string expand_mix_preset(const std::string& spec);
 

@@ -121,6 +121,9 @@ struct RenderSettings {
   // matched the exact cones' (Cornell box 1.362e-3 against 1.383e-3, Veach Ajar 1.644 against
   // 1.670; docs/performance.md, "Memoised cones of quantised segments").
   static constexpr double kGamltConeCell = 1.0 / 2.0;
+  // The manifold perturbation's step factor λ (mutations/manifold_perturbation.h; Mitsuba's
+  // probFactor or lambda, whose default this is).
+  double manifold_lambda = 50.0;
   // Delayed (two-stage) acceptance for proposals that defer part of their ratio (the gamlt
   // perturbations' ranges at y): y's cones only for proposals past the first stage
   // (include/emlt/mcmc/delayed_acceptance.h).

@@ -16,7 +16,8 @@ std::string from_budget(int value) {
 // The integrators whose --mutations may name any path-space strategy (the ga-* ones read the
 // gamlt options, the emlt-* ones the ensemble's).
 bool path_space_family(const RenderSettings& s) {
-  return s.integrator == "mlt" || s.integrator == "gamlt" || s.integrator == "emlt";
+  return s.integrator == "mlt" || s.integrator == "gamlt" || s.integrator == "emlt" ||
+         s.integrator == "memlt";
 }
 
 }  // namespace
@@ -46,8 +47,7 @@ const std::vector<RenderOption>& mlt_options() {
     };
     o.back().recorded = [](const RenderSettings& s) {
       // Only the path-space MLT family grows its pool (mlt_integrator.cpp).
-      const bool grows = s.bootstrap_grows && (s.integrator == "mlt" || s.integrator == "gamlt" ||
-                                               s.integrator == "emlt");
+      const bool grows = s.bootstrap_grows && path_space_family(s);
       return recorded_number(int64_t(s.bootstrap_samples)) + (grows ? " (grown as needed)" : "");
     };
     RenderOption start;
@@ -72,14 +72,20 @@ const std::vector<RenderOption>& mlt_options() {
     RenderOption mix;
     mix.flag = "--mutations";
     mix.help =
-        "mlt/gamlt/emlt: strategy mix, e.g. bidir=3,lens=2, or a preset: mlt, gamlt, emlt, "
-        "emlt-ani, emlt-lin (default: the integrator's own)";
+        "mlt/gamlt/emlt/memlt: strategy mix, e.g. bidir=3,lens=2, or a preset: mlt, gamlt, "
+        "emlt, emlt-ani, emlt-lin, memlt (default: the integrator's own)";
     mix.values = {OptionValues::Kind::Text, 0, 0, false, {}, "a strategy mix"};
     mix.assign = [](RenderSettings& s, const std::string& text) { s.mutations = text; };
     mix.recorded = [](const RenderSettings& s) {
       return s.mutations.empty() ? std::string("(the integrator's own)") : s.mutations;
     };
     o.push_back(mix);
+    o.push_back(real_option("--manifold-lambda", &RenderSettings::manifold_lambda, 0.0, true,
+                            1e6, "a positive number, at most a million",
+                            "the manifold perturbation (memlt, or manifold in any mix): its "
+                            "direction lobe's peak is lambda^2 times the start vertex's own "
+                            "density; larger is smaller steps (Mitsuba's probFactor/lambda, "
+                            "default 50)"));
     o.push_back(switch_option("--direct", &RenderSettings::direct_separate, "mlt", "separate",
                               "mlt: direct light rendered separately or by the chains"));
     o.push_back(whole_option("--direct-spp", &RenderSettings::direct_spp, 1, 1 << 20,
@@ -215,7 +221,8 @@ const std::vector<RenderOption>& ensemble_options() {
     // direct light is left to BDPT as the family's is to the direct pass.
     for (RenderOption& option : o)
       if (option.flag == "--mutations" || option.flag == "--bootstrap" ||
-          option.flag == "--bootstrap-seed" || option.flag == "--direct")
+          option.flag == "--bootstrap-seed" || option.flag == "--direct" ||
+          option.flag == "--manifold-lambda")
         option.applies = [](const RenderSettings& s) {
           return path_space_family(s) || s.integrator == "erpt";
         };

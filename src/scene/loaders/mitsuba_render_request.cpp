@@ -27,6 +27,41 @@ void read_scene_file_options(Properties& props, MitsubaElement element,
 
 // Mitsuba's ERPT parameters under emlt's flags: they change only how its chains spread the
 // seeds' energy (the image is the same), but a comparison at equal work needs them.
+// The strategy mix a Mitsuba mlt or erpt file switches on, each strategy with weight 1:
+// Mitsuba picks among the applicable ones with equal probability. Its manifold
+// perturbation's lambda (or probFactor) becomes --manifold-lambda.
+std::string chain_strategies(const Document& doc, pugi::xml_node node, Properties& props,
+                             bool bidirectional_by_default) {
+  std::string mix;
+  const auto take = [&](const char* flag, bool fallback, const char* strategy) {
+    if (!props.get_boolean(flag, fallback)) return;
+    if (!mix.empty()) mix.push_back(',');
+    mix.append(strategy);
+  };
+  take("bidirectionalMutation", bidirectional_by_default, "bidir=1");
+  take("lensPerturbation", true, "lens=1");
+  take("causticPerturbation", true, "caustic=1");
+  take("multiChainPerturbation", true, "multichain=1");
+  take("manifoldPerturbation", false, "manifold=1");
+  if (mix.empty())
+    doc.fail(node, doc.attribute(node, "type") +
+                       ": every mutation and perturbation is switched off (Mitsuba needs at "
+                       "least one)");
+  return mix;
+}
+
+// Mitsuba's lambda (its documented name) or probFactor (what its code reads first).
+void read_manifold_lambda(Properties& props, SceneRenderRequest& request) {
+  constexpr loader::RealRange kLambda{0.0f, true, 1e6f, false,
+                                      "a positive number, at most a million"};
+  for (const char* name : {"probFactor", "lambda"})
+    if (props.has(name)) {
+      request.set_integrator_option(
+          "--manifold-lambda", recorded_number(double(props.get_float(name, 50.0f, kLambda))));
+      return;
+    }
+}
+
 void read_erpt(const Document& doc, pugi::xml_node node, Properties& props,
                SceneRenderRequest& request) {
   // The ranges of the flags the parameters set (erpt_integrator.cpp declares them above this
@@ -58,24 +93,7 @@ void read_erpt(const Document& doc, pugi::xml_node node, Properties& props,
         "--bootstrap",
         std::to_string(props.get_integer("luminanceSamples", 15000, kLuminanceSamples)));
   // The chains' strategies, Mitsuba's defaults for ERPT: Veach's perturbations alone.
-  std::string mix;
-  const auto take = [&](const char* flag, bool fallback, const char* strategy) {
-    if (!props.get_boolean(flag, fallback)) return;
-    if (!mix.empty()) mix.push_back(',');
-    mix.append(strategy);
-  };
-  take("bidirectionalMutation", false, "bidir=1");
-  take("lensPerturbation", true, "lens=1");
-  take("causticPerturbation", true, "caustic=1");
-  take("multiChainPerturbation", true, "multichain=1");
-  if (props.get_boolean("manifoldPerturbation", false))
-    doc.warn(props.node_of("manifoldPerturbation"),
-             "'manifoldPerturbation': emlt has no manifold perturbation; its chains use the "
-             "other perturbations (the image is the same)",
-             Document::Warning::Note);
-  if (mix.empty())
-    doc.fail(node, "erpt: every perturbation is switched off (Mitsuba needs at least one)");
-  request.set_integrator_option("--mutations", mix);
+  request.set_integrator_option("--mutations", chain_strategies(doc, node, props, false));
 }
 
 }  // namespace
@@ -114,6 +132,14 @@ bool read_integrator(const Document& doc, pugi::xml_node node, SceneRenderReques
                  "'",
              Document::Warning::Approximated);
   if (type == "erpt") read_erpt(doc, node, props, request);
+  // Mitsuba's mlt with the manifold perturbation on is manifold exploration (MEMLT): its
+  // switched-on strategies become the mix, as Mitsuba would pick them. Without it the
+  // switches steer only sampling, and emlt's mlt keeps its own mix.
+  if (type == "mlt" && props.get_boolean("manifoldPerturbation", false)) {
+    request.integrator = "memlt";
+    request.set_integrator_option("--mutations", chain_strategies(doc, node, props, true));
+  }
+  if ((type == "erpt" || request.integrator == "memlt")) read_manifold_lambda(props, request);
   // Parameters that steer how fast an integrator converges, never what it converges to:
   // emlt's integrators have their own (command line) controls.
   std::vector<std::string> tuning;

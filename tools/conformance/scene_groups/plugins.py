@@ -62,6 +62,18 @@ def add_scenes(s):
                                    '\n    <integer name="directSamples" value="16"/>\n  </integrator>\n'),
         ["erpt"])
 
+    # Mitsuba's mlt with the manifold perturbation is manifold exploration (emlt's memlt):
+    # a glass sphere's caustic on the floor and the room seen through it make the chains
+    # walk specular manifolds; its image is the path tracer's.
+    glass = '<bsdf type="dielectric"><float name="intIOR" value="1.5"/></bsdf>'
+    s["integrator-memlt"] = ("a file naming Mitsuba's mlt with manifoldPerturbation (maxDepth 5) renders with emlt's memlt; reference: Mitsuba's path tracer",
+        scene(sphere(glass, "-0.4, 0.35, 0", 0.35) + sphere(glossy, "0.4, 0.35, -0.2", 0.35),
+              integ='  <integrator type="mlt">\n    <integer name="maxDepth" value="5"/>'
+                    '\n    <integer name="luminanceSamples" value="50000"/>'
+                    '\n    <boolean name="manifoldPerturbation" value="true"/>'
+                    '\n    <float name="lambda" value="50"/>\n  </integrator>\n'),
+        ["memlt"])
+
     # Parallel projection: toWorld's scale sizes the film (x in [-1.1, 1.1], y over the
     # aspect's share of it); a view from above one corner shows two walls and the floor.
     # The path-space integrators see the film point as the projection of the first vertex.
