@@ -15,9 +15,16 @@ namespace emlt::cli {
 
 void report_mlt_statistics(const std::string& name, const MltStatistics& st,
                            const std::string& json_path) {
-  // b's samples: the bootstrap's, and any drawn beside the chains.
+  // b's samples: the bootstrap's, and any drawn beside the chains; pssmlt's and mmlt's, the
+  // seeds' primary samples and the chains' large steps.
   char samples[160];
-  if (st.b_samples > st.bootstrap_samples)
+  if (st.b_large_steps > 0)
+    std::snprintf(samples, sizeof samples,
+                  "%llu samples: %llu the seeds', %llu large steps; the largest %.2g of b",
+                  static_cast<unsigned long long>(st.b_samples),
+                  static_cast<unsigned long long>(st.b_samples - st.b_large_steps),
+                  static_cast<unsigned long long>(st.b_large_steps), st.b_largest_share);
+  else if (st.b_samples > st.bootstrap_samples)
     std::snprintf(samples, sizeof samples,
                   "%llu samples: %llu bootstrap, %llu beside the chains; the largest %.2g of b",
                   static_cast<unsigned long long>(st.b_samples),
@@ -93,6 +100,7 @@ void report_mlt_statistics(const std::string& name, const MltStatistics& st,
       {"bootstrap_b", st.bootstrap_b},
       {"b_samples", st.b_samples},
       {"b_largest_share", st.b_largest_share},
+      {"b_large_steps", st.b_large_steps},
       {"normalisation_seconds", st.normalisation_seconds},
       {"chains", st.chains},
       {"mutations", st.mutations},

@@ -212,11 +212,13 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   const std::string resume_path = o.resume.empty() ? "" : rank_file(o.resume);
   std::optional<CheckpointHeader> resumed_header;
   std::string resume_state;
+  uint32_t resume_format = checkpoint_file::kVersion;
   if (!o.resume.empty()) {
     checkpoint_file::Contents contents = checkpoint_file::read(resume_path);
     resumed_header = CheckpointHeader::decode(contents.header, resume_path);
     resumed_header->check_matches(header_now, resume_path);
     resume_state = std::move(contents.state);
+    resume_format = contents.version;
   }
 
   const bool root = cluster::is_root();  // under MPI only rank 0 prints and writes
@@ -259,7 +261,7 @@ int run_render(const CLI::App& command, RenderOptions& o) {
     }
     return header.encode();
   });
-  control.set_resume_state(std::move(resume_state));
+  control.set_resume_state(std::move(resume_state), resume_format);
   settings.control = &control;
   // Test hook: stop as if by Ctrl-C after this many samples or mutations (tests/e2e).
   if (const char* units = std::getenv("EMLT_STOP_AFTER"))

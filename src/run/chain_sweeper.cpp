@@ -17,7 +17,8 @@ namespace emlt {
 
 namespace {
 // More threads than this share films (atomic additions): a film per thread costs memory of
-// the image's size each, and their sum is taken at every snapshot and checkpoint.
+// the image's size each, and their sum is taken at every snapshot and checkpoint. Films of
+// several layers count as that many films, so the memory stays that of kMaxFilms images.
 constexpr int kMaxFilms = 16;
 }  // namespace
 
@@ -27,7 +28,7 @@ int ChainSweeper::thread_count(const RenderSettings& settings) {
 
 ChainSweeper::ChainSweeper(const RenderSettings& settings, ProgressReporter& progress,
                            ChainFrame& run, uint64_t pixels, int blocks,
-                           std::vector<std::string> names)
+                           std::vector<std::string> names, size_t layers)
     : settings_(settings),
       progress_(progress),
       run_(run),
@@ -38,7 +39,8 @@ ChainSweeper::ChainSweeper(const RenderSettings& settings, ProgressReporter& pro
       owned_(cluster::share(uint64_t(blocks))),
       names_(std::move(names)),
       stats_(size_t(blocks), std::vector<BlockCounter>(names_.size())),
-      films_(size_t(std::min(threads_, kMaxFilms)), FixedPointFilm(pixels)),
+      films_(std::min(size_t(threads_), std::max<size_t>(1, size_t(kMaxFilms) / layers)),
+             FixedPointFilm(pixels * layers)),
       shared_films_(size_t(threads_) > films_.size()),
       timed_(settings.time_limit_s > 0.0) {}
 

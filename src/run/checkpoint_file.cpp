@@ -80,6 +80,7 @@ Contents read(const std::string& path) {
   try {
     StateReader reader(body);
     Contents contents;
+    contents.version = version;
     contents.header = std::string(reader.get_block());
     contents.state = std::string(reader.get_block());
     reader.expect_end();

@@ -341,8 +341,9 @@ TEST(Checkpoint, BadCheckpointsAreRefusedByNameWithNothingWritten) {
   };
   std::string flipped = bytes;
   flipped[bytes.size() / 2] ^= 0x10;
+  // A format from the future (the version: a little-endian 32-bit word after the magic).
   std::string version = bytes;
-  version[8] ^= 0x02;
+  version[8] = char(checkpoint_file::kVersion + 1);
   struct BadCase {
     std::string args;
     fs::path checkpoint;
@@ -460,6 +461,12 @@ TEST(Checkpoint, PrimarySampleSpaceCheckpointsRefuseOtherSettingsAndDamage) {
   short_state.resize(short_state.size() - 40);
   no_sweep[no_sweep.size() - 25] = 2;
   odd_rounds[odd_rounds.size() - 16] = 3;
+  // The same checkpoint marked as format 5, whose chains summed the image's two parts in one
+  // film (the checksum covers the payload, not the version).
+  std::string format_five = read_bytes(good);
+  format_five[8] = 5;
+  const fs::path older = dir / "format5.ckpt";
+  std::ofstream(older, std::ios::binary) << format_five;
   const struct {
     std::string args;
     fs::path checkpoint;
@@ -474,6 +481,7 @@ TEST(Checkpoint, PrimarySampleSpaceCheckpointsRefuseOtherSettingsAndDamage) {
       {common, damaged("sweep.ckpt", no_sweep), "cannot resume: the saved chains' schedule is inconsistent"},
       {common, damaged("rounds.ckpt", odd_rounds), "cannot resume: the saved chains' schedule is inconsistent"},
       {"--integrator pssmlt --mpp 4", good, "may extend the budget, not cut it"},
+      {common, older, "cannot resume: this pssmlt checkpoint of format 5"},
   };
   for (const auto& c : cases) {
     const int status = render(c.args + " -o " + out.string() + " --resume " + c.checkpoint.string(), &text);

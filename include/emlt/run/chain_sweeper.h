@@ -109,10 +109,11 @@ struct alignas(64) BlockCounter : StrategyStats {};
 class ChainSweeper {
  public:
   // `blocks`: the fixed partition of the chains, of which each rank owns a contiguous share;
-  // `names`: the statistics each block counts (block_stats()). The sweeper keeps
-  // references to settings, progress and run.
+  // `names`: the statistics each block counts (block_stats()); `layers`: images of `pixels`
+  // each film holds one after another (pssmlt's parts of the image, scaled apart at the end).
+  // The sweeper keeps references to settings, progress and run.
   ChainSweeper(const RenderSettings& settings, ProgressReporter& progress, ChainFrame& run,
-               uint64_t pixels, int blocks, std::vector<std::string> names);
+               uint64_t pixels, int blocks, std::vector<std::string> names, size_t layers = 1);
   ~ChainSweeper();
 
   // The render's threads, and the arena that holds them (also for the integrator's own
@@ -126,8 +127,8 @@ class ChainSweeper {
   std::pair<uint64_t, uint64_t> owned_blocks() const { return owned_; }
   bool owns_block(uint64_t block) const { return block >= owned_.first && block < owned_.second; }
 
-  // The films the blocks splat into; films_shared(): more threads than films, so threads
-  // add atomically.
+  // The films the blocks splat into (pixels x layers each); films_shared(): more threads
+  // than films, so threads add atomically.
   std::vector<FixedPointFilm>& films() { return films_; }
   bool films_shared() const { return shared_films_; }
   // The films' sum as exact integers (this rank's); throws Error when a film overflowed.

@@ -14,14 +14,19 @@ namespace emlt::checkpoint_file {
 // Raised whenever the layout of any integrator's state or of the header changes.
 // 2: PSSMLT's per-length counters. 3: MLT/EMLT's counters in up to 256 blocks (were 64).
 // 5: the path-space chains' normalisation drawn beside them (normalisation_pass.h).
-inline constexpr uint32_t kVersion = 5;
+// 6: pssmlt's and mmlt's two parts of the image in layers of their films, and the sums of
+// their converging b (pss_chains.h, pss_normalisation.h).
+inline constexpr uint32_t kVersion = 6;
 // The oldest version still read: 4 lacks only the sums of the normalisation at the end of the
 // path-space chains' section, which a resumed render then starts from the bootstrap's figures.
+// pssmlt's and mmlt's chains' sections of formats 4 and 5 hold one film of the two parts
+// summed, which cannot be parted again: their renders resume only from before the chains.
 inline constexpr uint32_t kOldestReadable = 4;
 
 struct Contents {
   std::string header;
   std::string state;
+  uint32_t version = kVersion;  // the format it was written in
 };
 
 // Throws emlt::Error naming the path on any I/O failure; never leaves a partial file.

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "emlt/core/state_io.h"
+#include "emlt/run/checkpoint_file.h"
 
 namespace emlt {
 
@@ -29,9 +30,14 @@ class RenderControl {
   RenderControl(const RenderControl&) = delete;
   RenderControl& operator=(const RenderControl&) = delete;
 
-  // The integrator's state to resume from (empty: a fresh render).
-  void set_resume_state(std::string state) { resume_state_ = std::move(state); }
+  // The integrator's state to resume from (empty: a fresh render), with the checkpoint format
+  // it was written in (checkpoint_file.h).
+  void set_resume_state(std::string state, uint32_t format = checkpoint_file::kVersion) {
+    resume_state_ = std::move(state);
+    resume_format_ = format;
+  }
   const std::string& resume_state() const { return resume_state_; }
+  uint32_t resume_format() const { return resume_format_; }
 
   // At a pause: writes a checkpoint when one is configured (whether it fell due or a stop
   // signal came) and returns whether the render must stop now.
@@ -55,6 +61,7 @@ class RenderControl {
   double interval_;
   Header header_;
   std::string resume_state_;
+  uint32_t resume_format_ = checkpoint_file::kVersion;
   int written_ = 0;
 
   std::mutex mutex_;

@@ -14,18 +14,6 @@
 
 namespace emlt {
 
-double NormalisationSums::standard_error() const {
-  if (samples == 0) return 0.0;
-  const double n = double(samples), mean = sum / n;
-  return std::sqrt(std::max(sum_squares / n - mean * mean, 0.0) / n);
-}
-
-double NormalisationSums::error() const {
-  if (samples == 0) return 0.0;
-  const double plain = standard_error(), one_more = largest / double(samples);
-  return std::sqrt(plain * plain + one_more * one_more);
-}
-
 NormalisationPass::NormalisationPass(const Scene& scene, const BootstrapParams& params, double rate)
     : scene_(scene), params_(params), rate_(rate) {}
 

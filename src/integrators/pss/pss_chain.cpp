@@ -19,6 +19,7 @@ void PssChain::save(StateWriter& out) const {
   out.put<double>(carried);
   out.put(rng.save());
   out.put<uint64_t>(steps);
+  out.put<NormalisationSums>(large_steps);
 }
 
 void PssChain::load(StateReader& in, int width, int height) {
@@ -28,10 +29,13 @@ void PssChain::load(StateReader& in, int width, int height) {
   carried = in.get<double>();
   rng = Rng::restore(in.get<Rng::State>());
   steps = in.get<uint64_t>();
+  large_steps = in.get<NormalisationSums>();
   // A chain's state was accepted, so f* > 0; its splats land on the film (their colours
   // are non-negative: the film turns them into integers assuming so).
+  // Its large steps are some of its steps.
   bool consistent = std::isfinite(current.target) && current.target > 0.0 &&
-                    std::isfinite(carried) && carried >= 0.0;
+                    std::isfinite(carried) && carried >= 0.0 && large_steps.consistent() &&
+                    large_steps.samples <= steps;
   for (const PssSplat& s : current.splats)
     consistent = consistent && s.raster.x >= 0.0f && s.raster.x <= float(width) &&
                  s.raster.y >= 0.0f && s.raster.y <= float(height) && std::isfinite(s.value.x) &&

@@ -17,9 +17,10 @@ constexpr uint64_t kChainStream = 0xc5500ull << 40;
 constexpr int kBlocks = 64;
 constexpr size_t kLarge = 0, kSmall = 1;  // the step kinds' statistics
 
-// Adds weight * F / (f* + p_L b) of every contribution, at its raster position.
-void splat(FixedPointFilm& film, bool shared, const PixelFilter& filter, int width, int height,
-           const PssSample& sample, double weight, double denominator) {
+// Adds weight * F / (f* + p_L b) of every contribution, at its raster position in the film's
+// layer that starts at pixel `layer_start`.
+void splat(FixedPointFilm& film, size_t layer_start, bool shared, const PixelFilter& filter,
+           int width, int height, const PssSample& sample, double weight, double denominator) {
   if (!(weight > 0.0) || !(denominator > 0.0)) return;
   const double w = weight / denominator;
   for (const PssSplat& s : sample.splats) {
@@ -27,12 +28,20 @@ void splat(FixedPointFilm& film, bool shared, const PixelFilter& filter, int wid
     if (filter.is_box()) {
       const int x = std::clamp(int(s.raster.x), 0, width - 1),
                 y = std::clamp(int(s.raster.y), 0, height - 1);
-      film.add(size_t(y) * size_t(width) + size_t(x), value, shared);
+      film.add(layer_start + size_t(y) * size_t(width) + size_t(x), value, shared);
     } else {
-      filter.splat(s.raster,
-                   [&](uint32_t pixel, float fw) { film.add(pixel, value * double(fw), shared); });
+      filter.splat(s.raster, [&](uint32_t pixel, float fw) {
+        film.add(layer_start + pixel, value * double(fw), shared);
+      });
     }
   }
+}
+
+// The films' layers: the independent part's, then one for each length with chains.
+size_t film_layers(const PssBootstrap& bootstrap) {
+  size_t layers = 1;
+  for (const int32_t chains : bootstrap.chains_of_length) layers += chains > 0;
+  return layers;
 }
 
 // Statistics, counted per block of chains: the step kinds, then the path lengths: for MMLT
@@ -48,16 +57,18 @@ std::vector<std::string> statistic_names(int min_edges, int max_edges, bool mult
 }  // namespace
 
 void PssBootstrap::save(StateWriter& out, const MltStatistics& stats) const {
-  out.put<double>(stats.b_standard_error);
+  out.put<double>(standard_error);
   out.put<uint64_t>(stats.bootstrap_samples);
   out.put<double>(stats.bootstrap_seconds);
   out.put<uint64_t>(uint64_t(chain_count));
   out.put_vector(b_length);
   out.put_vector(chains_of_length);
+  out.put_vector(seeds);
 }
 
 void PssBootstrap::load(StateReader& in, int lengths, MltStatistics& stats) {
-  stats.b_standard_error = in.get<double>();
+  standard_error = in.get<double>();
+  stats.b_standard_error = standard_error;
   stats.bootstrap_samples = in.get<uint64_t>();
   stats.bootstrap_seconds = in.get<double>();
   const uint64_t saved_count = in.get<uint64_t>();
@@ -67,11 +78,14 @@ void PssBootstrap::load(StateReader& in, int lengths, MltStatistics& stats) {
   chain_count = int(saved_count);
   b_length = in.get_vector<double>(uint64_t(lengths));
   chains_of_length = in.get_vector<int32_t>(uint64_t(lengths));
-  // A length has chains exactly when the bootstrap saw light in it, and they add up.
+  seeds = in.get_vector<NormalisationSums>(uint64_t(lengths));
+  // A length has chains exactly when the bootstrap saw light in it, and then seeds that
+  // carry light; the chains add up.
   int64_t given = 0;
   for (size_t k = 0; k < size_t(lengths); ++k) {
     if (!std::isfinite(b_length[k]) || b_length[k] < 0.0 || chains_of_length[k] < 0 ||
-        (chains_of_length[k] > 0) != (b_length[k] > 0.0))
+        (chains_of_length[k] > 0) != (b_length[k] > 0.0) || !seeds[k].consistent() ||
+        (chains_of_length[k] > 0 && !(seeds[k].sum > 0.0)))
       throw StateError("the saved bootstrap is inconsistent");
     given += chains_of_length[k];
   }
@@ -91,30 +105,37 @@ PssChains::PssChains(PssSetup setup, McmcRun& run, ProgressReporter& progress, M
       width_(setup_.scene.camera().width()),
       height_(setup_.scene.camera().height()),
       pixels_(uint64_t(width_) * uint64_t(height_)),
+      layers_(film_layers(setup_.bootstrap)),
       chain_count_(uint64_t(setup_.bootstrap.chain_count)),
       block_count_(std::min(setup_.bootstrap.chain_count, kBlocks)),
       p_large_(std::clamp(setup_.settings.large_step_probability, 0.0, 1.0)),
       chains_(chain_count_),
       sweeper_(setup_.settings, progress, run, pixels_, block_count_,
-               statistic_names(setup_.min_edges, setup_.max_edges, setup_.options.multiplexed)),
+               statistic_names(setup_.min_edges, setup_.max_edges, setup_.options.multiplexed),
+               layers_),
       run_(run) {
   const RenderSettings& settings = setup_.settings;
   const bool multiplexed = setup_.options.multiplexed;
   const PssBootstrap& bootstrap = setup_.bootstrap;
   const double b = bootstrap.b();
   {
-    size_t c = 0;
-    for (size_t k = 0; k < bootstrap.b_length.size(); ++k)
+    size_t c = 0, layer = 0;
+    for (size_t k = 0; k < bootstrap.b_length.size(); ++k) {
+      has_chains_.push_back(bootstrap.chains_of_length[k] > 0);
+      layer += has_chains_.back();
       for (int j = 0; j < bootstrap.chains_of_length[k]; ++j, ++c) {
         PssChain& chain = chains_[c];
         chain.u = PrimarySampleVector(float(settings.pss_sigma));
         chain.length = multiplexed ? setup_.min_edges + int(k) : 0;
+        chain.index = k;
+        chain.layer = layer;
         chain.b = bootstrap.b_length[k];
         chain.scale = multiplexed ? (bootstrap.b_length[k] / b) * double(chain_count_) /
                                         bootstrap.chains_of_length[k]
                                   : 1.0;
         chain.rng = Rng::for_item(derive_stream_seed(settings.seed, kChainStream), c);
       }
+    }
   }
   // Under MPI each rank runs a contiguous share of the blocks, so it holds one range of
   // chains (the others' chains stay unseeded).
@@ -170,7 +191,7 @@ void PssChains::load(StateReader& in) {
     throw StateError("the saved chains are not this process's share of them");
   for (uint64_t c = first; c < end; ++c) chains_[size_t(c)].load(in, width_, height_);
   sweeper_.load_stats(in);
-  const std::vector<int64_t> units = in.get_vector<int64_t>(3 * pixels_);
+  const std::vector<int64_t> units = in.get_vector<int64_t>(3 * pixels_ * layers_);
   const bool signed_sums = has_negative_lobes(setup_.scene.description().camera.filter);
   for (const int64_t u : units)
     if (u < 0 && !signed_sums) throw StateError("the saved film is inconsistent");
@@ -231,13 +252,21 @@ void PssChains::step(PssChain& chain, PssSample& proposal, FixedPointFilm& film,
   ++length_stats.proposed;
   length_stats.acceptance_sum += a;
   const double pb = p_large * chain.b;
-  const double proposal_weight =
-      (a + (large && !setup_.options.drop_large_step_weight ? 1.0 : 0.0)) * chain.scale;
-  splat(film, shared_films, filter, width, height, proposal, proposal_weight, proposal.target + pb);
+  const size_t chains_layer = chain.layer * pixels_;
+  // The chains' part: the proposal's expected-value weight a.
+  splat(film, chains_layer, shared_films, filter, width, height, proposal, a * chain.scale,
+        proposal.target + pb);
+  if (large) {
+    // The independent part, and b's sample.
+    if (!setup_.options.drop_large_step_weight)
+      splat(film, 0, shared_films, filter, width, height, proposal, chain.scale,
+            proposal.target + pb);
+    chain.large_steps.add(proposal.target);
+  }
   chain.carried += 1.0 - a;
   if (chain.rng.uniform() < a) {
-    splat(film, shared_films, filter, width, height, chain.current, chain.carried * chain.scale,
-          chain.current.target + pb);
+    splat(film, chains_layer, shared_films, filter, width, height, chain.current,
+          chain.carried * chain.scale, chain.current.target + pb);
     std::swap(chain.current, proposal);
     chain.carried = 0.0;
     chain.u.accept();
@@ -315,28 +344,60 @@ bool PssChains::log_final(uint64_t done) {
   return true;
 }
 
+std::vector<double> PssChains::normalise() {
+  const PssBootstrap& bootstrap = setup_.bootstrap;
+  const PssNormalisation n = pss_normalisation(bootstrap.seeds, chains_, first_owned_, end_owned_);
+  std::vector<double> factors = {1.0};
+  double b = 0.0;
+  for (size_t k = 0; k < has_chains_.size(); ++k)
+    if (has_chains_[k]) {
+      // Injected: the chains' part scaled by the bootstrap's b_k, as Kelemen's image is.
+      const double b_k =
+          setup_.options.scale_by_bootstrap_b ? bootstrap.b_length[k] : n.lengths[k].b();
+      factors.push_back(b_k / bootstrap.b_length[k]);
+      b += b_k;
+    }
+  stats_.b = b;
+  stats_.b_standard_error =
+      setup_.options.scale_by_bootstrap_b ? bootstrap.standard_error : n.error(has_chains_);
+  stats_.b_samples = n.samples(has_chains_);
+  stats_.b_largest_share = n.largest_share(has_chains_);
+  uint64_t large_steps = stats_.b_samples;
+  for (size_t k = 0; k < has_chains_.size(); ++k)
+    if (has_chains_[k]) large_steps -= bootstrap.seeds[k].samples;
+  stats_.b_large_steps = large_steps;
+  return factors;
+}
+
 // The image after `done` steps: the films plus every chain's weight not yet splatted
-// (added to a copy), scaled by pixels b / steps. Under MPI, on rank 0: each rank adds its
-// own chains' films and weights, and the integer sums are added over the ranks.
+// (added to a copy), each layer scaled by pixels b_w / steps and its factor (normalise()).
+// Under MPI, on rank 0: each rank adds its own chains' films and weights, and the integer
+// sums are added over the ranks.
 Image PssChains::compose(uint64_t done) {
-  std::vector<FixedPointFilm> total(1, FixedPointFilm(pixels_));
+  std::vector<FixedPointFilm> total(1, FixedPointFilm(pixels_ * layers_));
   FixedPointFilm::load_units(total, sweeper_.film_units());
   const PixelFilter& filter = setup_.scene.camera().filter();
   for (uint64_t c = first_owned_; c < end_owned_; ++c) {
     const PssChain& chain = chains_[size_t(c)];
-    splat(total[0], false, filter, width_, height_, chain.current, chain.carried * chain.scale,
-          chain.current.target + p_large_ * chain.b);
+    splat(total[0], chain.layer * pixels_, false, filter, width_, height_, chain.current,
+          chain.carried * chain.scale, chain.current.target + p_large_ * chain.b);
   }
   std::vector<int64_t> units;
   if (!FixedPointFilm::total_units(total, units))
     throw Error("the MCMC film overflowed: too many mutations' worth of weight in one pixel");
   cluster::sum_to_root(units);
+  const std::vector<double> factors = normalise();
   const double scale = done > 0 ? double(pixels_) * setup_.bootstrap.b() / double(done) : 0.0;
+  std::vector<DVec3> chains_image(pixels_, DVec3(0.0));
+  for (size_t layer = 0; layer < layers_; ++layer) {
+    const double layer_scale = scale * factors[layer] / FixedPointFilm::kUnitsPerValue;
+    const int64_t* u = units.data() + 3 * pixels_ * layer;
+    for (uint64_t p = 0; p < pixels_; ++p)
+      chains_image[p] +=
+          DVec3(double(u[3 * p]), double(u[3 * p + 1]), double(u[3 * p + 2])) * layer_scale;
+  }
   Image image = run_.direct_image();
-  for (uint64_t p = 0; p < pixels_; ++p)
-    image.pixels[p] +=
-        Rgb(DVec3(double(units[3 * p]), double(units[3 * p + 1]), double(units[3 * p + 2])) *
-            (scale / FixedPointFilm::kUnitsPerValue));
+  for (uint64_t p = 0; p < pixels_; ++p) image.pixels[p] += Rgb(chains_image[p]);
   return image;
 }
 

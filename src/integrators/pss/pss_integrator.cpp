@@ -77,6 +77,7 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
   PssBootstrap boot;
   boot.b_length.assign(static_cast<size_t>(lengths), 0.0);
   boot.chains_of_length.assign(static_cast<size_t>(lengths), 0);
+  boot.seeds.assign(static_cast<size_t>(lengths), NormalisationSums{});
   std::vector<double>& b_length = boot.b_length;
   std::vector<int32_t>& chains_of_length = boot.chains_of_length;
   int& chain_count = boot.chain_count;
@@ -87,6 +88,11 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
   std::vector<std::vector<double>> cumulative(static_cast<size_t>(lengths));
   const double bootstrap_start = run.elapsed();
   if (!chain_section.empty()) {
+    if (run.control() && run.control()->resume_format() < kPssChainsOldestFormat)
+      throw StateError("this " + name() + " checkpoint of format " +
+                       std::to_string(run.control()->resume_format()) +
+                       " holds the chains' film in a form this emlt no longer splits; render "
+                       "again from the start");
     chain_in.emplace(chain_section);
     boot.load(*chain_in, lengths, stats_);
   } else {
@@ -124,8 +130,10 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
         std::copy(part.begin(), part.end(), weights.begin() + block_samples(first));
       }
     }
+    // The seeds' f* in sample order: the first of the converging b's samples.
     for (uint64_t i = 0; i < samples; ++i) {
       const size_t k = multiplexed ? size_t(i % uint64_t(lengths)) : 0;
+      boot.seeds[k].add(weights[i]);
       if (weights[i] > 0.0) {
         pool[k].push_back(i);
         cumulative[k].push_back((cumulative[k].empty() ? 0.0 : cumulative[k].back()) + weights[i]);
@@ -145,13 +153,13 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
     }
     double b = 0.0;
     for (size_t k = 0; k < size_t(lengths); ++k) {
-      b_length[k] /= double(path_bootstrap.samples);
+      b_length[k] = b_length[k] / double(path_bootstrap.samples) * options_.bootstrap_b_factor;
       // A length without a seed cannot have a chain (nor, in practice, light).
       if (pool[k].empty()) b_length[k] = 0.0;
       b += b_length[k];
     }
     stats_.b = b;
-    stats_.b_standard_error = path_bootstrap.standard_error;
+    stats_.b_standard_error = boot.standard_error = path_bootstrap.standard_error;
     stats_.bootstrap_samples = path_bootstrap.samples;
     if (!(b > 0.0)) {
       stats_.bootstrap_seconds = run.elapsed() - bootstrap_start;
@@ -188,7 +196,8 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
   }
   const double b = boot.b();
   if (!(b > 0.0) || !std::isfinite(b)) throw StateError("the saved bootstrap is inconsistent");
-  // PSSMLT and MMLT scale by the bootstrap's b alone.
+  // The weights' b; the chains' part of the image is scaled by the b of the primary samples
+  // (pss_normalisation.h), which the chains' images fill in.
   stats_.b = stats_.bootstrap_b = b;
   stats_.b_samples = stats_.bootstrap_samples;
 

@@ -23,11 +23,13 @@
 namespace emlt {
 
 struct MltStatistics {
-  // b as the image is scaled by it, from b_samples samples: the bootstrap's and, in mlt,
-  // gamlt and emlt, those drawn beside the chains (normalisation_pass.h); the largest single
-  // sample's share of their sum (0: not known).
+  // b as the image is scaled by it, from b_samples samples: in mlt, gamlt and emlt the
+  // bootstrap's and those drawn beside the chains (normalisation_pass.h); in pssmlt and mmlt
+  // the primary samples of the seeds' bootstrap and the chains' b_large_steps large steps
+  // (pss_normalisation.h), which scale the chains' part of the image. The largest single
+  // sample's share of b (0: not known).
   double b = 0.0, b_standard_error = 0.0, b_largest_share = 0.0;
-  uint64_t b_samples = 0;
+  uint64_t b_samples = 0, b_large_steps = 0;
   // The bootstrap's own b and samples.
   double bootstrap_b = 0.0;
   uint64_t bootstrap_samples = 0, chains = 0, mutations = 0;

@@ -17,31 +17,11 @@
 
 #include "emlt/core/state_io.h"
 #include "emlt/integrators/mlt/bootstrap.h"
+#include "emlt/integrators/mlt/normalisation_sums.h"
 
 namespace emlt {
 
 class Scene;
-
-// Running figures of the samples behind b (the bootstrap's and the pass's).
-struct NormalisationSums {
-  uint64_t samples = 0;
-  double sum = 0.0, sum_squares = 0.0;
-  double largest = 0.0;  // the largest single sample (its summed candidate weights)
-
-  double b() const { return samples > 0 ? sum / double(samples) : 0.0; }
-  // The standard error of b from the samples' spread.
-  double standard_error() const;
-  // The error printed with b: the standard error widened by the largest sample over the
-  // count, as if one more path that bright had come. Where rare, bright paths carry much of
-  // b (caustics through glass) the samples' spread understates b's until such paths have
-  // been met many times: on the caustic pool with 200,000 samples the mean z^2 over seeds
-  // was 5.3 with the plain error and 3.9 widened, 1.6 and 1.3 at 400,000, 1.15 and 1.07 at
-  // a million (docs/normalisation.md). No error computed from one run can cover paths it
-  // never met; the remedy is more samples, which the pass draws.
-  double error() const;
-  // The largest sample's share of the sum: how much one path decides.
-  double largest_share() const { return sum > 0.0 ? largest / sum : 0.0; }
-};
 
 class NormalisationPass {
  public:

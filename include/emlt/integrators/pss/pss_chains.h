@@ -2,6 +2,22 @@
 // The chains of primary-sample-space MLT (pssmlt, mmlt) as the chain sweeper drives them:
 // Kelemen's step (pss_integrator.h), whole sweeps of equal steps per chain, the image they
 // make, their checkpoint section and their statistics.
+//
+// The image is Kelemen's estimator split into its two halves, each in its own layer of the
+// sweeper's films, because the b inside the splats' weights (the bootstrap's, b_w) is fixed
+// before the chains while the b that scales the chains' part must keep converging. A
+// contribution F at z with f*(z) has the weight F / (f*/b_w + p_L), which is both
+// alpha b_w F / f* and (1 - alpha) F / p_L with alpha = (f*/b_w) / (f*/b_w + p_L):
+//   - the chains' part: the expected-value splats of current and proposal (weights 1 - a
+//     and a), alpha F / f* = F / (f* + p_L b_w) each, into layer 1 (for MMLT a layer per
+//     length with chains); the chains' states have density f*/b, so this layer estimates
+//     the integral of alpha F only when scaled by the true b: by b_k/N_k at the end, with b_k
+//     the mean of f* over every independent primary sample so far (pss_normalisation.h);
+//   - the independent part: at large steps only, the proposal's (1 - alpha) F / p_L, the
+//     same F / (f* + p_L b_w) times b_w, into layer 0, scaled by b_w/N: it estimates the
+//     integral of (1 - alpha) F with uniform samples, whatever b is.
+// Their sum is Kelemen's image when the final b is b_w, and unbiased for any b_w as the
+// final b converges: b_w only chooses how the two halves share each path (alpha).
 #include <cstdint>
 #include <vector>
 
@@ -10,16 +26,25 @@
 #include "emlt/integrators/mlt/mlt_integrator.h"
 #include "emlt/integrators/pss/pss_chain.h"
 #include "emlt/integrators/pss/pss_integrator.h"
+#include "emlt/integrators/pss/pss_normalisation.h"
 #include "emlt/run/chain_sweeper.h"
 
 namespace emlt {
 
+// The oldest checkpoint format (checkpoint_file.h) whose chains' section this reads: earlier
+// ones summed the image's two parts into one film.
+inline constexpr uint32_t kPssChainsOldestFormat = 6;
+
 // What the bootstrap gave the chains: each length's normalisation b_k (b for PSSMLT) and
-// chains, and the figures of the statistics. Saved at the head of the chains' section.
+// chains, the sums of f* over each length's samples that seeded them (the start of the b
+// the chains' part of the image is scaled by, pss_normalisation.h), and the figures of the
+// statistics. Saved at the head of the chains' section.
 struct PssBootstrap {
   std::vector<double> b_length;
   std::vector<int32_t> chains_of_length;
+  std::vector<NormalisationSums> seeds;
   int chain_count = 0;
+  double standard_error = 0.0;  // b's, from the path-space bootstrap
 
   void save(StateWriter& out, const MltStatistics& stats) const;
   // Throws StateError for a state that does not fit `lengths` path lengths.
@@ -74,6 +99,9 @@ class PssChains final : public ChainSteps {
   void load(StateReader& in);
   void step(PssChain& chain, PssSample& proposal, FixedPointFilm& film,
             std::vector<BlockCounter>& stats) const;
+  // The figures of b (pss_normalisation.h) into the statistics; returns each layer's
+  // factor on b_w (1 for the independent part's layer 0, b_k / b_w,k for a chains' layer).
+  std::vector<double> normalise();
   uint64_t first_chain_of(uint64_t block) const {
     return chain_count_ * block / uint64_t(block_count_);
   }
@@ -82,6 +110,10 @@ class PssChains final : public ChainSteps {
   MltStatistics& stats_;
   int width_, height_;
   uint64_t pixels_;
+  // The films' layers: 0 the independent part, then the chains' part of each length with
+  // chains (PssChain::layer), in length order; each pixels_ wide.
+  size_t layers_;
+  std::vector<bool> has_chains_;  // by length index
   uint64_t chain_count_;
   int block_count_;
   double p_large_;

@@ -12,10 +12,13 @@
 // Both use Kelemen's combined estimator: every step splats the proposal y with weight
 // (a + L) / (f*(y) / b + p_L) and the current state x with (1 - a) / (f*(x) / b + p_L),
 // L = 1 for a large step; it is unbiased for any b > 0 and p_L, and with p_L = 0 reduces to
-// the plain MLT estimator b F / f*.
+// the plain MLT estimator b F / f*. Its two halves, the chains' (a, 1 - a) and the large
+// steps' (L), are kept apart, so that the chains' half is scaled by a b that keeps
+// converging with the render while the weights keep the bootstrap's (pss_chains.h).
 //
-// MLT's bootstrap (BDPT samples) gives b (b_k), N independent primary samples the chains'
-// seeds (resampled in proportion to f*, so there is no start-up bias); the chains
+// MLT's bootstrap (BDPT samples) gives the weights' b (b_k), N independent primary samples
+// the chains' seeds (resampled in proportion to f*, so there is no start-up bias) and the
+// start of the converging b (pss_normalisation.h); the chains
 // (pss_chains.h) run on the chain sweeper (chain_sweeper.h), as MLT's do, in a fixed
 // partition of 64 blocks, taking whole sweeps of equal steps, so a seed gives the same bits
 // at any thread or rank count and across a stop and resume. The direct light may be
@@ -32,6 +35,10 @@ struct PssOptions {
   bool drop_large_step_weight = false;      // the proposal's weight a instead of a + L
   bool keep_coordinate_on_reject = false;   // coordinate 0 not restored on rejection
   bool ignore_technique_selection = false;  // MMLT: no division by 1 / (k + 1)
+  bool scale_by_bootstrap_b = false;        // the chains' part scaled by the bootstrap's b
+  // Not a mistake: the bootstrap's b (b_k) times this, as a bootstrap that far off would
+  // give, to show that the image no longer depends on it.
+  double bootstrap_b_factor = 1.0;
 };
 
 class PssMltIntegrator final : public Integrator {
