@@ -111,7 +111,7 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"gamlt", "--mpp 16", 2 * 16 * 1024},
                       Case{"emlt", "--mpp 16", 2 * 16 * 1024},
                       // Manifold walks through a glass sphere's refractions.
-                      Case{"memlt", "--mpp 16", 2 * 16 * 4096, "memlt_glass", "bsdf-dielectric"},
+                      Case{"memlt", "--mpp 16", 2 * 16 * 1024, "memlt_glass", "bsdf-dielectric"},
                       Case{"pssmlt", "--mpp 16", 2 * 16 * 1024},
                       // Without the direct-light pass, every stop falls in the chains.
                       Case{"pssmlt", "--pss-tracer bdpt --direct mlt --mpp 16", 16 * 1024,

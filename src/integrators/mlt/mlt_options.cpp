@@ -86,6 +86,10 @@ const std::vector<RenderOption>& mlt_options() {
                             "direction lobe's peak is lambda^2 times the start vertex's own "
                             "density; larger is smaller steps (Mitsuba's probFactor/lambda, "
                             "default 50)"));
+    // The path-space strategies' (ERPT's chains take them too).
+    o.back().applies = [](const RenderSettings& s) {
+      return path_space_family(s) || s.integrator == "erpt";
+    };
     o.push_back(switch_option("--direct", &RenderSettings::direct_separate, "mlt", "separate",
                               "mlt: direct light rendered separately or by the chains"));
     o.push_back(whole_option("--direct-spp", &RenderSettings::direct_spp, 1, 1 << 20,
@@ -221,8 +225,7 @@ const std::vector<RenderOption>& ensemble_options() {
     // direct light is left to BDPT as the family's is to the direct pass.
     for (RenderOption& option : o)
       if (option.flag == "--mutations" || option.flag == "--bootstrap" ||
-          option.flag == "--bootstrap-seed" || option.flag == "--direct" ||
-          option.flag == "--manifold-lambda")
+          option.flag == "--bootstrap-seed" || option.flag == "--direct")
         option.applies = [](const RenderSettings& s) {
           return path_space_family(s) || s.integrator == "erpt";
         };
