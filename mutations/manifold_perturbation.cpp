@@ -218,13 +218,17 @@ std::optional<Proposal> ManifoldPerturbation::perturb_to(const Path& x, const Mo
     problem.mode = chain_mode;
     for (int i = c - step; i != b; i -= step)
       problem.links.push_back({xv[size_t(i)].bsdf, crosses(i)});
-    problem.target = DVec3(yv[size_t(b)].position);
-    problem.target_normal = DVec3(yv[size_t(b)].normal);
     const double length = chain_length(x, c, b);
-    const double tolerance = kRelativeTolerance * length;
-    const auto forward = manifold::solve_chain(
-        problem, perturbation::precise_direction(xv[size_t(c)], xv[size_t(c - step)]), tolerance,
-        faults_.accept_unconverged);
+    // The walk from the fixed x_c, started along `from`'s chain, to `to`'s x_b.
+    const auto walk = [&](const Path& from, const Path& to) {
+      problem.target = DVec3(to.vertices[size_t(b)].position);
+      problem.target_normal = DVec3(to.vertices[size_t(b)].normal);
+      return manifold::solve_chain(problem,
+                                   perturbation::precise_direction(from.vertices[size_t(c)],
+                                                                   from.vertices[size_t(c - step)]),
+                                   kRelativeTolerance * length, faults_.accept_unconverged);
+    };
+    const auto forward = walk(x, y);
     if (!forward) return std::nullopt;
     for (size_t j = 0; j < forward->links.size(); ++j) {
       const int i = c - step * int(j + 1);
@@ -232,11 +236,7 @@ std::optional<Proposal> ManifoldPerturbation::perturb_to(const Path& x, const Mo
       yv[size_t(i)].throughput = xv[size_t(i)].throughput;
     }
     // The reverse move: the walk from y's chain to x's x_b must find x's chain.
-    problem.target = DVec3(xv[size_t(b)].position);
-    problem.target_normal = DVec3(xv[size_t(b)].normal);
-    const auto reverse = manifold::solve_chain(
-        problem, perturbation::precise_direction(yv[size_t(c)], yv[size_t(c - step)]), tolerance,
-        faults_.accept_unconverged);
+    const auto reverse = walk(y, x);
     if (!reverse) return std::nullopt;
     for (size_t j = 0; j < reverse->links.size(); ++j) {
       const int i = c - step * int(j + 1);
