@@ -34,22 +34,27 @@ void report_mlt_statistics(const std::string& name, const MltStatistics& st,
   else
     std::snprintf(samples, sizeof samples, "%llu bootstrap samples",
                   static_cast<unsigned long long>(st.bootstrap_samples));
-  std::fprintf(stderr, "%s: b = %.6g +- %.2g (%s), %llu chains, %llu mutations, %.3f M mutations/s\n",
-               name.c_str(), st.b, st.b_standard_error, samples,
-               static_cast<unsigned long long>(st.chains),
-               static_cast<unsigned long long>(st.mutations),
-               st.seconds > 0.0 ? double(st.mutations) / st.seconds * 1e-6 : 0.0);
+  std::fprintf(
+      stderr, "%s: b = %.6g +- %.2g (%s), %llu chains, %llu mutations, %.3f M mutations/s\n",
+      name.c_str(), st.b, st.b_standard_error, samples, static_cast<unsigned long long>(st.chains),
+      static_cast<unsigned long long>(st.mutations),
+      st.seconds > 0.0 ? double(st.mutations) / st.seconds * 1e-6 : 0.0);
   // The searches some strategies build before the chains (gamlt's), when they took any time.
   char prepared[64] = "";
   if (st.prepare_seconds >= 0.0005)
     std::snprintf(prepared, sizeof prepared, ", %.3f s building searches before them",
                   st.prepare_seconds);
-  std::fprintf(
-      stderr,
-      "  time: %.3f s direct light (%d spp), %.3f s bootstrap, %.3f s normalisation beside the "
-      "chains, chains alone %.3f M mutations/s%s\n",
-      st.direct_seconds, st.direct_spp, st.bootstrap_seconds, st.normalisation_seconds,
-      st.chain_mutations_per_second() * 1e-6, prepared);
+  // The separate direct light and the samples beside the chains, where the run had them
+  // (erpt has neither: its seeds deposit the direct light).
+  char direct[64] = "", beside[64] = "";
+  if (st.direct_spp > 0)
+    std::snprintf(direct, sizeof direct, "%.3f s direct light (%d spp), ", st.direct_seconds,
+                  st.direct_spp);
+  if (st.normalisation_seconds > 0.0)
+    std::snprintf(beside, sizeof beside, "%.3f s normalisation beside the chains, ",
+                  st.normalisation_seconds);
+  std::fprintf(stderr, "  time: %s%.3f s bootstrap, %schains alone %.3f M mutations/s%s\n", direct,
+               st.bootstrap_seconds, beside, st.chain_mutations_per_second() * 1e-6, prepared);
   if (st.ensemble_size > 0)
     std::fprintf(stderr,
                  "  ensembles: 2 x %llu paths, M = %llu guides, %llu steps per path between swaps, "

@@ -123,7 +123,8 @@ TEST(Cli, TheCommandLineOverridesWhatTheSceneFileSets) {
   const auto scene = [&](const std::string& name, const std::string& hide) {
     const fs::path path = dir / name;
     write_file(path, R"(<scene version="0.6.0">
-  <integrator type="path"><boolean name="hideEmitters" value=")" + hide + R"("/></integrator>
+  <integrator type="path"><boolean name="hideEmitters" value=")" +
+                         hide + R"("/></integrator>
   <sensor type="perspective"><transform name="toWorld"><lookat origin="0,0,4" target="0,0,0" up="0,1,0"/></transform>
     <sampler type="independent"><integer name="sampleCount" value="2"/></sampler>
     <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>
@@ -181,8 +182,9 @@ TEST(Cli, InfoGivesAFidelityVerdictAndStrictRefusesDivergences) {
   // supported at all.
   write_file(
       dir / "approx.xml",
-      scene_with(R"(<boolean name="highQualityEdges" value="true"/>)",
-                 R"(<shape type="sphere"><bsdf type="roughplastic"><float name="alphaU" value="0.1"/><float name="alphaV" value="0.3"/></bsdf></shape>
+      scene_with(
+          R"(<boolean name="highQualityEdges" value="true"/>)",
+          R"(<shape type="sphere"><bsdf type="roughplastic"><float name="alphaU" value="0.1"/><float name="alphaV" value="0.3"/></bsdf></shape>
   <emitter type="laser"/>
 )"));
   write_file(dir / "exact.xml", scene_with(R"(<rfilter type="box"/>)", ""));
@@ -418,6 +420,34 @@ TEST(Cli, MltWritesStatisticsAndRejectsUnknownStrategies) {
   expect_clean_failure("render " + cornell() + " -o " + (dir / "o.exr").string() +
                            " --integrator mlt --mutations teleport=1",
                        "teleport", dir / "o.exr");
+}
+
+// erpt's --stats: b with its error from the luminance samples, the chains its seeds started
+// and their steps, each strategy's proposals (which add up to the steps).
+TEST(Cli, ErptWritesItsChainStatistics) {
+  const fs::path dir = test::scratch_dir("erpt_stats");
+  std::string text;
+  ASSERT_EQ(0, test::run_command(
+                   emlt_cmd("render " + cornell() + " -o " + (dir / "erpt.pfm").string() +
+                            " --integrator erpt --spp 2 --erpt-chain-length 8 --bootstrap 4000"
+                            " --width 16 --height 16 --quiet --stats " +
+                            (dir / "stats.json").string()),
+                   &text))
+      << text;
+  std::ifstream in(dir / "stats.json");
+  const auto stats = nlohmann::json::parse(in);
+  EXPECT_GT(stats["b"].get<double>(), 0.0);
+  EXPECT_GT(stats["b_standard_error"].get<double>(), 0.0);
+  EXPECT_EQ(stats["bootstrap_samples"].get<uint64_t>(), 4000u);
+  const uint64_t chains = stats["chains"].get<uint64_t>();
+  EXPECT_GT(chains, 0u);
+  EXPECT_EQ(stats["mutations"].get<uint64_t>(), 8u * chains);
+  ASSERT_EQ(stats["strategies"].size(), 3u);
+  EXPECT_EQ(stats["strategies"][0]["name"], "lens");
+  uint64_t proposed = 0;
+  for (const auto& s : stats["strategies"]) proposed += s["proposed"].get<uint64_t>();
+  EXPECT_EQ(proposed, 8u * chains);
+  EXPECT_NE(text.find("erpt: b = "), std::string::npos) << text;
 }
 
 // --bootstrap-seed fixes the bootstrap (b and the start paths) while --seed varies the

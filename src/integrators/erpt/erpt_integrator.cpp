@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -15,7 +16,9 @@
 #include "emlt/film/fixed_point_film.h"
 #include "emlt/integrators/bdpt.h"
 #include "emlt/integrators/mlt/bootstrap.h"
+#include "emlt/integrators/mlt/mlt_integrator.h"
 #include "emlt/integrators/mlt/mlt_step.h"
+#include "emlt/integrators/mlt/normalisation_sums.h"
 #include "emlt/mcmc/strategy_mix.h"
 #include "emlt/path/path.h"
 #include "emlt/run/pass_runner.h"
@@ -35,19 +38,20 @@ constexpr int kMaxFilms = 16;
 // b, the image's mean luminance over the paths the chains take: `samples` bootstrap samples
 // in groups of 1,024 summed in order (the same on every rank and at any thread count). It
 // only sets how many chains a seed starts, never what they deposit in expectation.
-double mean_luminance(const Scene& scene, const BootstrapParams& p, uint64_t samples, int threads) {
+NormalisationSums mean_luminance(const Scene& scene, const BootstrapParams& p, uint64_t samples,
+                                 int threads) {
   const uint64_t groups = (samples + 1023) / 1024;
-  std::vector<double> sums(groups, 0.0);
+  std::vector<NormalisationSums> sums(groups);
   tbb::task_arena(threads).execute([&] {
     tbb::parallel_for(uint64_t(0), groups, [&](uint64_t g) {
       const uint64_t first = 1024 * g, last = std::min(samples, first + 1024);
       bootstrap_sample_totals(scene, p, uint32_t(first), uint32_t(last),
-                              [&](double x) { sums[g] += x; });
+                              [&](double x) { sums[g].add(x); });
     });
   });
-  double total = 0.0;
-  for (const double s : sums) total += s;
-  return samples > 0 ? total / double(samples) : 0.0;
+  NormalisationSums total;
+  for (const NormalisationSums& s : sums) total.add(s);
+  return total;
 }
 
 class ErptStep final : public PixelSampleStep {
@@ -180,21 +184,17 @@ class ErptStep final : public PixelSampleStep {
                                in.get_vector<int64_t>(3 * size_t(width_) * size_t(height_)));
   }
 
-  // What the chains did, on stderr: how many started, and each strategy's steps and mean
-  // acceptance (this run's and this rank's; the counts do not depend on the thread count, the sums'
-  // last bits may).
-  void report(const StrategyMix& mix) const {
-    if (!cluster::is_root()) return;
+  // What the chains did (this run's and this rank's; the counts do not depend on the thread
+  // count, the acceptance sums' last bits may): how many started, their steps, and each
+  // strategy's proposals and acceptance, into `stats` beside b.
+  void add_chain_figures(const StrategyMix& mix, MltStatistics& stats) const {
     std::vector<StrategyStats> total(mix.size());
     for (const std::vector<BlockCounter>& local : stats_)
       for (size_t i = 0; i < local.size(); ++i) total[i].merge(local[i]);
-    std::fprintf(stderr, "erpt: %llu chains of %d steps; b = %.6g\n",
-                 static_cast<unsigned long long>(chains_started_.load()),
-                 settings_.erpt_chain_length, b_);
-    for (size_t i = 0; i < mix.size(); ++i)
-      std::fprintf(stderr, "  %-16s proposed %llu, accepted %llu, mean a %.4f\n",
-                   mix.name(i).c_str(), static_cast<unsigned long long>(total[i].proposed),
-                   static_cast<unsigned long long>(total[i].accepted), total[i].mean_acceptance());
+    stats.chains = chains_started_.load();
+    stats.mutations = stats.chains * uint64_t(settings_.erpt_chain_length);
+    for (size_t i = 0; i < mix.size(); ++i) stats.strategy_names.push_back(mix.name(i));
+    stats.strategies = std::move(total);
   }
 
  private:
@@ -238,20 +238,35 @@ class Erpt final : public Integrator {
     // paths the chains take, from the bootstrap's stream.
     const BootstrapParams seeds =
         BootstrapParams::of(settings, settings.shortest_path(), ctx.max_edges, threads);
-    const double b =
+    const auto started = std::chrono::steady_clock::now();
+    const NormalisationSums b =
         ctx.min_edges > ctx.max_edges
-            ? 0.0
+            ? NormalisationSums{}
             : mean_luminance(scene,
                              BootstrapParams::of(settings, ctx.min_edges, ctx.max_edges, threads),
                              uint64_t(std::max(settings.bootstrap_samples, 0)), threads);
-    ErptStep step(scene, settings, mix, ctx, seeds, b, threads, options_);
+    const double bootstrap_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    ErptStep step(scene, settings, mix, ctx, seeds, b.b(), threads, options_);
     RenderResult result = PassRunner(scene, settings, progress, step).render();
-    if (settings.progress) step.report(mix);
+    stats_ = MltStatistics{};
+    stats_.b = stats_.bootstrap_b = b.b();
+    stats_.b_standard_error = b.error();
+    stats_.b_largest_share = b.largest_share();
+    stats_.b_samples = stats_.bootstrap_samples = b.samples;
+    stats_.bootstrap_seconds = bootstrap_seconds;
+    // The runner's time (the seeds' samples with their chains) and the luminance samples'.
+    stats_.seconds = result.seconds + bootstrap_seconds;
+    step.add_chain_figures(mix, stats_);
     return result;
   }
+  // b and what the chains did: the seeds' chains only distribute their energy, so the chain
+  // count and steps are figures of the run, not a budget; under MPI this rank's.
+  const MltStatistics* chain_statistics() const override { return &stats_; }
 
  private:
   ErptOptions options_;
+  mutable MltStatistics stats_;
 };
 
 }  // namespace

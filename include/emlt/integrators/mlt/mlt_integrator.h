@@ -91,6 +91,7 @@ class MltIntegrator final : public Integrator {
 
   // Filled by the last render (printed by the command line, written by --stats).
   const MltStatistics& statistics() const { return stats_; }
+  const MltStatistics* chain_statistics() const override { return &stats_; }
 
   static int default_chain_count(uint64_t mutations);
 

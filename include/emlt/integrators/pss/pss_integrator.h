@@ -52,6 +52,7 @@ class PssMltIntegrator final : public Integrator {
   // PSSMLT the proposal's longest contributing path, and "no light" for a proposal without
   // any.
   const MltStatistics& statistics() const { return stats_; }
+  const MltStatistics* chain_statistics() const override { return &stats_; }
 
  private:
   PssOptions options_;
