@@ -96,8 +96,11 @@ class ErptStep final : public PixelSampleStep {
           const DVec3 c(value);
           const double w = luminance(c);
           const Vec2 at = camera.front().raster;
-          // Paths shorter than the chains take (the direct light, with --direct separate), and
-          // seeds whose joined path carries nothing after all: deposited as BDPT found them.
+          // Paths shorter than the chains take (the direct light, with --direct separate), a
+          // light seen directly (one segment: Mitsuba's perturbations do not apply to it, so
+          // its ERPT leaves such seeds where they are; chains would only spread the light's
+          // image over its neighbours), and seeds whose joined path carries nothing after
+          // all: deposited as BDPT found them.
           const auto deposit = [&] {
             const DVec3 units = c / unit_;
             if (filter.is_box()) {
@@ -226,7 +229,10 @@ class Erpt final : public Integrator {
         StrategyMix::parse(settings.mutations.empty() ? kErptMix : settings.mutations);
     const uint64_t pixels = uint64_t(scene.camera().width()) * uint64_t(scene.camera().height());
     MutationContext ctx{scene};
-    ctx.min_edges = settings.direct_separate ? 3 : settings.shortest_path();
+    // A light seen directly is never a chain's (ErptStep deposits it as its seed found it):
+    // the chains' domain starts at two segments, so that none (a bidirectional mutation)
+    // moves energy into it either.
+    ctx.min_edges = settings.direct_separate ? 3 : std::max(2, settings.shortest_path());
     ctx.max_edges = settings.max_depth < 0 ? BidirectionalPathTracer::kUnlimitedDepth
                                            : std::min(settings.max_depth, kMaxPathVertices - 1);
     ctx.lens_max_radius = std::sqrt(0.05f * float(pixels) / kPi);
