@@ -111,8 +111,12 @@ double ManifoldPerturbation::direction_density(const Path& path, int a, int step
   return conversion > 0.0 ? stored / conversion : 0.0;
 }
 
-std::vector<ManifoldPerturbation::Move> ManifoldPerturbation::moves(const Path& x) {
-  std::vector<Move> found;
+namespace {
+
+// Calls visit(move) for each move x's type allows, in a fixed order, until it returns true;
+// no allocation, so that applies_to, asked on every step, stays cheap.
+template <typename Visit>
+bool visit_moves(const Path& x, Visit visit) {
   const auto& v = x.vertices;
   const int k = x.edges();
   for (int a = 0; a <= k; ++a) {
@@ -124,14 +128,25 @@ std::vector<ManifoldPerturbation::Move> ManifoldPerturbation::moves(const Path& 
       int c = b + step;
       while (c >= 0 && c <= k && v[size_t(c)].delta) c += step;
       if (c < 0 || c > k || !fixed_point(v[size_t(c)])) continue;
-      found.push_back({a, b, c, step});
+      if (visit(ManifoldPerturbation::Move{a, b, c, step})) return true;
     }
   }
+  return false;
+}
+
+}  // namespace
+
+std::vector<ManifoldPerturbation::Move> ManifoldPerturbation::moves(const Path& x) {
+  std::vector<Move> found;
+  visit_moves(x, [&](const Move& m) {
+    found.push_back(m);
+    return false;
+  });
   return found;
 }
 
 bool ManifoldPerturbation::applies_to(const Path& x, const MutationContext&) const {
-  return !moves(x).empty();
+  return visit_moves(x, [](const Move&) { return true; });
 }
 
 std::optional<Proposal> ManifoldPerturbation::propose(const Path& x, Rng& rng,

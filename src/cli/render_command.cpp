@@ -289,8 +289,8 @@ int run_render(const CLI::App& command, RenderOptions& o) {
   }
   write_image(o.output, result.image);
   if (preview_written.valid()) preview_written.get();
-  if (const MltStatistics* chains = integrator->chain_statistics())
-    report_mlt_statistics(settings.integrator, *chains, settings.stats_path);
+  if (const auto* chains = dynamic_cast<const ChainStatisticsSource*>(integrator.get()))
+    report_mlt_statistics(settings.integrator, chains->chain_statistics(), settings.stats_path);
   if (!o.reference.empty()) {
     const ImageMetrics m = compare_images(reference, result.image, std::nullopt, &sees_emitter);
     std::fprintf(stderr, "against %s: mse %.6g, relmse %.6g, mse without visible emitters %.6g, mean ratio %.5f\n",

@@ -12,8 +12,6 @@
 
 namespace emlt {
 
-struct MltStatistics;  // integrators/mlt/mlt_integrator.h
-
 struct RenderResult {
   Image image;
   double seconds = 0.0;
@@ -34,9 +32,6 @@ class Integrator {
   virtual std::string name() const = 0;
   virtual RenderResult render(const Scene& scene, const RenderSettings& settings,
                               ProgressReporter& progress) const = 0;
-  // The Markov chains' figures of the last render (b, chains, each strategy's acceptance),
-  // which `--stats` writes; none for an integrator without chains.
-  virtual const MltStatistics* chain_statistics() const { return nullptr; }
 };
 
 // Throws emlt::Error for an unknown name.

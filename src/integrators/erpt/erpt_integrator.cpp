@@ -219,7 +219,7 @@ class ErptStep final : public PixelSampleStep {
   std::atomic<uint64_t> chains_started_{0};
 };
 
-class Erpt final : public Integrator {
+class Erpt final : public Integrator, public ChainStatisticsSource {
  public:
   explicit Erpt(ErptOptions options) : options_(options) {}
   std::string name() const override { return "erpt"; }
@@ -268,7 +268,7 @@ class Erpt final : public Integrator {
   }
   // b and what the chains did: the seeds' chains only distribute their energy, so the chain
   // count and steps are figures of the run, not a budget; under MPI this rank's.
-  const MltStatistics* chain_statistics() const override { return &stats_; }
+  const MltStatistics& chain_statistics() const override { return stats_; }
 
  private:
   ErptOptions options_;

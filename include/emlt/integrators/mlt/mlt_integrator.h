@@ -33,10 +33,10 @@ struct MltStatistics {
   // The bootstrap's own b and samples.
   double bootstrap_b = 0.0;
   uint64_t bootstrap_samples = 0, chains = 0, mutations = 0;
-  double seconds = 0.0;            // the whole render: direct pass, bootstrap and chains
-  double direct_seconds = 0.0;     // the separate direct-lighting pass (--direct separate)
-  int direct_spp = 0;              // its samples per pixel (0 with --direct mlt)
-  double bootstrap_seconds = 0.0;  // bootstrap and chain seeding
+  double seconds = 0.0;                // the whole render: direct pass, bootstrap and chains
+  double direct_seconds = 0.0;         // the separate direct-lighting pass (--direct separate)
+  int direct_spp = 0;                  // its samples per pixel (0 with --direct mlt)
+  double bootstrap_seconds = 0.0;      // bootstrap and chain seeding
   double normalisation_seconds = 0.0;  // the samples drawn beside the chains
   // The strategies' searches built before the chains (Mutation::prepare: gamlt's surface
   // hierarchy and clearance field), in this run; not the chains' time.
@@ -61,6 +61,14 @@ struct MltStatistics {
   AlphaTally alpha;
 };
 
+// An integrator whose Markov chains report their figures after a render (b, chains, each
+// strategy's acceptance), which --stats writes: mlt and its variants, pssmlt and mmlt, erpt.
+class ChainStatisticsSource {
+ public:
+  virtual ~ChainStatisticsSource() = default;
+  virtual const MltStatistics& chain_statistics() const = 0;
+};
+
 // Diagnostics and tests: a strategy mix built in code (instead of settings.mutations),
 // and a switch that drops the selection-probability term from the acceptance ratio, to
 // show that the tests notice.
@@ -82,7 +90,7 @@ struct MltOptions {
   EnsembleParams ensemble_params;
 };
 
-class MltIntegrator final : public Integrator {
+class MltIntegrator final : public Integrator, public ChainStatisticsSource {
  public:
   explicit MltIntegrator(MltOptions options = {}) : options_(std::move(options)) {}
   std::string name() const override { return options_.name; }
@@ -91,7 +99,7 @@ class MltIntegrator final : public Integrator {
 
   // Filled by the last render (printed by the command line, written by --stats).
   const MltStatistics& statistics() const { return stats_; }
-  const MltStatistics* chain_statistics() const override { return &stats_; }
+  const MltStatistics& chain_statistics() const override { return stats_; }
 
   static int default_chain_count(uint64_t mutations);
 

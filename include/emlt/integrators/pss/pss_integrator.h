@@ -41,7 +41,7 @@ struct PssOptions {
   double bootstrap_b_factor = 1.0;
 };
 
-class PssMltIntegrator final : public Integrator {
+class PssMltIntegrator final : public Integrator, public ChainStatisticsSource {
  public:
   explicit PssMltIntegrator(PssOptions options = {}) : options_(options) {}
   std::string name() const override { return options_.multiplexed ? "mmlt" : "pssmlt"; }
@@ -52,7 +52,7 @@ class PssMltIntegrator final : public Integrator {
   // PSSMLT the proposal's longest contributing path, and "no light" for a proposal without
   // any.
   const MltStatistics& statistics() const { return stats_; }
-  const MltStatistics* chain_statistics() const override { return &stats_; }
+  const MltStatistics& chain_statistics() const override { return stats_; }
 
  private:
   PssOptions options_;
