@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "emlt/path/connection.h"
+#include "mutations/manifold/offset_normal.h"
 #include "mutations/manifold/specular_chain.h"
 #include "mutations/perturbation_common.h"
 
@@ -33,9 +34,41 @@ bool fixed_point(const PathVertex& v) {
   return !v.delta && !v.is_environment() && v.kind != VertexKind::OrthographicCamera;
 }
 
+// How a rough vertex i of `path` scatters when the move treats it as specular: its
+// microfacet normal in the local frame (the same whichever way the walk crosses it), whether
+// it refracts, and the material's interior/exterior index.
+struct RoughScatter {
+  DVec3 offset{0.0, 0.0, 1.0}, normal{0.0};  // m in the local frame and in the world
+  bool refract = false;
+  double ior = 1.0;
+  double eta_prev = 1.0, eta_next = 1.0;  // the indices on the sides of i - 1 and i + 1
+};
+
+std::optional<RoughScatter> rough_scatter(const Path& path, int i) {
+  const auto& v = path.vertices;
+  const PathVertex &z = v[size_t(i)], &prev = v[size_t(i - 1)], &next = v[size_t(i + 1)];
+  RoughScatter r;
+  r.refract = perturbation::crosses_surface(z, next, prev);
+  const DVec3 n(z.shading.n);
+  const DVec3 to_prev = perturbation::precise_direction(z, prev),
+              to_next = perturbation::precise_direction(z, next);
+  if (r.refract) {
+    r.ior = z.bsdf->rough_components(BsdfContext{z.uv, TransportMode::Radiance, z.vertex_color}).eta;
+    r.eta_prev = glm::dot(to_prev, n) > 0.0 ? 1.0 : r.ior;
+    r.eta_next = glm::dot(to_next, n) > 0.0 ? 1.0 : r.ior;
+  }
+  r.normal = manifold::microfacet_normal(to_prev, to_next, r.eta_prev, r.eta_next, n);
+  if (!(glm::dot(r.normal, r.normal) > 0.0)) return std::nullopt;
+  r.offset = manifold::OffsetFrame(n).to_local(r.normal);
+  return r;
+}
+
 // log K of the vertices from + step .. to, walked from `from` (perturbation_common.h's
-// log_light_jacobian and log_eye_jacobian in either direction).
-double log_walk_jacobian(const Path& path, int from, int to, int step) {
+// log_light_jacobian and log_eye_jacobian in either direction). A rough vertex the walk
+// crossed as specular about its microfacet normal m spreads the walk by |dω_out/dm|: the
+// area of the vertex after it per unit solid angle of m is d²/cos times that.
+double log_walk_jacobian(const Path& path, int from, int to, int step,
+                         const ManifoldPerturbation::Faults& faults) {
   const auto& v = path.vertices;
   double log_jacobian = 0.0;
   for (int i = from + step;; i += step) {
@@ -45,6 +78,16 @@ double log_walk_jacobian(const Path& path, int from, int to, int step) {
                               ? double(solid_angle_to_vertex_measure(1.0f, before, z))
                               : stored / double(before.delta_probability);
     log_jacobian += std::log(factor);
+    if (i != from + step && !before.delta && !faults.drop_half_vector_jacobian) {
+      const auto rough = rough_scatter(path, i - step);
+      if (!rough) return std::numeric_limits<double>::quiet_NaN();
+      const DVec3 back = perturbation::precise_direction(before, v[size_t(i - 2 * step)]);
+      const DVec3 out = perturbation::precise_direction(before, z);
+      const double eta_back = step > 0 ? rough->eta_prev : rough->eta_next;
+      const double eta_out = step > 0 ? rough->eta_next : rough->eta_prev;
+      log_jacobian -= std::log(manifold::half_vector_jacobian(back, out, rough->normal,
+                                                              rough->refract, eta_back, eta_out));
+    }
     if (i == to) break;
   }
   return log_jacobian;
@@ -79,6 +122,44 @@ Vec3 sample_vmf(const DVec3& mode, double kappa, const Vec2& u) {
 }
 
 }  // namespace
+
+double ManifoldPerturbation::nonspecular_probability(double alpha, double angle_change) {
+  if (!(alpha < std::numeric_limits<double>::infinity()) || !(angle_change > 0.0)) return 1.0;
+  // The microfacet normals' spread: the angle within which a Beckmann lobe of roughness alpha
+  // holds the quantile q of its normals (Mitsuba's MTS_MANIFOLD_QUANTILE_SURFACE, 0.9).
+  constexpr double kQuantile = 0.9;
+  const double theta_domain = std::atan(-std::log(1.0 - kQuantile) * alpha * alpha);
+  if (!(theta_domain > 0.0)) return 0.0;
+  return (1.0 - std::cos(theta_domain)) / (1.0 - std::cos(theta_domain + angle_change));
+}
+
+double ManifoldPerturbation::nonspecular_probability(const PathVertex& v,
+                                                     const MutationContext& ctx) {
+  if (v.delta) return 0.0;
+  if (!v.is_surface() || !v.bsdf) return 1.0;
+  const RoughComponents rough =
+      v.bsdf->rough_components(BsdfContext{v.uv, TransportMode::Radiance, v.vertex_color});
+  if (rough.count == 0) return 1.0;
+  double sum = 0.0;
+  for (int i = 0; i < rough.count; ++i)
+    sum += nonspecular_probability(double(rough.alpha[i]), ctx.manifold_angle_change);
+  return sum / double(rough.count);
+}
+
+double ManifoldPerturbation::log_chain_choice(const Path& path, const Move& move,
+                                              const MutationContext& ctx) {
+  const auto& v = path.vertices;
+  double log_probability = 0.0;
+  for (int i = move.a + move.step; i != move.c; i += move.step) {
+    if (v[size_t(i)].delta) continue;
+    const double p = nonspecular_probability(v[size_t(i)], ctx);
+    log_probability += std::log(i == move.b ? p : 1.0 - p);
+  }
+  // An end of the path ends the chain with no draw.
+  if (move.c > 0 && move.c < path.edges())
+    log_probability += std::log(nonspecular_probability(v[size_t(move.c)], ctx));
+  return log_probability;
+}
 
 double ManifoldPerturbation::concentration_for_peak(double peak) {
   // The density at the mode is κ / (2π (1 - e^{-2κ})), at least 1/4π (κ -> 0).
@@ -168,6 +249,23 @@ std::optional<Proposal> ManifoldPerturbation::propose(const Path& x, Rng& rng,
     const float v = from_lens != options.end() ? (u - 0.25f) / 0.75f : u;
     move = others[std::min(others.size() - 1, size_t(v * float(others.size())))];
   }
+  // Offset manifolds: a rough vertex met where the move would end its walk or its chain is
+  // passed through as specular with probability 1 - nonspecular_probability (no draw for
+  // vertices that always or never end them, so scenes without such vertices see the same
+  // random numbers as without offset manifolds).
+  const auto extend = [&](int from) {
+    for (int i = from;; i += move.step) {
+      if (i <= 0 || i >= k) return i;
+      const PathVertex& z = x.vertices[size_t(i)];
+      if (z.delta) continue;
+      const double p = nonspecular_probability(z, ctx);
+      if (p >= 1.0 || double(rng.uniform()) < p) return i;
+    }
+  };
+  move.b = extend(move.a + move.step);
+  if (move.b <= 0 || move.b >= k || !x.vertices[size_t(move.b)].is_surface()) return std::nullopt;
+  move.c = extend(move.b + move.step);
+  if (move.c < 0 || move.c > k || !fixed_point(x.vertices[size_t(move.c)])) return std::nullopt;
   const auto direction = sample_direction(x, move, ctx, rng.uniform2());
   if (!direction) return std::nullopt;
   return perturb_to(x, move, *direction, ctx);
@@ -184,6 +282,45 @@ std::optional<Vec3> ManifoldPerturbation::sample_direction(const Path& x, const 
   const DVec3 old_direction = perturbation::precise_direction(
       x.vertices[size_t(move.a)], x.vertices[size_t(move.a + move.step)]);
   return sample_vmf(old_direction, kappa, u);
+}
+
+std::optional<manifold::ChainProblem> ManifoldPerturbation::chain_problem(const Scene& scene,
+                                                                         const Path& x,
+                                                                         const Move& move) {
+  const auto& xv = x.vertices;
+  manifold::ChainProblem problem;
+  problem.scene = &scene;
+  problem.start = xv[size_t(move.c)];
+  problem.mode = move.step > 0 ? TransportMode::Radiance : TransportMode::Importance;
+  for (int i = move.c - move.step; i != move.b; i -= move.step) {
+    manifold::ChainLink link{
+        xv[size_t(i)].bsdf,
+        perturbation::crosses_surface(xv[size_t(i)], xv[size_t(i + 1)], xv[size_t(i - 1)])};
+    if (!xv[size_t(i)].delta) {
+      const auto rough = rough_scatter(x, i);
+      if (!rough) return std::nullopt;
+      link.rough = true;
+      link.offset = rough->offset;
+      link.ior = rough->ior;
+    }
+    problem.links.push_back(link);
+  }
+  problem.target = DVec3(xv[size_t(move.b)].position);
+  problem.target_normal = DVec3(xv[size_t(move.b)].normal);
+  return problem;
+}
+
+std::optional<double> ManifoldPerturbation::log_chain_measure(const Scene& scene, const Path& x,
+                                                              const Move& move) const {
+  const auto problem = chain_problem(scene, x, move);
+  if (!problem) return std::nullopt;
+  manifold::ChainTrace trace;
+  const DVec3 w = perturbation::precise_direction(x.vertices[size_t(move.c)],
+                                                  x.vertices[size_t(move.c - move.step)]);
+  if (!manifold::trace_chain(*problem, w, &trace) || !(trace.area_per_solid_angle() > 0.0))
+    return std::nullopt;
+  return -log_walk_jacobian(x, move.c, move.b, -move.step, faults_) -
+         std::log(trace.area_per_solid_angle());
 }
 
 std::optional<Proposal> ManifoldPerturbation::perturb_to(const Path& x, const Move& move,
@@ -212,14 +349,32 @@ std::optional<Proposal> ManifoldPerturbation::perturb_to(const Path& x, const Mo
     hit->throughput = xv[size_t(i)].throughput;
     yv[size_t(i)] = *hit;
     if (i == b) break;
-    const auto next = perturbation::continue_through_delta(
-        yv[size_t(i)], direction_between(yv[size_t(i)], yv[size_t(i - step)]), walk_mode,
-        crosses(i));
+    std::optional<Vec3> next;
+    if (xv[size_t(i)].delta) {
+      next = perturbation::continue_through_delta(
+          yv[size_t(i)], direction_between(yv[size_t(i)], yv[size_t(i - step)]), walk_mode,
+          crosses(i));
+    } else {
+      // A rough vertex crossed as specular: about x's microfacet normal, kept in the frame.
+      const auto rough = rough_scatter(x, i);
+      if (!rough) return std::nullopt;
+      const DVec3 n(yv[size_t(i)].shading.n);
+      const DVec3 m = manifold::OffsetFrame(n).to_world(rough->offset);
+      const DVec3 d = -perturbation::precise_direction(yv[size_t(i)], yv[size_t(i - step)]);
+      const double r = glm::dot(d, n) < 0.0 ? 1.0 / rough->ior : rough->ior;
+      DVec3 out;
+      if (!manifold::scatter_about(d, m, rough->refract, r, &out)) return std::nullopt;
+      const DVec3 ng(yv[size_t(i)].normal);
+      const double arrival = glm::dot(d, ng), departure = glm::dot(out, ng);
+      if (rough->refract ? arrival * departure <= 0.0 : arrival * departure >= 0.0)
+        return std::nullopt;
+      next = Vec3(out);
+    }
     if (!next) return std::nullopt;
     ray = spawn_ray(yv[size_t(i)].position, yv[size_t(i)].normal, *next);
   }
   for (int i = a + step; i != b; i += step)
-    if (!perturbation::fill_delta_record(yv[size_t(i)], yv[size_t(i + 1)], yv[size_t(i - 1)],
+    if (xv[size_t(i)].delta && !perturbation::fill_delta_record(yv[size_t(i)], yv[size_t(i + 1)], yv[size_t(i - 1)],
                                          walk_mode, crosses(i)))
       return std::nullopt;
 
@@ -227,12 +382,9 @@ std::optional<Proposal> ManifoldPerturbation::perturb_to(const Path& x, const Mo
   const TransportMode chain_mode = step > 0 ? TransportMode::Radiance : TransportMode::Importance;
   double log_chain_x = 0.0, log_chain_y = 0.0;  // -log D of each path's chain
   if (std::abs(c - b) > 1) {
-    manifold::ChainProblem problem;
-    problem.scene = &scene;
-    problem.start = xv[size_t(c)];
-    problem.mode = chain_mode;
-    for (int i = c - step; i != b; i -= step)
-      problem.links.push_back({xv[size_t(i)].bsdf, crosses(i)});
+    auto chain = chain_problem(scene, x, move);
+    if (!chain) return std::nullopt;
+    manifold::ChainProblem& problem = *chain;
     const double length = chain_length(x, c, b);
     // The walk from the fixed x_c, started along `from`'s chain, to `to`'s x_b.
     const auto walk = [&](const Path& from, const Path& to) {
@@ -260,7 +412,8 @@ std::optional<Proposal> ManifoldPerturbation::perturb_to(const Path& x, const Mo
         return std::nullopt;
     }
     for (int i = c - step; i != b; i -= step)
-      if (!perturbation::fill_delta_record(yv[size_t(i)], yv[size_t(i + 1)], yv[size_t(i - 1)],
+        if (xv[size_t(i)].delta &&
+          !perturbation::fill_delta_record(yv[size_t(i)], yv[size_t(i + 1)], yv[size_t(i - 1)],
                                            chain_mode, crosses(i)))
         return std::nullopt;
     if (!mutually_visible(scene, yv[size_t(b + step)], yv[size_t(b)])) return std::nullopt;
@@ -293,10 +446,14 @@ std::optional<Proposal> ManifoldPerturbation::perturb_to(const Path& x, const Mo
       glm::dot(perturbation::precise_direction(xv[size_t(a)], xv[size_t(a + step)]),
                perturbation::precise_direction(yv[size_t(a)], yv[size_t(a + step)]));
   double log_ratio = log_vmf_density(kappa_y, cos_theta) - log_vmf_density(kappa_x, cos_theta);
-  log_ratio += log_walk_jacobian(x, a, b, step) - log_walk_jacobian(y, a, b, step);
+  log_ratio += log_walk_jacobian(x, a, b, step, faults_) - log_walk_jacobian(y, a, b, step, faults_);
   if (std::abs(c - b) > 1)  // K_cb, from the densities finish_proposal recomputed
-    log_ratio += log_walk_jacobian(x, c, b, -step) - log_walk_jacobian(y, c, b, -step);
+    log_ratio += log_walk_jacobian(x, c, b, -step, faults_) -
+                 log_walk_jacobian(y, c, b, -step, faults_);
   log_ratio += log_chain_x - log_chain_y;
+  // The chance of the same walk and chain ends from y, against from x (they differ where
+  // the rough vertices' roughness is textured).
+  log_ratio += log_chain_choice(y, move, ctx) - log_chain_choice(x, move, ctx);
   const int first_turn = std::min(a, b) + 1, last_turn = std::max(a, b) - 1;
   if (first_turn <= last_turn)
     log_ratio -= perturbation::log_convention_correction(x, first_turn, last_turn, walk_mode);

@@ -1,5 +1,6 @@
 #include "mutations/manifold/specular_chain.h"
 
+#include "mutations/manifold/offset_normal.h"
 #include "mutations/perturbation_common.h"
 
 namespace emlt::manifold {
@@ -60,22 +61,39 @@ bool trace_chain(const ChainProblem& problem, const DVec3& direction, ChainTrace
     p = q;
 
     const PathVertex vertex = make_surface_vertex(hit);
-    float eta = 1.0f;
-    const auto next = perturbation::continue_through_delta(vertex, Vec3(-d), problem.mode,
-                                                           link.transmission, &eta);
-    if (!next) return false;
-    const DVec3 n(hit.shading_normal), d_out = glm::normalize(DVec3(*next));
-    // The outgoing direction as a function of d and n: a reflection d - 2 (d.n) n, or a
-    // refraction r d + (b - r a) n with a = d.n, b = d_out.n, r = n_in / n_out and
-    // b^2 = 1 - r^2 (1 - a^2); differentiated with dn = W dp.
-    const double a = glm::dot(d, n), b = glm::dot(d_out, n);
-    const double r = link.transmission ? 1.0 / double(eta) : 1.0;
+    const DVec3 n(hit.shading_normal);
+    // The normal the link scatters about (the shading normal, or a rough link's microfacet
+    // normal) and its derivatives; the direction leaving and r = n_in / n_out.
+    DVec3 m = n, dm[2] = {dn_dp * dp[0], dn_dp * dp[1]}, d_out;
+    double r = 1.0;
+    if (link.rough) {
+      const OffsetFrame frame(n);
+      m = frame.to_world(link.offset);
+      for (int j = 0; j < 2; ++j) dm[j] = frame.differential(link.offset, dm[j]);
+      if (link.transmission) r = glm::dot(d, n) < 0.0 ? 1.0 / link.ior : link.ior;
+      if (!scatter_about(d, m, link.transmission, r, &d_out)) return false;
+      // The lobe must leave on its own side of the surface: back for a reflection, through
+      // for a refraction.
+      const double arrival = glm::dot(d, ng), departure = glm::dot(d_out, ng);
+      if (link.transmission ? arrival * departure <= 0.0 : arrival * departure >= 0.0)
+        return false;
+    } else {
+      float eta = 1.0f;
+      const auto next = perturbation::continue_through_delta(vertex, Vec3(-d), problem.mode,
+                                                             link.transmission, &eta);
+      if (!next) return false;
+      d_out = glm::normalize(DVec3(*next));
+      if (link.transmission) r = 1.0 / double(eta);
+    }
+    // The outgoing direction as a function of d and m: a reflection d - 2 (d.m) m, or a
+    // refraction r d + (b - r a) m with a = d.m, b = d_out.m, b^2 = 1 - r^2 (1 - a^2);
+    // differentiated with dm from the normal's derivative dn = W dp.
+    const double a = glm::dot(d, m), b = glm::dot(d_out, m);
     if (link.transmission && !(std::abs(b) > 1e-12)) return false;
     for (int j = 0; j < 2; ++j) {
-      const DVec3 dn = dn_dp * dp[j];
-      const double da = glm::dot(dd[j], n) + glm::dot(d, dn);
-      dd[j] = link.transmission ? r * dd[j] + (b - r * a) * dn + (r * r * a / b - r) * da * n
-                                : dd[j] - 2.0 * da * n - 2.0 * a * dn;
+      const double da = glm::dot(dd[j], m) + glm::dot(d, dm[j]);
+      dd[j] = link.transmission ? r * dd[j] + (b - r * a) * dm[j] + (r * r * a / b - r) * da * m
+                                : dd[j] - 2.0 * da * m - 2.0 * a * dm[j];
     }
     d = d_out;
     trace->links.push_back(vertex);

@@ -20,10 +20,16 @@
 
 namespace emlt::manifold {
 
-// One link the chain must keep: its material and whether the lobe refracts.
+// One link the chain must keep: its material and whether the lobe refracts. A rough link
+// treated as specular (offset_normal.h) reflects or refracts about the microfacet normal
+// with local coordinates `offset` in the frame OffsetFrame builds at each point; a Dirac link
+// scatters through the material's own lobe.
 struct ChainLink {
   const Bsdf* bsdf = nullptr;
   bool transmission = false;
+  bool rough = false;
+  DVec3 offset{0.0, 0.0, 1.0};  // rough links: m in the local frame
+  double ior = 1.0;             // rough refracting links: interior over exterior index
 };
 
 struct ChainProblem {

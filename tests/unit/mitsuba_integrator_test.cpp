@@ -136,6 +136,26 @@ TEST(MitsubaIntegrator, MltWithTheManifoldPerturbationIsMemlt) {
   EXPECT_NE(bad.find("lambda"), std::string::npos) << bad;
 }
 
+// ERPT's avgAngleChangeSurface fixes the offset manifolds' microfacet turn; its default 0
+// (Mitsuba measures it while rendering) leaves emlt's fixed guess.
+TEST(MitsubaIntegrator, ErptAngleChangeSetsTheOffsetManifoldsTurn) {
+  const SceneDescription fixed = with_integrator(
+      "erpt-angle.xml", R"(<integrator type="erpt"><boolean name="manifoldPerturbation" value="true"/>
+      <float name="avgAngleChangeSurface" value="2.5"/></integrator>)");
+  EXPECT_EQ(fixed.render.said("--manifold-angle-change"), "2.5");
+  EXPECT_EQ(fixed.verdict(), "exact");
+  const SceneDescription measured = with_integrator(
+      "erpt-angle-0.xml", R"(<integrator type="erpt"><boolean name="manifoldPerturbation" value="true"/>
+      <float name="avgAngleChangeSurface" value="0"/></integrator>)");
+  EXPECT_FALSE(measured.render.said("--manifold-angle-change").has_value());
+  const std::string bad = test::error_of([&] {
+    with_integrator("erpt-angle-bad.xml", R"(<integrator type="erpt">
+      <float name="avgAngleChangeSurface" value="120"/></integrator>)");
+  });
+  EXPECT_NE(bad.find("erpt-angle-bad.xml"), std::string::npos) << bad;
+  EXPECT_NE(bad.find("avgAngleChangeSurface"), std::string::npos) << bad;
+}
+
 // The rest of PSSMLT's tuning, and bdpt's strategy images, change no render either.
 TEST(MitsubaIntegrator, PssmltTuningAndBdptStrategyImagesKeepTheVerdictExact) {
   const SceneDescription pss = with_integrator(

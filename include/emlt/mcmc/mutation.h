@@ -28,6 +28,10 @@ struct MutationContext {
   // The manifold perturbation's step factor λ (mutations/manifold_perturbation.h; Mitsuba's
   // probFactor): its direction lobe's peak is λ² times the start vertex's own density.
   double manifold_prob_factor = 50.0;
+  // Its offset manifolds' typical change of a microfacet normal per move, in radians (Mitsuba's
+  // avgAngleChangeSurface, whose starting guess of 1 degree this is); 0: rough vertices always
+  // end walks and chains.
+  double manifold_angle_change = 0.017453292519943295;
   // EMLT (ensemble_guides.h): the frozen complementary ensemble, and the key of the current
   // step (the chain and how many steps it has taken) that fixes Υ. Null outside EMLT; the
   // guided strategies then behave as their unguided fallbacks.

@@ -12,6 +12,7 @@
 // TransportMode::Importance is the adjoint BSDF used when tracing from lights: it differs
 // from the radiance one only for refraction (no 1/eta^2 radiance compression).
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -54,6 +55,18 @@ struct BsdfSample {
   bool is_delta() const { return (lobe & kLobeSpecular) != 0; }
 };
 
+// The rough components of a BSDF as the manifold perturbation's offset manifolds see them
+// (mutations/manifold_perturbation.h): the roughness of each non-Dirac component (Mitsuba's
+// getRoughness: a microfacet lobe's alpha; infinity for a diffuse one or any the walk cannot
+// treat as a mirror about a microfacet normal) and the interior/exterior index for the
+// refracting ones.
+struct RoughComponents {
+  static constexpr int kMax = 2;
+  int count = 0;
+  float alpha[kMax] = {0.0f, 0.0f};
+  float eta = 1.0f;
+};
+
 class Bsdf {
  public:
   virtual ~Bsdf() = default;
@@ -70,6 +83,15 @@ class Bsdf {
   // roughness). Only then must a surface's frame follow dp/du as Mitsuba's does; any other
   // BSDF sees the same expectation in any frame, and keeps the normal's own.
   virtual bool is_anisotropic() const { return false; }
+  // By default every non-Dirac component is diffuse-like (it always ends a manifold chain).
+  virtual RoughComponents rough_components(const BsdfContext&) const {
+    RoughComponents r;
+    if ((lobes() & (kLobeDiffuse | kLobeGlossy)) != 0) {
+      r.count = 1;
+      r.alpha[0] = std::numeric_limits<float>::infinity();
+    }
+    return r;
+  }
 
   bool has_delta_lobe() const { return (lobes() & kLobeSpecular) != 0; }
   bool is_purely_delta() const {

@@ -124,6 +124,10 @@ struct RenderSettings {
   // The manifold perturbation's step factor λ (mutations/manifold_perturbation.h; Mitsuba's
   // probFactor or lambda, whose default this is).
   double manifold_lambda = 50.0;
+  // Its offset manifolds' typical change of a microfacet normal per move, in degrees (Mitsuba's
+  // avgAngleChangeSurface; 1 is the guess Mitsuba starts from before it measures its own).
+  // 0: rough vertices always end the perturbation's walks and chains.
+  double manifold_angle_change = 1.0;
   // Delayed (two-stage) acceptance for proposals that defer part of their ratio (the gamlt
   // perturbations' ranges at y): y's cones only for proposals past the first stage
   // (include/emlt/mcmc/delayed_acceptance.h).

@@ -237,6 +237,7 @@ class Erpt final : public Integrator, public ChainStatisticsSource {
                                            : std::min(settings.max_depth, kMaxPathVertices - 1);
     ctx.lens_max_radius = std::sqrt(0.05f * float(pixels) / kPi);
     ctx.manifold_prob_factor = settings.manifold_lambda;
+  ctx.manifold_angle_change = settings.manifold_angle_change * (M_PI / 180.0);
     for (size_t i = 0; i < mix.size(); ++i) mix.strategy(i).prepare(ctx);
     const int threads =
         settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();

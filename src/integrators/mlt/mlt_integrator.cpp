@@ -58,6 +58,7 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   ctx.lens_max_radius = std::sqrt(0.05f * float(pixels) / kPi);
   ctx.field_cone = settings.gamlt_field_cone;
   ctx.manifold_prob_factor = settings.manifold_lambda;
+  ctx.manifold_angle_change = settings.manifold_angle_change * (M_PI / 180.0);
   ctx.cone_cell_fraction = settings.gamlt_field_cone ? 0.0 : settings.gamlt_cone_cells;
   // Strategies defer the costly factors of their ratios only for the two stages (run_chain):
   // otherwise the whole ratio is needed for every proposal with f(y) > 0, and the strategy

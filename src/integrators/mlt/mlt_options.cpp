@@ -90,6 +90,15 @@ const std::vector<RenderOption>& mlt_options() {
     o.back().applies = [](const RenderSettings& s) {
       return path_space_family(s) || s.integrator == "erpt";
     };
+    o.push_back(real_option("--manifold-angle-change", &RenderSettings::manifold_angle_change,
+                            0.0, false, 90.0, "a number of degrees from 0 to 90",
+                            "the manifold perturbation's offset manifolds: the typical turn of "
+                            "a rough vertex's microfacet normal per move, which sets how often "
+                            "rough vertices are crossed as specular (Mitsuba's "
+                            "avgAngleChangeSurface; default 1; 0: never)"));
+    o.back().applies = [](const RenderSettings& s) {
+      return path_space_family(s) || s.integrator == "erpt";
+    };
     o.push_back(switch_option("--direct", &RenderSettings::direct_separate, "mlt", "separate",
                               "mlt: direct light rendered separately or by the chains"));
     o.push_back(whole_option("--direct-spp", &RenderSettings::direct_spp, 1, 1 << 20,

@@ -92,6 +92,15 @@ void read_erpt(const Document& doc, pugi::xml_node node, Properties& props,
     request.set_integrator_option(
         "--bootstrap",
         std::to_string(props.get_integer("luminanceSamples", 15000, kLuminanceSamples)));
+  // The manifold perturbation's offset manifolds: Mitsuba's typical microfacet turn per
+  // move, when the file fixes it (0, Mitsuba's default, has it measured while rendering,
+  // racing between threads; emlt keeps its fixed starting guess, --manifold-angle-change).
+  constexpr loader::RealRange kAngle{0.0f, false, 90.0f, false, "a number of degrees from 0 to 90"};
+  if (props.has("avgAngleChangeSurface")) {
+    const float angle = props.get_float("avgAngleChangeSurface", 0.0f, kAngle);
+    if (angle > 0.0f)
+      request.set_integrator_option("--manifold-angle-change", recorded_number(double(angle)));
+  }
   // The chains' strategies, Mitsuba's defaults for ERPT: Veach's perturbations alone.
   request.set_integrator_option("--mutations", chain_strategies(doc, node, props, false));
 }

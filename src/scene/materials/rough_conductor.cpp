@@ -58,6 +58,12 @@ class RoughConductor final : public Bsdf {
 
   uint32_t lobes() const override { return kLobeGlossy | kLobeReflection; }
   bool is_anisotropic() const override { return alpha_v_.has_value(); }
+  RoughComponents rough_components(const BsdfContext& ctx) const override {
+    RoughComponents r;
+    r.count = 1;
+    r.alpha[0] = alpha_v_ ? std::numeric_limits<float>::infinity() : alpha_u_.average_at(ctx);
+    return r;
+  }
   std::string name() const override {
     return type_ == MicrofacetType::Ggx        ? "rough_conductor"
            : type_ == MicrofacetType::Beckmann ? "rough_conductor_beckmann"

@@ -95,6 +95,14 @@ class RoughDielectric final : public Bsdf {
     return kLobeGlossy | kLobeReflection | kLobeTransmission;
   }
   bool is_anisotropic() const override { return alpha_v_.has_value(); }
+  // Mitsuba's two components (reflection and refraction) share the roughness.
+  RoughComponents rough_components(const BsdfContext& ctx) const override {
+    RoughComponents r;
+    r.count = 1;
+    r.alpha[0] = alpha_v_ ? std::numeric_limits<float>::infinity() : alpha_u_.average_at(ctx);
+    r.eta = eta_;
+    return r;
+  }
   std::string name() const override {
     return type_ == MicrofacetType::Ggx        ? "rough_dielectric"
            : type_ == MicrofacetType::Beckmann ? "rough_dielectric_beckmann"

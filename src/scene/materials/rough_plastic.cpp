@@ -92,6 +92,15 @@ class RoughPlastic final : public Bsdf {
     return kLobeDiffuse | kLobeReflection | (smooth_ ? kLobeSpecular : kLobeGlossy);
   }
   std::string name() const override { return smooth_ ? "plastic" : "rough_plastic"; }
+  // Mitsuba's components: the coating's microfacet reflection and the diffuse base.
+  RoughComponents rough_components(const BsdfContext& ctx) const override {
+    RoughComponents r;
+    const float inf = std::numeric_limits<float>::infinity();
+    r.count = smooth_ ? 1 : 2;
+    r.alpha[0] = inf;
+    if (!smooth_) r.alpha[1] = parameters(ctx).alpha;
+    return r;
+  }
 
  private:
   // The textured parameters at one point, read once per call: a sample reads them for its
