@@ -48,6 +48,7 @@ const Registration kIntegrators[] = {
        MltOptions options;
        options.name = "memlt";
        options.default_mix = kMemltMix;
+       options.steps_per_chain = kMemltStepsPerChain;
        return std::make_unique<MltIntegrator>(std::move(options));
      }},
     // MLT run as two swapped ensembles, with the guided strategies.

@@ -33,8 +33,15 @@ constexpr uint64_t kSeedStream = 0x5eedull << 40;
 // chains (the old default, mutations / 50000), 5.7e-5 with 1024, 4.6e-5 with 4096, 3.5e-5
 // with 16384; on the Cornell box at 64 mutations per pixel 16 -> 4096 chains gave 2.17e-4 ->
 // 1.95e-4. About 64 steps per chain, at most 16384 chains (EMLT's ensembles are as large).
-int MltIntegrator::default_chain_count(uint64_t mutations) {
-  return int(std::clamp<uint64_t>(mutations / 64, 16, 16384));
+// Manifold exploration is the other way round: its chains cross the caustics that Veach's
+// perturbations leave them stuck on, and many short chains only keep the seed pool's noise.
+// memlt on the caustic pool (Mitsuba's file, 3 seeds, MSE against the reference; 12 seeds'
+// variance at 128 x 128): 64 x 64 at 1,024 mutations per pixel 1.9e-4 / 1.6e-4 / 1.5e-3 with
+// 1,024 / 4,096 / 16,384 chains; at 4,096 1.5e-4 / 1.2e-4 / 4.8e-4; 128 x 128 at 128 per
+// pixel 3.4e-3 / 5.1e-3 / 6.4e-3 with 512 / 2,048 / 16,384 (docs/memlt.md). About 4,096
+// steps per chain fits all three (kMemltStepsPerChain).
+int MltIntegrator::default_chain_count(uint64_t mutations, uint64_t steps_per_chain) {
+  return int(std::clamp<uint64_t>(mutations / steps_per_chain, 16, 16384));
 }
 
 RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& settings,
@@ -94,7 +101,8 @@ RenderResult MltIntegrator::render(const Scene& scene, const RenderSettings& set
   const uint64_t ensemble_size = ensemble ? ensemble->size() : 0;
   int chain_count = ensemble              ? int(2 * ensemble_size)
                     : settings.chains > 0 ? settings.chains
-                                          : default_chain_count(timed ? pixels * 16 : budget);
+                                          : default_chain_count(timed ? pixels * 16 : budget,
+                                                                options_.steps_per_chain);
 
   const PathCodec codec(scene);
   NormalisationPass normalisation(scene, bp, settings.normalisation_rate);

@@ -32,7 +32,8 @@ const std::vector<RenderOption>& mlt_options() {
     o.back().recorded = nullptr;
     o.push_back(whole_option("--chains", &RenderSettings::chains, 0, 1 << 20,
                              "1 to 2^20 (about a million), or 0 to choose from the budget",
-                             "mlt: independent chains (0 = from the budget)"));
+                             "mlt: independent chains (0 = from the budget: one per 64 "
+                             "mutations, for memlt one per 4,096, 16 to 16,384)"));
     o.back().recorded = [](const RenderSettings& s) { return from_budget(s.chains); };
     o.push_back(whole_option("--bootstrap", &RenderSettings::bootstrap_samples, 1,
                              kMaxBootstrapSamples,

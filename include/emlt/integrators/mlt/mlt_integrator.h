@@ -72,6 +72,12 @@ class ChainStatisticsSource {
 // Diagnostics and tests: a strategy mix built in code (instead of settings.mutations),
 // and a switch that drops the selection-probability term from the acceptance ratio, to
 // show that the tests notice.
+// Steps per chain behind the default chain count (MltIntegrator::default_chain_count; its
+// definition gives the measurements): many short chains for Veach's mix, fewer and longer
+// ones for manifold exploration.
+inline constexpr uint64_t kMltStepsPerChain = 64;
+inline constexpr uint64_t kMemltStepsPerChain = 4096;
+
 struct MltOptions {
   std::shared_ptr<const StrategyMix> mix;
   bool ignore_selection_probability = false;
@@ -88,6 +94,9 @@ struct MltOptions {
   // the two swap roles. `--integrator emlt` is this with kEmltMix.
   bool ensemble = false;
   EnsembleParams ensemble_params;
+  // Without --chains, the budget's mutations over this many steps per chain is the chain
+  // count (default_chain_count).
+  uint64_t steps_per_chain = kMltStepsPerChain;
 };
 
 class MltIntegrator final : public Integrator, public ChainStatisticsSource {
@@ -101,7 +110,7 @@ class MltIntegrator final : public Integrator, public ChainStatisticsSource {
   const MltStatistics& statistics() const { return stats_; }
   const MltStatistics& chain_statistics() const override { return stats_; }
 
-  static int default_chain_count(uint64_t mutations);
+  static int default_chain_count(uint64_t mutations, uint64_t steps_per_chain = kMltStepsPerChain);
 
  private:
   MltOptions options_;
