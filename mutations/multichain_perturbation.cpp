@@ -33,15 +33,34 @@ int MultiChainPerturbation::fixed_vertex(const PathType& type) {
   }
 }
 
+bool MultiChainPerturbation::walks_to_light(const Path& x) {
+  const int k = x.edges();
+  const PathVertex& light = x.vertices.front();
+  if (k < 2 || !light.is_surface() || !light.is_emitter() || !x.type.is_specular(1)) return false;
+  // No two adjacent non-specular vertices between the lens and the light: every chain the
+  // eye walk enters ends at the next non-specular vertex, the last one at the light.
+  for (int i = k - 1; i >= 2; --i)
+    if (!x.type.is_specular(i) && !x.type.is_specular(i - 1)) return false;
+  return true;
+}
+
+int MultiChainPerturbation::walk_end(const Path& x) const {
+  if (x.vertices.size() >= 5) {
+    const int l = fixed_vertex(x.type);
+    if (l >= 0) return l;
+  }
+  return walks_to_light_ && walks_to_light(x) ? -1 : kNotApplicable;
+}
+
 bool MultiChainPerturbation::applies_to(const Path& x, const MutationContext&) const {
-  return x.vertices.size() >= 5 && fixed_vertex(x.type) >= 0;
+  return walk_end(x) != kNotApplicable;
 }
 
 std::optional<Proposal> MultiChainPerturbation::retrace(const Path& x, const Vec2& raster,
                                                         const std::vector<Vec3>& directions,
                                                         const MutationContext& ctx) const {
-  const int l = fixed_vertex(x.type);
-  if (l < 0) return std::nullopt;
+  const int l = walk_end(x);
+  if (l == kNotApplicable) return std::nullopt;
   size_t next_direction = 0;
   const auto interior_direction = [&](int, const Vec3&) -> std::optional<Vec3> {
     if (next_direction >= directions.size()) return std::nullopt;
@@ -61,7 +80,7 @@ std::optional<Proposal> MultiChainPerturbation::perturb_to(const Path& x, const 
   auto proposal = retrace(x, raster, directions, ctx);
   if (!proposal) return std::nullopt;
   // Both moves must have their angles inside the (fixed) range.
-  const int l = fixed_vertex(x.type);
+  const int l = walk_end(x);
   const auto& xv = x.vertices;
   const auto& yv = proposal->path.vertices;
   for (int i = l + 2; i <= x.edges() - 1; ++i) {
@@ -75,8 +94,8 @@ std::optional<Proposal> MultiChainPerturbation::perturb_to(const Path& x, const 
 
 std::optional<Proposal> MultiChainPerturbation::propose(const Path& x, Rng& rng,
                                                         const MutationContext& ctx) const {
-  const int l = fixed_vertex(x.type);
-  if (l < 0) return std::nullopt;
+  const int l = walk_end(x);
+  if (l == kNotApplicable) return std::nullopt;
   const Camera& camera = ctx.scene.camera();
   const float r_max = ctx.lens_max_radius > 0.0f
                           ? ctx.lens_max_radius

@@ -17,9 +17,14 @@ namespace emlt {
 
 class MultiChainPerturbation final : public Mutation {
  public:
+  // walks_to_light: also move paths whose eye walk ends on the light (walks_to_light(x));
+  // off, Veach's form alone.
   explicit MultiChainPerturbation(double theta_min = 1e-4, double theta_max = 0.1,
-                                  bool include_jacobian = true)
-      : theta_min_(theta_min), theta_max_(theta_max), include_jacobian_(include_jacobian) {}
+                                  bool include_jacobian = true, bool walks_to_light = true)
+      : theta_min_(theta_min),
+        theta_max_(theta_max),
+        include_jacobian_(include_jacobian),
+        walks_to_light_(walks_to_light) {}
 
   std::string_view name() const override { return "multichain"; }
   bool applies_to(const Path& x, const MutationContext& ctx) const override;
@@ -37,6 +42,16 @@ class MultiChainPerturbation final : public Mutation {
 
   // Index l of the fixed vertex of a (L|D) D (S+ D)+ S* E suffix, or -1.
   static int fixed_vertex(const PathType& type);
+  // Whether x has the form L S+ (D S+)* S* E with x_0 on an emitting surface: no two adjacent
+  // non-specular vertices, so the eye walk's last chain ends on the light itself (the floor
+  // under water lit through the water and seen through it, a lamp seen through glass). The
+  // walk then traces on to the light (which must again be hit) instead of connecting;
+  // Mitsuba's multi-chain perturbation moves such paths the same way, and no other of
+  // Veach's perturbations applies to them.
+  static bool walks_to_light(const Path& x);
+  // Where the walk ends: fixed_vertex's l, -1 for a walk to the light, kNotApplicable.
+  static constexpr int kNotApplicable = -2;
+  int walk_end(const Path& x) const;
 
   double theta_min() const { return theta_min_; }
   double theta_max() const { return theta_max_; }
@@ -44,6 +59,7 @@ class MultiChainPerturbation final : public Mutation {
  private:
   double theta_min_, theta_max_;
   bool include_jacobian_;
+  bool walks_to_light_;
 };
 
 }  // namespace emlt

@@ -204,7 +204,9 @@ bool rebuild_eye_side(const Scene& scene, const Path& x, int l, const Vec2& rast
                       const InteriorDirection& interior_direction, Path& y) {
   const auto& xv = x.vertices;
   const int k = x.edges();
-  if (l < 0 || l + 1 > k - 1) return false;
+  // l = -1: the walk ends on the light itself (x_0 on an emitting surface), no connection.
+  if (l < -1 || l + 1 > k - 1) return false;
+  if (l == -1 && !(xv.front().is_surface() && xv.front().is_emitter())) return false;
   const Camera& camera = scene.camera();
   if (!on_film(camera, raster)) return false;
   y = x;
@@ -217,6 +219,7 @@ bool rebuild_eye_side(const Scene& scene, const Path& x, int l, const Vec2& rast
     auto hit = trace_surface(scene, ray);
     if (!hit) return false;
     hit->throughput = xv[size_t(i)].throughput;  // not used by MLT; keeps the record complete
+    if (i == 0 && !hit->is_emitter()) return false;
     yv[size_t(i)] = *hit;
     if (i == l + 1) break;
     const Vec3 w_back = direction_between(yv[size_t(i)], yv[size_t(i + 1)]);
@@ -238,9 +241,11 @@ bool rebuild_eye_side(const Scene& scene, const Path& x, int l, const Vec2& rast
                            TransportMode::Radiance, transmission))
       return false;
   }
-  const Rgb connection = connect_vertices(scene, l >= 1 ? &yv[size_t(l - 1)] : nullptr, yv[size_t(l)],
-                                          yv[size_t(l + 1)], &yv[size_t(l + 2)]);
-  if (is_black(connection) || !is_finite(connection)) return false;
+  if (l >= 0) {
+    const Rgb connection = connect_vertices(scene, l >= 1 ? &yv[size_t(l - 1)] : nullptr,
+                                            yv[size_t(l)], yv[size_t(l + 1)], &yv[size_t(l + 2)]);
+    if (is_black(connection) || !is_finite(connection)) return false;
+  }
   // The lens point moved only its raster (an orthographic film point moved too, but its
   // own densities do not depend on where: finish_proposal recomputes x_{k-1}'s from it).
   return finish_proposal(scene, x, y, l + 1, k - 1);

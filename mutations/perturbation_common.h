@@ -107,7 +107,8 @@ bool aim_lens_at(const Scene& scene, PathVertex& lens, const PathVertex& seen);
 // interior non-specular vertex i (l+1 < i < k) the outgoing direction is
 // interior_direction(i, x's direction from x_i towards x_{i-1}) (the multi-chain angular
 // step; the lens perturbation has none). Dirac records are filled in the radiance
-// convention, then y_{l+1} is connected to the fixed x_l, y's type checked and the densities
+// convention, then y_{l+1} is connected to the fixed x_l (l = -1: the walk itself must end on
+// an emitting surface, y_0, and there is no connection), y's type checked and the densities
 // that depend on the moved vertices recomputed (the rest are x's, which must be current, as
 // on every chain path: the bootstrap's seeds and all proposals). False on any failure
 // (escape, lobe lost, occlusion, zero contribution).

@@ -19,6 +19,7 @@
 #include "emlt/scene/materials.h"
 #include "mutations/caustic_perturbation.h"
 #include "mutations/lens_perturbation.h"
+#include "emlt/mcmc/strategy_mix.h"
 #include "mutations/multichain_perturbation.h"
 #include "mutations/perturbation_common.h"
 #include "support/mlt_test_helpers.h"
@@ -227,6 +228,120 @@ TEST(PerturbationDensity, MultiChainRatioMatchesTheHistogramOfLandingPoints) {
       << "without the Jacobian the reported ratio " << reported_without_jacobian << " must miss the measured one";
 }
 
+// Multi-chain to the light: L S D E, a floor point seen directly and lit by a small
+// upward-facing light through a mirror in the ceiling. The lens perturbation cannot connect
+// the floor to the mirror, the caustic one moves the path from the light's side; the
+// multi-chain walk from the eye turns the direction at the floor point and must reach the
+// light again through the mirror (walks_to_light), the light point moving with it.
+std::unique_ptr<Scene> mirror_lit_floor_scene() {
+  SceneDescription d;
+  d.source = "mirror-lit-floor";
+  const int white = test::add_material(d, make_lambertian(Rgb(0.7f)));
+  const int mirror = test::add_material(d, make_mirror(Rgb(0.9f)));
+  test::add_quad(d, {-4, 0, -4}, {-4, 0, 8}, {4, 0, 8}, {4, 0, -4}, white, Rgb(0.0f));  // +y
+  test::add_quad(d, {-2, 2, 0}, {2, 2, 0}, {2, 2, 4}, {-2, 2, 4}, mirror, Rgb(0.0f));   // -y
+  const float h = 1.0f, r = 0.5f, zc = 2.5f;
+  test::add_quad(d, {-r, h, zc - r}, {-r, h, zc + r}, {r, h, zc + r}, {r, h, zc - r}, white,
+                 Rgb(5.0f));  // faces +y
+  d.camera = test::camera_at(Vec3(0.0f, 1.2f, -2.5f), Vec3(0.0f, 0.0f, 1.0f), 32);
+  return Scene::build(std::move(d));
+}
+
+// The L S D E path seen through `raster` and lit by the light's point `on_light` through the
+// mirror (aimed at its mirror image across the ceiling's plane y = 2).
+Path mirror_lit_floor_path(const Scene& scene, const Vec2& raster, const Vec3& on_light) {
+  const Ray ray = scene.camera().generate_ray(raster, Vec2(0.5f));
+  SurfaceHit seen, on_mirror, lit_by;
+  EXPECT_TRUE(scene.intersect(ray, seen));
+  const Vec3 image(on_light.x, 4.0f - on_light.y, on_light.z);
+  EXPECT_TRUE(scene.intersect(
+      spawn_ray(seen.position, seen.geometric_normal, glm::normalize(image - seen.position)),
+      on_mirror));
+  const Vec3 down = glm::normalize(on_light - on_mirror.position);
+  EXPECT_TRUE(
+      scene.intersect(spawn_ray(on_mirror.position, on_mirror.geometric_normal, down), lit_by));
+  Path path;
+  path.vertices = {make_surface_vertex(lit_by), make_surface_vertex(on_mirror),
+                   make_surface_vertex(seen)};
+  path.vertices.push_back(make_camera_vertex(scene, ray.origin, raster));
+  auto& v = path.vertices;
+  EXPECT_TRUE(perturbation::fill_delta_record(v[1], v[2], v[0], TransportMode::Radiance, false));
+  path.type = compute_path_type(path.vertices);
+  recompute_densities(scene, path);
+  return path;
+}
+
+// log of the light's area per unit of ν through the mirror (the mirror image's conversion,
+// as test::log_floor_area_per_nu for the floor).
+double log_light_area_per_nu(const Path& path) {
+  const auto& v = path.vertices;
+  const double d21 = glm::length(DVec3(v[2].position) - DVec3(v[1].position));
+  const double d10 = glm::length(DVec3(v[1].position) - DVec3(v[0].position));
+  const double cos1 =
+      std::abs(glm::dot(DVec3(v[1].normal), perturbation::precise_direction(v[1], v[2])));
+  return std::log(cos1) + 2.0 * (std::log(d21 + d10) - std::log(d21) - std::log(d10));
+}
+
+TEST(PerturbationDensity, MultiChainToTheLightMatchesTheHistogramOfLandingPoints) {
+  const auto scene = mirror_lit_floor_scene();
+  MutationContext ctx{*scene};
+  // The camera looks along the floor: a pixel spans about 0.2 of it here.
+  ctx.lens_min_radius = 0.5f;
+  ctx.lens_max_radius = 1.5f;
+  const double theta_min = 0.01, theta_max = 0.04;
+  const MultiChainPerturbation multichain(theta_min, theta_max),
+      without_jacobian(theta_min, theta_max, false),
+      veach_form_only(theta_min, theta_max, true, false);
+  const Path x = mirror_lit_floor_path(*scene, Vec2(16.5f, 18.5f), Vec3(0.0f, 1.0f, 2.5f));
+  ASSERT_EQ(x.type.to_string(), "L S D E");
+  ASSERT_GT(path_luminance(*scene, x), 0.0);
+  ASSERT_TRUE(MultiChainPerturbation::walks_to_light(x));
+  ASSERT_TRUE(multichain.applies_to(x, ctx));
+  EXPECT_FALSE(veach_form_only.applies_to(x, ctx)) << "Veach's form needs two adjacent D";
+
+  const Vec3 x_direction = direction_between(x.vertices[2], x.vertices[1]);
+  const Vec3 axis = glm::normalize(glm::cross(x_direction, Vec3(1, 0, 0)));
+  const Vec3 y_direction = glm::normalize(x_direction * std::cos(0.02f) + axis * std::sin(0.02f));
+  const Vec2 y_raster = x.raster() + Vec2(0.0f, 1.0f);
+  const auto y = multichain.perturb_to(x, y_raster, {y_direction}, ctx);
+  ASSERT_TRUE(y.has_value()) << "the move must reach the light again";
+  const Path& yp = y->path;
+  ASSERT_EQ(yp.type.to_string(), "L S D E");
+  EXPECT_GT(glm::length(yp.vertices[0].position - x.vertices[0].position), 0.01f)
+      << "the light point moves";
+
+  // As for L D S D E above: the seen point from whole proposals, the light point given it
+  // from the angular step alone at the destination's image point.
+  const auto seen_point_density = [&](const Path& from, const Path& to, uint64_t seed) {
+    return landing_density_of([&](Rng& rng) { return multichain.propose(from, rng, ctx); }, 2,
+                              to.vertices[2].position, 0.06f, 2000000, seed);
+  };
+  const auto light_point_density = [&](const Path& from, const Path& to, uint64_t seed) {
+    const Vec3 old_direction = direction_between(from.vertices[2], from.vertices[1]);
+    return landing_density_of(
+        [&](Rng& rng) {
+          const Vec3 direction =
+              perturbation::perturb_direction(old_direction, theta_min, theta_max, rng.uniform2());
+          return multichain.perturb_to(from, to.raster(), {direction}, ctx);
+        },
+        0, to.vertices[0].position, 0.01f, 1000000, seed);
+  };
+  const double forward = seen_point_density(x, yp, 21) * light_point_density(x, yp, 22);
+  const double reverse = seen_point_density(yp, x, 23) * light_point_density(yp, x, 24);
+  const double measured = forward / reverse;  // T(x->y) / T(y->x) over floor and light area
+  const double to_area = std::exp(log_light_area_per_nu(x) - log_light_area_per_nu(yp));
+  const double reported = std::exp(-y->log_reverse_over_forward) * to_area;
+  std::printf("[ info     ] T(x->y)/T(y->x): histogram %.4f, reported %.4f (nu->area %.4f)\n",
+              measured, reported, to_area);
+  EXPECT_NEAR(measured / reported, 1.0, 0.1);
+
+  const auto wrong = without_jacobian.perturb_to(x, y_raster, {y_direction}, ctx);
+  ASSERT_TRUE(wrong.has_value());
+  const double reported_without_jacobian = std::exp(-wrong->log_reverse_over_forward) * to_area;
+  std::printf("[ info     ] without the Jacobian: reported %.4f\n", reported_without_jacobian);
+  EXPECT_GT(std::abs(measured / reported_without_jacobian - 1.0), 0.3);
+}
+
 // ---------------------------------------------------------------------------------------
 // 1b. Round trips on real paths (cornell-glass: refraction chains built by both walks).
 // For y proposed from x and x' the reverse move from y back onto x's image point and
@@ -373,6 +488,36 @@ TEST(PerturbationUnbiased, MultiChainMixConvergesToBdptThroughGlass) {
   const Image image = mlt_image(*scene, "bidir=1,lens=1,multichain=4", 3000, &stats);
   EXPECT_GT(share_of(stats, "multichain"), 0.005);
   expect_converged_to(image, reference, 2, 0.12, 0.05);  // same noise as the caustic test
+}
+
+// The caustic pool's floor under the water is lit through the water and seen through it
+// (L S D S E): only the multi-chain walk to the light moves those paths.
+TEST(PerturbationUnbiased, MultiChainToTheLightConvergesToBdptOnTheCausticPool) {
+  const auto scene = shipped_scene("caustic-pool", 16);
+  const Image reference = bdpt_reference(*scene, 2048);
+  MltStatistics stats;
+  const Image image = mlt_image(*scene, "bidir=1,multichain=4", 2000, &stats);
+  expect_converged_to(image, reference, 2, 0.12, 0.05);
+  // Veach's form alone accepts fewer multi-chain moves here (the same settings otherwise).
+  const auto accepted_share = [&](bool walks_to_light) {
+    RenderSettings s = base_settings();
+    s.mutations_per_pixel = 500;
+    s.chains = 64;
+    s.bootstrap_samples = 50000;
+    s.direct_spp = 16;
+    auto mix = std::make_shared<StrategyMix>(StrategyMix::parse("bidir=1"));
+    mix->add("multichain",
+             std::make_unique<MultiChainPerturbation>(1e-4, 0.1, true, walks_to_light), 4.0);
+    MltOptions options;
+    options.mix = mix;
+    const MltIntegrator mlt(options);
+    render(mlt, *scene, s);
+    return share_of(mlt.statistics(), "multichain");
+  };
+  const double with_walks = accepted_share(true), veach_only = accepted_share(false);
+  std::printf("[ info     ] accepted multi-chain moves: %.4f of proposals, Veach's form alone %.4f\n",
+              with_walks, veach_only);
+  EXPECT_GT(with_walks, 1.3 * veach_only);
 }
 
 // ---------------------------------------------------------------------------------------
