@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs emlt's build dependencies (Debian packages) and builds Release into build/.
+# Installs emlt's build dependencies (Debian packages), builds Release into build/ and makes
+# the Python module importable (`import emlt`) by the system python3 from any directory.
 # Safe to re-run: packages already present are not reinstalled, the build is incremental.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -12,6 +13,7 @@ packages=(
   libopenmpi-dev openmpi-bin  # mpirun -n R emlt render ... (optional: EMLT_WITH_MPI)
   clang-14 libclang-rt-14-dev  # libFuzzer targets (scripts/fuzz.sh)
   python3 python3-numpy python3-matplotlib
+  python3-dev pybind11-dev  # the Python module, import emlt (optional: EMLT_WITH_PYTHON)
 )
 
 missing=()
@@ -29,3 +31,12 @@ fi
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j "$(nproc)"
 echo "setup: built build/emlt"
+
+# `import emlt`: a .pth file in the user's site-packages puts build/python on the system
+# python3's path (a re-run from another clone points it there instead).
+if compgen -G "build/python/emlt*.so" >/dev/null; then
+  site=$(/usr/bin/python3 -m site --user-site)
+  mkdir -p "$site"
+  echo "$PWD/build/python" >"$site/emlt.pth"
+  echo "setup: import emlt from $PWD/build/python ($site/emlt.pth)"
+fi
