@@ -9,7 +9,9 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <mutex>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -79,6 +81,12 @@ SceneHandle scene_of(const py::object& scene) {
 
 py::tuple render(const py::object& scene_arg, const py::object& integrator,
                  const py::object& progress, const py::kwargs& kwargs) {
+  // The stop requests are the process's (a signal handler must reach them), so one render
+  // at a time: another thread's render would take this one's stop for its own.
+  static std::mutex one_render;
+  const std::unique_lock<std::mutex> rendering(one_render, std::try_to_lock);
+  if (!rendering.owns_lock())
+    throw std::runtime_error("emlt.render: another render is running in this process");
   const SceneHandle scene = scene_of(scene_arg);
   CLI::App app;
   cli::RenderOptions options;
@@ -105,8 +113,7 @@ py::tuple render(const py::object& scene_arg, const py::object& integrator,
   for (const std::string& w : warnings)
     if (PyErr_WarnEx(PyExc_UserWarning, w.c_str(), 1) != 0) throw py::error_already_set();
 
-  // The stop requests are the process's (a signal handler must reach them): each render
-  // starts without any, and leaves none behind.
+  // Each render starts without a stop request, and leaves none behind.
   interruption::reset();
   ProgressReporter reporter(false);
   Watched watched;

@@ -11,8 +11,12 @@ emlt.load and emlt.compare give what `emlt info --json` and `emlt compare --json
 """
 import json
 import os
+import signal
 import subprocess
+import sys
 import tempfile
+import threading
+import time
 import unittest
 
 import numpy as np
@@ -123,6 +127,39 @@ class PythonModule(unittest.TestCase):
         # The stop is not left behind for the next render.
         again, stats = emlt.render(self.scene, "pt", progress=False, spp=2, **TINY)
         self.assertFalse(stats["interrupted"])
+
+    def test_ctrl_c_stops_the_render_and_returns_what_was_done(self):
+        program = (
+            "import emlt, numpy\n"
+            "print('rendering', flush=True)\n"
+            f"image, stats = emlt.render({SCENE!r}, 'pt', progress=False, spp=1 << 20,"
+            " width=16, height=16, threads=2)\n"
+            "print(stats['interrupted'], stats['per_pixel'] > 0, numpy.isfinite(image).all())\n")
+        child = subprocess.Popen([sys.executable, "-c", program], stdout=subprocess.PIPE,
+                                 stderr=subprocess.PIPE, text=True)
+        self.assertEqual(child.stdout.readline().strip(), "rendering")
+        time.sleep(0.5)
+        child.send_signal(signal.SIGINT)
+        out, err = child.communicate(timeout=60)
+        self.assertEqual(child.returncode, 0, err)
+        self.assertEqual(out.split(), ["True", "True", "True"])
+
+    def test_the_interpreter_runs_while_rendering(self):
+        # The GIL is released during the render: another Python thread keeps counting.
+        counted, done = [0], threading.Event()
+
+        def count():
+            while not done.is_set():
+                counted[0] += 1
+
+        counter = threading.Thread(target=count)
+        counter.start()
+        try:
+            emlt.render(self.scene, "pt", progress=False, time=0.3, **TINY)
+        finally:
+            done.set()
+            counter.join()
+        self.assertGreater(counted[0], 10000)
 
     def test_load_gives_info_verdict_and_warnings(self):
         info = json.loads(cli("info", "--json", SCENE).stdout)
