@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <csignal>
 #include <exception>
@@ -45,7 +46,8 @@ class TqdmBars {
   explicit TqdmBars(py::object tqdm) : tqdm_(std::move(tqdm)) {}
   ~TqdmBars() { close(); }
 
-  void update(const ProgressReporter::Status& s) {
+  // `finished`: the render has ended its budget (a time budget's bar is then full).
+  void update(const ProgressReporter::Status& s, bool finished) {
     if (s.label.empty()) return;  // not started
     const bool by_time = s.total == 0 && s.time_limit_s > 0.0;
     if (!bar_ || s.label != label_) {
@@ -57,8 +59,9 @@ class TqdmBars {
       bar_ = tqdm_(py::arg("total") = total, py::arg("desc") = s.label,
                    py::arg("unit") = by_time ? "s" : "", py::arg("leave") = true);
     }
-    if (by_time)
-      bar_.attr("n") = std::min(s.elapsed_s, s.time_limit_s);
+    if (by_time)  // in hundredths of a second: the bar prints n as it is
+      bar_.attr("n") = finished ? s.time_limit_s
+                                : std::round(std::min(s.elapsed_s, s.time_limit_s) * 100.0) / 100.0;
     else
       bar_.attr("n") = s.done;
     bar_.attr("refresh")();
@@ -100,13 +103,13 @@ Watched watch_render(const std::function<RenderResult()>& render, const Progress
     stopping = true;
     interruption::request_stop(SIGINT);
   };
-  const auto report = [&] {
+  const auto report = [&](bool finished) {
     const ProgressReporter::Status status = reporter.status();
     try {
       if (callback)
         callback(status_dict(status));
       else if (bars)
-        bars->update(status);
+        bars->update(status, finished);
     } catch (py::error_already_set& e) {
       if (!e.matches(PyExc_KeyboardInterrupt)) callback_error.emplace(std::move(e));
       watched.stopped_by_user = !callback_error;
@@ -138,12 +141,12 @@ Watched watch_render(const std::function<RenderResult()>& render, const Progress
         watched.stopped_by_user = !callback_error;
         stop();
       }
-      if (!stopping) report();
+      if (!stopping) report(false);
     }
     worker.join();
   }
   if (render_error) std::rethrow_exception(render_error);
-  if (!stopping) report();  // the bar at its end
+  if (!stopping) report(true);  // the bar at its end
   if (bars) bars->close();
   if (callback_error) throw std::move(*callback_error);
   return watched;

@@ -9,6 +9,9 @@ with the command line's words, that a render stopped from Python (KeyboardInterr
 the progress callback) returns a finite image normalised for the work done, and that
 emlt.load and emlt.compare give what `emlt info --json` and `emlt compare --json` give.
 """
+import contextlib
+import importlib.util
+import io
 import json
 import os
 import signal
@@ -160,6 +163,12 @@ class PythonModule(unittest.TestCase):
             done.set()
             counter.join()
         self.assertGreater(counted[0], 10000)
+
+    @unittest.skipUnless(importlib.util.find_spec("tqdm"), "tqdm is not installed")
+    def test_progress_true_draws_a_tqdm_bar_to_its_end(self):
+        with contextlib.redirect_stderr(io.StringIO()) as drawn:
+            emlt.render(self.scene, "pt", spp=4, **TINY)
+        self.assertIn("100%", drawn.getvalue())
 
     def test_load_gives_info_verdict_and_warnings(self):
         info = json.loads(cli("info", "--json", SCENE).stdout)
