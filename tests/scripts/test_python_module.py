@@ -170,6 +170,27 @@ class PythonModule(unittest.TestCase):
             emlt.render(self.scene, "pt", spp=4, **TINY)
         self.assertIn("100%", drawn.getvalue())
 
+    def test_defines_and_output_as_the_command_line(self):
+        xml = os.path.join(ROOT, "scenes", "cornell-box", "scene.xml")
+        scene = emlt.load(xml, width=16, height=12, spp=2)
+        self.assertEqual((scene.width, scene.height), (16, 12))
+        self.assertEqual(scene.defines, {"width": "16", "height": "12", "spp": "2"})
+        out = self.path("defines.pfm")
+        image, _ = emlt.render(scene, "pt", progress=False, seed=7, threads=2, output=out)
+        run = cli("render", xml, "-q", "-D", "width=16", "-D", "height=12", "-D", "spp=2",
+                  "--integrator", "pt", "--seed", "7", "--threads", "2",
+                  "-o", self.path("defines-cli.pfm"))
+        self.assertEqual(run.returncode, 0, run.stderr)
+        self.assertTrue(np.array_equal(image, read_pfm(self.path("defines-cli.pfm"))))
+        self.assertTrue(np.array_equal(image, read_pfm(out)))
+
+    def test_an_error_in_the_callback_stops_the_render_and_is_raised(self):
+        def fail(status):
+            raise RuntimeError("callback failed")
+
+        with self.assertRaisesRegex(RuntimeError, "callback failed"):
+            emlt.render(self.scene, "pt", progress=fail, spp=1 << 20, **TINY)
+
     def test_load_gives_info_verdict_and_warnings(self):
         info = json.loads(cli("info", "--json", SCENE).stdout)
         self.assertEqual(self.scene.verdict, info["verdict"])
