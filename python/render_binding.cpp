@@ -172,9 +172,28 @@ py::tuple render(const py::object& scene_arg, const py::object& integrator,
   return py::make_tuple(to_array(std::move(result.image)), stats);
 }
 
+// Every keyword render() takes, with its flag and the command line's help for it.
+py::dict keywords() {
+  CLI::App app;
+  cli::RenderOptions options;
+  CLI::App* command = app.add_subcommand("render");
+  cli::add_render_options(*command, options);
+  py::dict d;
+  for (const CLI::Option* option : command->get_options()) {
+    const std::vector<std::string>& long_names = option->get_lnames();
+    if (long_names.empty() || long_names.front() == "help") continue;
+    std::string keyword = long_names.front();
+    std::replace(keyword.begin(), keyword.end(), '-', '_');
+    d[py::str(keyword)] = py::make_tuple("--" + long_names.front(), option->get_description());
+  }
+  return d;
+}
+
 }  // namespace
 
 void bind_render(py::module_& m) {
+  m.def("keywords", &keywords,
+        "Every option of emlt.render as {keyword: (flag, help)}, from `emlt render`'s own list.");
   m.def("render", &render, py::arg("scene"), py::arg("integrator") = py::none(), py::kw_only(),
         py::arg("progress") = true,
         "Renders `scene` (an emlt.Scene or a scene file) as `emlt render` does and returns\n"

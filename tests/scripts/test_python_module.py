@@ -14,6 +14,7 @@ import importlib.util
 import io
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -77,6 +78,15 @@ class PythonModule(unittest.TestCase):
                 self.assertTrue(np.array_equal(image, expected), integrator)
                 self.assertEqual(stats["integrator"], integrator)
                 self.assertFalse(stats["interrupted"])
+
+    def test_every_flag_of_the_command_line_is_a_keyword(self):
+        flags = set(re.findall(r"^\s+(?:-\w,)?(--[\w-]+)", cli("render", "--help").stdout, re.M))
+        flags -= {"--help"}
+        keywords = emlt.keywords()
+        self.assertGreater(len(flags), 40)
+        self.assertEqual({flag for flag, _ in keywords.values()}, flags)
+        for keyword, (flag, _) in keywords.items():
+            self.assertEqual("--" + keyword.replace("_", "-"), flag)
 
     def test_a_checkpoint_resumed_through_keywords(self):
         checkpoint = self.path("run.ckpt")
