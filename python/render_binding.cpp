@@ -150,6 +150,10 @@ py::tuple render(const py::object& scene_arg, const py::object& integrator,
     stats["checkpoints_written"] = job->checkpoints_written();
   }
   stats["warnings"] = warnings;
+  // The chains' figures, as --stats writes them (an MCMC integrator's).
+  if (const auto* chains = dynamic_cast<const ChainStatisticsSource*>(&job->integrator()))
+    stats["chains"] = py::module_::import("json").attr("loads")(
+        cli::mlt_statistics_json(chains->chain_statistics()).dump());
   std::optional<ImageMetrics> against;
   {
     py::gil_scoped_release release;

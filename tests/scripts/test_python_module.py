@@ -77,6 +77,8 @@ class PythonModule(unittest.TestCase):
                 self.assertEqual(image.dtype, np.float32)
                 self.assertTrue(np.array_equal(image, expected), integrator)
                 self.assertEqual(stats["integrator"], integrator)
+                if stats["mcmc"]:  # the chains' figures, as --stats writes them
+                    self.assertEqual(stats["chains"]["mutations"], stats["samples"])
                 self.assertFalse(stats["interrupted"])
 
     def test_every_flag_of_the_command_line_is_a_keyword(self):
