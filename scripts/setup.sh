@@ -38,5 +38,10 @@ if compgen -G "build/python/emlt*.so" >/dev/null; then
   site=$(/usr/bin/python3 -m site --user-site)
   mkdir -p "$site"
   echo "$PWD/build/python" >"$site/emlt.pth"
+  if ! (cd / && /usr/bin/python3 -c "import emlt"); then
+    echo "setup: python3 does not import emlt through $site/emlt.pth (user site-packages off?);" \
+      "use PYTHONPATH=$PWD/build/python" >&2
+    exit 1
+  fi
   echo "setup: import emlt from $PWD/build/python ($site/emlt.pth)"
 fi
