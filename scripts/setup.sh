@@ -35,13 +35,17 @@ echo "setup: built build/emlt"
 # `import emlt`: a .pth file in the user's site-packages puts build/python on the system
 # python3's path (a re-run from another clone points it there instead).
 if compgen -G "build/python/emlt*.so" >/dev/null; then
-  site=$(/usr/bin/python3 -m site --user-site)
-  mkdir -p "$site"
-  echo "$PWD/build/python" >"$site/emlt.pth"
-  if ! (cd / && /usr/bin/python3 -c "import emlt"); then
-    echo "setup: python3 does not import emlt through $site/emlt.pth (user site-packages off?);" \
-      "use PYTHONPATH=$PWD/build/python" >&2
-    exit 1
+  # `-m site --user-site` fails when the user site-packages are off (PYTHONNOUSERSITE).
+  if site=$(/usr/bin/python3 -m site --user-site); then
+    mkdir -p "$site"
+    echo "$PWD/build/python" >"$site/emlt.pth"
+    if ! (cd / && /usr/bin/python3 -c "import emlt"); then
+      echo "setup: python3 does not import emlt through $site/emlt.pth" >&2
+      exit 1
+    fi
+    echo "setup: import emlt from $PWD/build/python ($site/emlt.pth)"
+  else
+    echo "setup: python3's user site-packages are off: import emlt with" \
+      "PYTHONPATH=$PWD/build/python" >&2
   fi
-  echo "setup: import emlt from $PWD/build/python ($site/emlt.pth)"
 fi
