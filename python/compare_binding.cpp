@@ -25,20 +25,23 @@ Image image_from(const py::handle& object, const char* what) {
   return to_image(object, what);
 }
 
+// "x,y,w,h" or (x, y, w, h), as --crop takes it.
+std::optional<PixelRegion> region_of(const py::object& crop) {
+  if (crop.is_none()) return std::nullopt;
+  std::string text;
+  if (py::isinstance<py::str>(crop))
+    text = crop.cast<std::string>();
+  else
+    for (const py::handle value : crop)
+      text += (text.empty() ? "" : ",") + std::string(py::str(value));
+  return parse_pixel_region(text);
+}
+
 py::dict compare(const py::object& reference, const py::object& image, const py::object& crop,
                  const py::object& scene) {
   const Image ref = image_from(reference, "reference");
   const Image img = image_from(image, "image");
-  std::optional<PixelRegion> region;
-  if (!crop.is_none()) {
-    std::string text;
-    if (py::isinstance<py::str>(crop))
-      text = crop.cast<std::string>();
-    else
-      for (const py::handle value : crop)
-        text += (text.empty() ? "" : ",") + std::string(py::str(value));
-    region = parse_pixel_region(text);
-  }
+  const std::optional<PixelRegion> region = region_of(crop);
   std::vector<uint8_t> mask;
   std::string scene_path;
   if (!scene.is_none())
@@ -60,9 +63,26 @@ py::dict compare(const py::object& reference, const py::object& image, const py:
   return d;
 }
 
+py::array_t<float> error_map(const py::object& reference, const py::object& image,
+                             const py::object& crop) {
+  const Image ref = image_from(reference, "reference");
+  const Image img = image_from(image, "image");
+  const std::optional<PixelRegion> region = region_of(crop);
+  Image map;
+  {
+    py::gil_scoped_release release;
+    map = relative_error_map(ref, img, region);
+  }
+  return to_array(std::move(map));
+}
+
 }  // namespace
 
 void bind_compare(py::module_& m) {
+  m.def("error_map", &error_map, py::arg("reference"), py::arg("image"), py::kw_only(),
+        py::arg("crop") = py::none(),
+        "The false-colour relative-error image of `emlt compare --error-map`, as an (H, W, 3)\n"
+        "float32 array.");
   m.def("compare", &compare, py::arg("reference"), py::arg("image"), py::kw_only(),
         py::arg("crop") = py::none(), py::arg("scene") = py::none(),
         "The metrics of `emlt compare` (mse, relmse, mse_no_emitter, mean_ratio, pixels) of\n"

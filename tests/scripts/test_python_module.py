@@ -218,6 +218,13 @@ class PythonModule(unittest.TestCase):
         for key in ("mse", "relmse", "mean_ratio", "pixels", "mse_no_emitter"):
             self.assertEqual(metrics[key], expected[key], key)
         self.assertEqual(emlt.compare(self.path("ref.pfm"), image)["mse"], expected["mse"])
+        cropped = cli("compare", "--json", "--crop", "2,3,8,9", self.path("ref.pfm"),
+                      self.path("img.pfm"))
+        self.assertEqual(emlt.compare(reference, image, crop=(2, 3, 8, 9))["mse"],
+                         json.loads(cropped.stdout)["mse"])
+        error_map = emlt.error_map(reference, image)
+        self.assertEqual((error_map.shape, error_map.dtype), ((16, 16, 3), np.float32))
+        self.assertTrue(((error_map >= 0) & (error_map <= 1)).all())
 
 
 if __name__ == "__main__":
