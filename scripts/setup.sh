@@ -13,7 +13,7 @@ packages=(
   libopenmpi-dev openmpi-bin  # mpirun -n R emlt render ... (optional: EMLT_WITH_MPI)
   clang-14 libclang-rt-14-dev  # libFuzzer targets (scripts/fuzz.sh)
   python3 python3-numpy python3-matplotlib
-  python3-dev pybind11-dev  # the Python module, import emlt (optional: EMLT_WITH_PYTHON)
+  python3-dev pybind11-dev python3-tqdm  # the Python module, import emlt, and its progress bar
 )
 
 missing=()
