@@ -28,7 +28,9 @@ if ((${#missing[@]})); then
   DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq "${missing[@]}"
 fi
 
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
+# The module's packages are installed above: on, even where an earlier configure without
+# pybind11 left it off.
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DEMLT_WITH_PYTHON=ON
 cmake --build build -j "$(nproc)"
 echo "setup: built build/emlt"
 
