@@ -4,10 +4,12 @@
     PYTHONPATH=.:build/python /usr/bin/python3 tests/scripts/test_python_module.py --emlt build/emlt
 
 Checks that emlt.render gives the command line's image bit for bit (several integrators,
-options as keywords, a checkpoint resumed through keywords), that a bad argument raises
-with the command line's words, that a render stopped from Python (KeyboardInterrupt from
-the progress callback) returns a finite image normalised for the work done, and that
-emlt.load and emlt.compare give what `emlt info --json` and `emlt compare --json` give.
+options as keywords, defines, a checkpoint resumed through keywords), that every flag of
+`emlt render` is a keyword and a bad argument raises with the command line's words, that a
+render stopped from Python (KeyboardInterrupt from the progress callback, or a real SIGINT)
+returns a finite image normalised for the work done, that the GIL is released while it
+renders, and that emlt.load and emlt.compare give what `emlt info --json` and
+`emlt compare --json` give.
 """
 import contextlib
 import importlib.util
