@@ -6,6 +6,6 @@ sanitizer_build=build-asan
 
 configure_sanitizer_build() {
   CC=clang-14 CXX=clang++-14 cmake -S . -B "$sanitizer_build" -G Ninja -DEMLT_SANITIZE=ON -DEMLT_FUZZ=ON \
-    -DEMLT_WITH_MPI=OFF -DEMLT_BUILD_BENCH=OFF -DEMLT_BUILD_STATISTICAL_TESTS=OFF \
+    -DEMLT_WITH_MPI=OFF -DEMLT_WITH_PYTHON=OFF -DEMLT_BUILD_BENCH=OFF -DEMLT_BUILD_STATISTICAL_TESTS=OFF \
     -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" >/dev/null
 }

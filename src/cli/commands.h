@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "cli/render_job.h"
+
 namespace emlt::cli {
 
 struct RenderOptions {
@@ -32,6 +34,11 @@ struct InfoOptions {
 
 void add_render_options(CLI::App& command, RenderOptions& options);
 int run_render(const CLI::App& command, RenderOptions& options);
+// What a parsed `emlt render` command line asks for: the options given, and only those.
+RenderRequest render_request(const CLI::App& command, const RenderOptions& options);
+// Writes the image to `output` and, unless it is a PNG, its PNG preview beside it; returns
+// what was written ("out.exr + out.png").
+std::string write_render_image(const std::string& output, const Image& image);
 int run_info(const InfoOptions& options);
 
 // "name=value" strings into a map; throws emlt::Error on a malformed entry.

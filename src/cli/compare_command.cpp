@@ -25,6 +25,18 @@ void add_compare_options(CLI::App& command, CompareOptions& o) {
                      "Scene the images show: enables MSE over pixels that see no emitter");
 }
 
+std::vector<uint8_t> visible_emitter_mask(const std::string& scene, int width, int height) {
+  SceneDescription desc = load_scene_description(scene, {});
+  // The scene's image is its film, or its crop window: resized to the reference otherwise.
+  CameraDesc& camera = desc.camera;
+  if (!(camera.cropped() && camera.crop_width == width && camera.crop_height == height)) {
+    camera.width = width;
+    camera.height = height;
+    camera.crop_width = camera.crop_height = 0;
+  }
+  return directly_visible_emitters(*Scene::build(std::move(desc)));
+}
+
 int run_compare(const CompareOptions& o) {
   if (!o.error_map.empty() && o.images.size() != 1)
     throw Error("--error-map takes exactly one image to compare");
@@ -32,19 +44,10 @@ int run_compare(const CompareOptions& o) {
   const std::optional<PixelRegion> region =
       o.crop.empty() ? std::nullopt : std::optional(parse_pixel_region(o.crop));
 
-  std::vector<uint8_t> mask;
-  if (!o.scene.empty()) {
-    SceneDescription desc = load_scene_description(o.scene, {});
-    // The scene's image is its film, or its crop window: resized to the reference otherwise.
-    CameraDesc& camera = desc.camera;
-    if (!(camera.cropped() && camera.crop_width == reference.width &&
-          camera.crop_height == reference.height)) {
-      camera.width = reference.width;
-      camera.height = reference.height;
-      camera.crop_width = camera.crop_height = 0;
-    }
-    mask = directly_visible_emitters(*Scene::build(std::move(desc)));
-  }
+  const std::vector<uint8_t> mask = o.scene.empty()
+                                       ? std::vector<uint8_t>()
+                                       : visible_emitter_mask(o.scene, reference.width,
+                                                              reference.height);
 
   if (!o.json)
     fmt::print("{:<32} {:>12} {:>12} {:>14} {:>10}\n", "image", "mse", "relmse", "mse_no_emitter",

@@ -77,7 +77,6 @@ void report_mlt_statistics(const std::string& name, const MltStatistics& st,
   if (chains_ran)
     std::fprintf(stderr, "  %-16s %12s %14s %12s %12s %10s %10s\n", "strategy", "proposed",
                  "not applicable", "failed", "accepted", "mean a", "fallbacks");
-  nlohmann::json strategies = nlohmann::json::array();
   for (size_t i = 0; i < st.strategies.size(); ++i) {
     const StrategyStats& s = st.strategies[i];
     // MMLT lists every path length up to the depth limit; one the chains never reached says
@@ -89,6 +88,15 @@ void report_mlt_statistics(const std::string& name, const MltStatistics& st,
                    static_cast<unsigned long long>(s.failed),
                    static_cast<unsigned long long>(s.accepted), s.mean_acceptance(),
                    static_cast<unsigned long long>(s.fallbacks));
+  }
+  if (!json_path.empty())
+    write_file_atomically(json_path, "statistics", mlt_statistics_json(st).dump(2) + "\n");
+}
+
+nlohmann::json mlt_statistics_json(const MltStatistics& st) {
+  nlohmann::json strategies = nlohmann::json::array();
+  for (size_t i = 0; i < st.strategies.size(); ++i) {
+    const StrategyStats& s = st.strategies[i];
     strategies.push_back({{"name", st.strategy_names[i]},
                           {"proposed", s.proposed},
                           {"not_applicable", s.not_applicable},
@@ -97,7 +105,6 @@ void report_mlt_statistics(const std::string& name, const MltStatistics& st,
                           {"mean_acceptance", s.mean_acceptance()},
                           {"fallbacks", s.fallbacks}});
   }
-  if (json_path.empty()) return;
   nlohmann::json j = {
       {"b", st.b},
       {"b_standard_error", st.b_standard_error},
@@ -133,7 +140,7 @@ void report_mlt_statistics(const std::string& name, const MltStatistics& st,
                               {"q1", st.alpha.quantile(0.25)}, {"median", st.alpha.quantile(0.5)},
                               {"q3", st.alpha.quantile(0.75)}, {"max", st.alpha.max},
                               {"mean", st.alpha.mean()}};
-  write_file_atomically(json_path, "statistics", j.dump(2) + "\n");
+  return j;
 }
 
 }  // namespace emlt::cli

@@ -1,4 +1,5 @@
 #pragma once
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "emlt/integrators/mlt/mlt_integrator.h"
@@ -10,5 +11,7 @@ namespace emlt::cli {
 // `name`: the integrator (mlt, gamlt, emlt) that the printed lines start with.
 void report_mlt_statistics(const std::string& name, const MltStatistics& stats,
                            const std::string& json_path);
+// The figures as --stats writes them (b with its error, the chains, each strategy's counts).
+nlohmann::json mlt_statistics_json(const MltStatistics& stats);
 
 }  // namespace emlt::cli

@@ -16,6 +16,7 @@ ProgressReporter::~ProgressReporter() {
 }
 
 void ProgressReporter::start(const std::string& label, uint64_t total, double time_limit_s) {
+  std::lock_guard lock(start_mutex_);
   label_ = label;
   total_ = total;
   time_limit_s_ = time_limit_s;
@@ -26,6 +27,11 @@ void ProgressReporter::start(const std::string& label, uint64_t total, double ti
 
 double ProgressReporter::elapsed_seconds() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+ProgressReporter::Status ProgressReporter::status() const {
+  std::lock_guard lock(start_mutex_);
+  return {label_, done_.load(std::memory_order_relaxed), total_, time_limit_s_, elapsed_seconds()};
 }
 
 void ProgressReporter::advance(uint64_t units) {

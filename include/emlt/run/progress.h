@@ -20,6 +20,15 @@ class ProgressReporter {
   void finish();
   double elapsed_seconds() const;
 
+  // Where the render stands, for a watcher on another thread (the Python module's progress
+  // callback, which runs on the interpreter's thread while the render runs on its own).
+  struct Status {
+    std::string label;
+    uint64_t done = 0, total = 0;
+    double time_limit_s = 0.0, elapsed_s = 0.0;
+  };
+  Status status() const;
+
  private:
   void draw(bool final_line);
 
@@ -30,6 +39,7 @@ class ProgressReporter {
   std::atomic<uint64_t> done_{0};
   std::chrono::steady_clock::time_point start_, last_draw_;
   std::mutex draw_mutex_;
+  mutable std::mutex start_mutex_;  // label_, total_, time_limit_s_, start_ against status()
   bool drawn_ = false;
 };
 

@@ -55,8 +55,15 @@ struct LookupCache {
   }
 };
 // initial-exec: emlt's engine is linked into its programs, and the general TLS model
-// would call __tls_get_addr on every lookup.
+// would call __tls_get_addr on every lookup. Not in an engine built for the Python module
+// (EMLT_SHARED_ENGINE): a module loaded by dlopen finds no room for 2 KB in the static TLS
+// block ("cannot allocate memory in static TLS block"), and in the programs the linker
+// turns the general model into the same direct access.
+#if defined(EMLT_SHARED_ENGINE)
+thread_local LookupCache lookup_cache;
+#else
 [[gnu::tls_model("initial-exec")]] thread_local LookupCache lookup_cache;
+#endif
 
 class BitmapTexture final : public Texture {
  public:
