@@ -71,6 +71,12 @@ Rgb estimate_direct_second_order(const Scene& scene, const SurfaceHit& hit, cons
                                  Rng& rng, int directions, const SecondOrderSplit& split,
                                  double* alpha_used) {
   const int total = std::max(directions, 2);
+  // Light sampling never finds anything a purely specular BSDF reflects: a pilot would spend
+  // half its directions on nothing and learn nothing (Dirac draws stay out of Eq. 5.5).
+  if (hit.bsdf->is_purely_delta()) {
+    if (alpha_used) *alpha_used = 0.0;
+    return estimate_direct_mixture(scene, hit, wo, rng, 0.0, total);
+  }
   const int pilot =
       std::clamp(2 * int(std::lround(0.5 * split.pilot * double(total))), 2, total - total % 2);
   const int rest = total - pilot;

@@ -188,6 +188,19 @@ TEST(MixtureDirect, OnlineAlphaConvergesToEquation54) {
   EXPECT_NEAR(used, 0.025, 1e-9);
 }
 
+TEST(MixtureDirect, SpecularSurfaceSpendsEveryDirectionOnTheBsdf) {
+  // A mirror under a constant sky of 1 reflects exactly its reflectance; light sampling can
+  // never find the mirror direction, so the online split gives the BSDF everything.
+  const auto scene = plane_under_sky(make_mirror(Rgb(0.8f)));
+  const SurfaceHit hit = hit_below(*scene, Vec3(0, 1, 0));
+  double used = -1.0;
+  Rng rng(51, 0);
+  const Rgb value = estimate_direct_second_order(*scene, hit, Vec3(0, 1, 0), rng, 16,
+                                                 SecondOrderSplit{0.5, 0.025}, &used);
+  EXPECT_EQ(used, 0.0);
+  EXPECT_NEAR(value.y, 0.8f, 1e-5f);
+}
+
 TEST(MixtureDirect, SecondOrderBeatsBalanceWhereOneStrategyIsBetter) {
   // Under the constant sky BSDF sampling of a Lambertian plane is exact: the split moves
   // towards it. Under the small light light sampling is far better: it moves the other way.

@@ -41,7 +41,8 @@ struct SecondOrderSplit {
 // L_{M/2,M/2}, the remaining N directions L_{alpha N,(1-alpha)N} at that alpha, combined as
 // M/(M+N) L_pilot + N/(M+N) L_alpha. Unbiased: the second estimate is unbiased at whatever
 // alpha the first chose, and the combination's weights are fixed. M is the even number
-// nearest pilot * directions (at least 2). `alpha_used` (may be null) receives alpha.
+// nearest pilot * directions (at least 2). `alpha_used` (may be null) receives alpha. At a
+// purely specular BSDF every direction is the BSDF's (alpha 0) and there is no pilot.
 Rgb estimate_direct_second_order(const Scene& scene, const SurfaceHit& hit, const Vec3& wo,
                                  Rng& rng, int directions, const SecondOrderSplit& split,
                                  double* alpha_used = nullptr);
