@@ -114,7 +114,8 @@ def centred_copy(scene, root):
 def render(emlt, scene, args, seed, common, out, load):
     """One render to out (.pfm); returns its CPU seconds less the scene's loading (cached
     next to the image). CPU time rather than the clock: on a machine shared with other
-    work the clock's seconds of the same render varied by 3x."""
+    work the clock's seconds of renders doing nearly the same work (balance and power on the
+    kitchen) differed by 2.7x."""
     meta = out + ".json"
     if os.path.exists(out) and os.path.exists(meta):
         with open(meta) as f:
