@@ -36,6 +36,7 @@ DirectSample draw_light_direction(const Scene& scene, const SurfaceHit& hit, con
   if (!ls || ls->pdf <= 0.0f || is_black(ls->radiance)) return out;
   out.own_pdf = selection * ls->pdf;
   out.delta = ls->delta;
+  out.wi = ls->wi;
 
   const Vec3 wo_local = hit.shading.to_local(wo), wi_local = hit.shading.to_local(ls->wi);
   // Under strict normals light must not cross between the geometric and shading sides.
@@ -65,6 +66,7 @@ DirectSample draw_bsdf_direction(const Scene& scene, const SurfaceHit& hit, cons
   out.own_pdf = bs->pdf;
   out.delta = bs->is_delta();
   const Vec3 wi = hit.shading.to_world(bs->wi);
+  out.wi = wi;
   if (!scene.sides_agree(hit.geometric_normal, wi, bs->wi.z)) return out;
   SurfaceHit next;
   const bool found = scene.intersect(spawn_ray(hit.position, hit.geometric_normal, wi), next);

@@ -9,10 +9,13 @@
 
 #include "emlt/integrators/direct_integrator.h"
 #include "emlt/sampling/direct_lighting.h"
+#include "emlt/sampling/direct_sample.h"
 #include "emlt/sampling/mixture_direct_estimator.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/scene.h"
+#include "support/bsdf_harness.h"
 #include "support/test_scenes.h"
+#include "support/test_support.h"
 
 using namespace emlt;
 
@@ -96,6 +99,62 @@ Moments moments_of(int trials, uint64_t seed, Estimate&& estimate) {
 constexpr float kPhongDiffuse = 0.3f, kPhongSpecular = 0.6f, kPhongExponent = 40.0f;
 
 }  // namespace
+
+TEST(MixtureDirect, DirectionsFollowTheMixtureDensity) {
+  // Directions drawn by light sampling with probability alpha and by the BSDF otherwise,
+  // histogrammed over (cos theta, phi) of the shading frame, against alpha p_L + (1 - alpha)
+  // p_B: the constant sky's p_L = 1/(4 pi) over the sphere, p_B the Phong BSDF's density.
+  const auto sky =
+      plane_under_sky(make_phong(kPhongExponent, Rgb(kPhongSpecular), Rgb(kPhongDiffuse)));
+  const SurfaceHit hit = hit_below(*sky, Vec3(0, 1, 0));
+  const Vec3 wo(0, 1, 0), wo_local = hit.shading.to_local(wo);
+  const BsdfContext ctx{hit.uv, TransportMode::Radiance, hit.vertex_color};
+  const int cos_bins = 16, phi_bins = 16, samples = 200000;
+  for (double alpha : {0.3, 0.7}) {
+    std::vector<double> observed(cos_bins * phi_bins + 1, 0.0), expected(observed.size(), 0.0);
+    Rng rng(61, uint64_t(alpha * 10));
+    int drawn = 0;
+    for (int n = 0; n < samples; ++n) {
+      const bool light = rng.uniform() < alpha;
+      const float u = rng.uniform();
+      const DirectSample s = light ? draw_light_direction(*sky, hit, wo, u, rng.uniform2())
+                                   : draw_bsdf_direction(*sky, hit, wo, u, rng.uniform2());
+      if (!(s.own_pdf > 0.0f) || s.delta) continue;
+      const Vec3 w = hit.shading.to_local(s.wi);
+      double phi = std::atan2(double(w.y), double(w.x));
+      if (phi < 0.0) phi += 2.0 * kPi;
+      const int i =
+          std::min(cos_bins - 1, int((glm::clamp(double(w.z), -1.0, 1.0) + 1.0) * 0.5 * cos_bins));
+      const int j = std::min(phi_bins - 1, int(phi / (2.0 * kPi) * phi_bins));
+      observed[size_t(i * phi_bins + j)] += 1.0;
+      ++drawn;
+    }
+    observed.back() = samples - drawn;
+    const test::DirectionalDensity density = [&](const Vec3& w) {
+      return alpha / (4.0 * kPi) + (1.0 - alpha) * double(hit.bsdf->pdf(ctx, wo_local, w));
+    };
+    double total = 0.0;
+    for (int i = 0; i < cos_bins; ++i) {
+      const double theta0 = std::acos(-1.0 + 2.0 * (i + 1) / cos_bins);
+      const double theta1 = std::acos(-1.0 + 2.0 * i / cos_bins);
+      for (int j = 0; j < phi_bins; ++j) {
+        const double phi0 = 2.0 * kPi * j / phi_bins, phi1 = 2.0 * kPi * (j + 1) / phi_bins;
+        const auto f = [&](double theta, double phi) {
+          return density(test::spherical_direction(std::cos(theta), phi)) * std::sin(theta);
+        };
+        const double coarse = test::integrate_2d(f, theta0, theta1, phi0, phi1, 4);
+        const double mass =
+            test::detail::integrate_patch(density, theta0, theta1, phi0, phi1, coarse, 6);
+        expected[size_t(i * phi_bins + j)] = mass * samples;
+        total += mass;
+      }
+    }
+    expected.back() = std::max(0.0, 1.0 - total) * samples;
+    const test::ChiSquareResult chi2 = test::chi_square_test(observed, expected);
+    EXPECT_GT(chi2.p_value, 1e-3) << "alpha " << alpha << ": chi2 " << chi2.statistic << " dof "
+                                  << chi2.degrees_of_freedom << ", density mass " << total;
+  }
+}
 
 TEST(MixtureDirect, UnbiasedForAnyFixedAlpha) {
   const auto lit = floor_and_light();

@@ -18,6 +18,8 @@ struct DirectSample {
   // Drawn from a Dirac distribution (a delta light, a specular lobe): the other strategy
   // never finds it, and own_pdf is no density, so it weighs by its own strategy alone.
   bool delta = false;
+  // The direction drawn (world, unit); zero when the strategy drew none.
+  Vec3 wi{0.0f};
 
   // The integrand itself (estimate * own_pdf); meaningless for a Dirac draw.
   Rgb integrand() const { return estimate * own_pdf; }
