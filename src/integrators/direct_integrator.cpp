@@ -3,8 +3,10 @@
 #include "emlt/integrators/direct_integrator.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
+#include "emlt/integrators/mis_alpha_map.h"
 #include "emlt/integrators/pixel_renderer.h"
 #include "emlt/run/progress.h"
 #include "emlt/sampling/direct_lighting.h"
@@ -12,7 +14,7 @@
 namespace emlt {
 
 Rgb DirectIntegrator::radiance(const Scene& scene, const RenderSettings& settings, const Ray& ray,
-                               Rng& rng) {
+                               Rng& rng, double pixel_alpha) {
   SurfaceHit hit;
   if (!scene.intersect(ray, hit)) {
     const EnvironmentLight* env = scene.environment();
@@ -25,11 +27,32 @@ Rgb DirectIntegrator::radiance(const Scene& scene, const RenderSettings& setting
   options.samples = settings.direct_samples;
   options.heuristic = settings.mis;
   options.point_set = settings.direct_point_set;
+  options.alpha = settings.mis_alpha >= 0.0 ? settings.mis_alpha : pixel_alpha;
+  options.alpha_pilot = settings.mis_alpha_pilot;
+  options.alpha_clamp = settings.mis_alpha_clamp;
   return result + estimate_direct_lighting(scene, hit, wo, rng, options);
 }
 
 RenderResult DirectIntegrator::render(const Scene& scene, const RenderSettings& settings,
                                       ProgressReporter& progress) const {
+  if (settings.mis == MisHeuristic::SecondOrder && settings.mis_alpha < 0.0 &&
+      settings.mis_alpha_estimate == MisAlphaEstimate::Preprocessed &&
+      !(settings.max_depth >= 0 && settings.max_depth < 2)) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::vector<float> alpha = preprocess_mis_alpha(scene, settings);
+    const double pre_pass =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const int width = scene.camera().width();
+    RenderResult result = render_pixels_at(scene, settings, progress,
+                                           [&](int x, int y, const Ray& ray, Rng& rng) {
+                                             const size_t pixel =
+                                                 size_t(y) * size_t(width) + size_t(x);
+                                             return radiance(scene, settings, ray, rng,
+                                                             double(alpha[pixel]));
+                                           });
+    result.seconds += pre_pass;  // the pre-pass is part of the render's cost
+    return result;
+  }
   return render_pixels(scene, settings, progress, [&](const Ray& ray, Rng& rng) {
     return radiance(scene, settings, ray, rng);
   });
@@ -56,6 +79,8 @@ RenderResult render_direct_pass(const Scene& scene, const RenderSettings& settin
                             : 0.0;
   direct.snapshots = nullptr;  // the log follows the chains, not this pass
   direct.control = nullptr;    // its state is part of the outer render's
+  // A pre-pass per slice would repeat itself: a preprocessed split is estimated online here.
+  direct.mis_alpha_estimate = MisAlphaEstimate::Online;
   ProgressReporter quiet(false);
   return render_pixels(
       scene, direct, quiet,

@@ -27,6 +27,30 @@ double split_density(std::span<const VertexDensity> path, int s) {
 
 double mis_weight(std::span<const VertexDensity> path, int s, MisHeuristic heuristic) {
   const int n = int(path.size());
+  // The maximum heuristic: 1 where no other split has a larger density, shared evenly
+  // with the splits that tie (so that the weights of a path still sum to one).
+  if (heuristic == MisHeuristic::Max) {
+    int ties = 0;
+    bool beaten = false;
+    const auto visit = [&](double ratio) {
+      if (ratio > 1.0) beaten = true;
+      else if (ratio == 1.0) ++ties;
+    };
+    double ratio = 1.0;
+    for (int i = s; i < n - 1; ++i) {
+      const VertexDensity& x = path[size_t(i)];
+      ratio = x.from_eye > 0.0f ? ratio * double(x.from_light) / double(x.from_eye) : 0.0;
+      if (split_is_possible(path, i + 1)) visit(ratio);
+    }
+    ratio = 1.0;
+    for (int i = s - 1; i >= 0; --i) {
+      const VertexDensity& x = path[size_t(i)];
+      ratio = x.from_light > 0.0f ? ratio * double(x.from_eye) / double(x.from_light) : 0.0;
+      if (split_is_possible(path, i)) visit(ratio);
+    }
+    return beaten ? 0.0 : 1.0 / double(1 + ties);
+  }
+  // SecondOrder has no split between many strategies: its paths weigh as Balance's.
   const auto term = [heuristic](double ratio) {
     return heuristic == MisHeuristic::Power ? ratio * ratio : ratio;
   };

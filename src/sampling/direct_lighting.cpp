@@ -1,6 +1,8 @@
 #include "emlt/sampling/direct_lighting.h"
 
 #include "emlt/core/spherical_fibonacci.h"
+#include "emlt/sampling/direct_sample.h"
+#include "emlt/sampling/mixture_direct_estimator.h"
 #include "emlt/sampling/mis.h"
 
 namespace emlt {
@@ -51,25 +53,9 @@ Rgb sample_light_contribution(const Scene& scene, const SurfaceHit& hit, const V
 Rgb weighted_emission(const Scene& scene, const Vec3& from, const Vec3& direction,
                       const SurfaceHit* emitter_hit, float bsdf_pdf, bool delta,
                       MisHeuristic heuristic) {
-  const LightSet& lights = scene.lights();
-  Rgb radiance(0.0f);
-  float light_pdf = 0.0f;
-  if (emitter_hit) {
-    if (!emitter_hit->light) return Rgb(0.0f);
-    radiance = emitter_hit->emitted(-direction);
-    if (is_black(radiance)) return Rgb(0.0f);
-    if (!delta)
-      light_pdf = lights.selection_probability(*emitter_hit->light) *
-                  emitter_hit->light->pdf_direct(from, emitter_hit->position,
-                                                 emitter_hit->geometric_normal, direction);
-  } else {
-    const EnvironmentLight* env = scene.environment();
-    if (!env) return Rgb(0.0f);
-    radiance = env->radiance(direction);
-    if (!delta) light_pdf = lights.selection_probability(*env) * env->pdf_direction(direction);
-  }
-  if (delta) return radiance;
-  return radiance * mis_weight(heuristic, bsdf_pdf, light_pdf);
+  const ArrivingEmission e = arriving_emission(scene, from, direction, emitter_hit, !delta);
+  if (delta || is_black(e.radiance)) return e.radiance;
+  return e.radiance * mis_weight(heuristic, bsdf_pdf, e.light_pdf);
 }
 
 Rgb estimate_direct_lighting(const Scene& scene, const SurfaceHit& hit, const Vec3& wo, Rng& rng,
@@ -78,6 +64,11 @@ Rgb estimate_direct_lighting(const Scene& scene, const SurfaceHit& hit, const Ve
   // direct integrator skips the point); the light samples would be zero, the BSDF's not.
   if (!consistent_sides(scene, hit, wo, hit.shading.to_local(wo))) return Rgb(0.0f);
   const int n = glm::max(options.samples, 1);
+  if (options.heuristic == MisHeuristic::SecondOrder) {
+    if (options.alpha >= 0.0) return estimate_direct_mixture(scene, hit, wo, rng, options.alpha, 2 * n);
+    return estimate_direct_second_order(scene, hit, wo, rng, 2 * n,
+                                        SecondOrderSplit{options.alpha_pilot, options.alpha_clamp});
+  }
   std::vector<Vec2> light_points, bsdf_points;
   if (options.point_set == DirectPointSet::Fibonacci) {
     light_points = fibonacci_square_points(uint32_t(n), FibonacciRandomisation::draw(rng));

@@ -1,5 +1,7 @@
 #include "emlt/sampling/sampling_options.h"
 
+#include <cstdlib>
+
 #include "emlt/settings/scene_options.h"
 
 namespace emlt {
@@ -11,10 +13,18 @@ const std::vector<RenderOption>& sampling_options() {
       o.push_back(scene_file_option(flag).option);
     RenderOption mis;
     mis.flag = "--mis";
-    mis.help = "MIS heuristic";
-    mis.values = {OptionValues::Kind::Word, 0, 0, false, {"balance", "power"}, "balance or power"};
+    mis.help = "MIS heuristic: balance | power | max | second-order";
+    mis.values = {OptionValues::Kind::Word,
+                  0,
+                  0,
+                  false,
+                  {"balance", "power", "max", "second-order"},
+                  "balance, power, max or second-order"};
     mis.assign = [](RenderSettings& s, const std::string& text) {
-      s.mis = text == "balance" ? MisHeuristic::Balance : MisHeuristic::Power;
+      s.mis = text == "balance" ? MisHeuristic::Balance
+              : text == "max"   ? MisHeuristic::Max
+              : text == "second-order" ? MisHeuristic::SecondOrder
+                                       : MisHeuristic::Power;
     };
     mis.recorded = [](const RenderSettings& s) { return std::string(to_string(s.mis)); };
     o.push_back(mis);
@@ -35,6 +45,47 @@ const std::vector<RenderOption>& sampling_options() {
                                                                          : "independent");
     };
     o.push_back(points);
+
+    // --mis second-order's split (sampling/mixture_direct_estimator.h); they change nothing
+    // under the other heuristics, so only second-order renders record them.
+    std::vector<RenderOption> split;
+    RenderOption alpha;
+    alpha.flag = "--mis-alpha";
+    alpha.help = "Fixed share of direct-lighting directions drawn from the lights (second-order)";
+    alpha.values = {OptionValues::Kind::Real, 0.0, 1.0, false, {}, "a number from 0 to 1"};
+    alpha.assign = [](RenderSettings& s, const std::string& text) {
+      s.mis_alpha = std::strtod(text.c_str(), nullptr);
+    };
+    alpha.recorded = [](const RenderSettings& s) {
+      return s.mis_alpha < 0.0 ? std::string("estimated") : recorded_number(s.mis_alpha);
+    };
+    split.push_back(alpha);
+    RenderOption estimate;
+    estimate.flag = "--mis-alpha-estimate";
+    estimate.help = "How second-order estimates its split: online | preprocessed";
+    estimate.values = {OptionValues::Kind::Word, 0, 0, false, {"online", "preprocessed"},
+                       "online or preprocessed"};
+    estimate.assign = [](RenderSettings& s, const std::string& text) {
+      s.mis_alpha_estimate =
+          text == "preprocessed" ? MisAlphaEstimate::Preprocessed : MisAlphaEstimate::Online;
+    };
+    estimate.recorded = [](const RenderSettings& s) {
+      return std::string(s.mis_alpha_estimate == MisAlphaEstimate::Preprocessed ? "preprocessed"
+                                                                                : "online");
+    };
+    split.push_back(estimate);
+    split.push_back(real_option("--mis-alpha-pilot", &RenderSettings::mis_alpha_pilot, 0.0, true,
+                                1.0, "a number above 0, at most 1",
+                                "Online: share of a point's directions spent estimating alpha"));
+    split.push_back(whole_option("--mis-alpha-samples", &RenderSettings::mis_alpha_samples, 2,
+                                 1 << 20, "a whole number from 2 to 1048576",
+                                 "Preprocessed: pilot directions per pixel"));
+    split.push_back(real_option("--mis-alpha-clamp", &RenderSettings::mis_alpha_clamp, 0.0, false,
+                                0.5, "a number from 0 to 0.5",
+                                "The estimated alpha is kept within [c, 1 - c]"));
+    apply_only_where(split,
+                     [](const RenderSettings& s) { return s.mis == MisHeuristic::SecondOrder; });
+    o.insert(o.end(), split.begin(), split.end());
     return o;
   }();
   return options;

@@ -105,6 +105,16 @@ TEST_P(ResumeEveryIntegrator, GivesTheBitsOfAnUninterruptedRender) {
 INSTANTIATE_TEST_SUITE_P(
     Integrators, ResumeEveryIntegrator,
     ::testing::Values(Case{"direct", "--spp 16", 16 * 1024}, Case{"pt", "--spp 16", 16 * 1024},
+                      // Lu's MIS split: a per-pixel pre-pass redone on resume, and the online
+                      // split at each shading point, here and in an MCMC direct pass.
+                      Case{"direct",
+                           "--spp 16 --direct-samples 4 --mis second-order --mis-alpha-estimate "
+                           "preprocessed --mis-alpha-samples 16",
+                           16 * 1024, "direct_mis_preprocessed"},
+                      Case{"direct", "--spp 16 --direct-samples 4 --mis second-order", 16 * 1024,
+                           "direct_mis_online"},
+                      Case{"mlt", "--mpp 16 --mis second-order --direct-samples 2",
+                           2 * 16 * 1024, "mlt_mis_online"},
                       Case{"bdpt", "--spp 8", 8 * 1024},
                       Case{"ptracer", "--spp 8", 8 * 1024},
                       Case{"mlt", "--mpp 16", 2 * 16 * 1024},

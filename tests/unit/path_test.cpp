@@ -198,7 +198,8 @@ TEST(PathDensities, MisWeightsOfEveryPathSumToOne) {
     const auto scene = shipped_scene(name);
     for_each_random_path(*scene, 100, [&](const SampledPath& sample) {
       const auto densities = path_densities(sample.path);
-      for (MisHeuristic h : {MisHeuristic::Balance, MisHeuristic::Power}) {
+      for (MisHeuristic h : {MisHeuristic::Balance, MisHeuristic::Power, MisHeuristic::Max,
+                             MisHeuristic::SecondOrder}) {
         double sum = 0.0;
         for (int split = 0; split <= int(densities.size()); ++split)
           if (split_is_possible(densities, split)) sum += mis_weight(densities, split, h);
@@ -210,6 +211,14 @@ TEST(PathDensities, MisWeightsOfEveryPathSumToOne) {
         total += split_density(densities, split);
       EXPECT_TRUE(close(mis_weight(densities, sample.s, MisHeuristic::Balance),
                         split_density(densities, sample.s) / total, 1e-4));
+      // The maximum heuristic gives nothing to a split another one beats.
+      double largest = 0.0;
+      for (int split = 0; split <= int(densities.size()); ++split)
+        largest = std::max(largest, split_density(densities, split));
+      const double own = split_density(densities, sample.s);
+      if (own < largest * (1.0 - 1e-6)) {
+        EXPECT_EQ(mis_weight(densities, sample.s, MisHeuristic::Max), 0.0);
+      }
     });
   }
 }

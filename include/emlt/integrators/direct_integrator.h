@@ -15,8 +15,11 @@ class DirectIntegrator final : public Integrator {
   std::string name() const override { return "direct"; }
   RenderResult render(const Scene& scene, const RenderSettings& settings,
                       ProgressReporter& progress) const override;
-  // Radiance along one camera ray (exposed for tests).
-  static Rgb radiance(const Scene& scene, const RenderSettings& settings, const Ray& ray, Rng& rng);
+  // Radiance along one camera ray (exposed for tests). `pixel_alpha` in [0, 1]: the pixel's
+  // prepared light share for --mis second-order (mis_alpha_map.h), unless --mis-alpha fixes
+  // one; negative: estimated online.
+  static Rgb radiance(const Scene& scene, const RenderSettings& settings, const Ray& ray, Rng& rng,
+                      double pixel_alpha = -1.0);
 };
 
 // The image of paths of one and two segments (emitters seen directly, direct light) that an

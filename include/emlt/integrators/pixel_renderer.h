@@ -13,6 +13,9 @@ namespace emlt {
 
 // Radiance arriving along a camera ray; may use `rng` freely.
 using RadianceEstimator = std::function<Rgb(const Ray& ray, Rng& rng)>;
+// The same, told the pixel (x, y) the ray samples (per-pixel state such as a prepared
+// MIS split).
+using PixelRadianceEstimator = std::function<Rgb(int x, int y, const Ray& ray, Rng& rng)>;
 
 // The whole render of one integrator: resumes from and checkpoints through
 // settings.control.
@@ -26,5 +29,16 @@ RenderResult render_pixels(const Scene& scene, const RenderSettings& settings,
 RenderResult render_pixels(const Scene& scene, const RenderSettings& settings,
                            ProgressReporter& progress, const RadianceEstimator& radiance,
                            PixelRenderState& state, const std::function<void()>& on_pause);
+
+// render_pixels with the pixel-aware estimator.
+RenderResult render_pixels_at(const Scene& scene, const RenderSettings& settings,
+                              ProgressReporter& progress, const PixelRadianceEstimator& radiance);
+RenderResult render_pixels_at(const Scene& scene, const RenderSettings& settings,
+                              ProgressReporter& progress, const PixelRadianceEstimator& radiance,
+                              PixelRenderState& state, const std::function<void()>& on_pause);
+
+// The camera ray of sample `rng` in pixel (x, y), as render_pixels traces it (the filter's
+// jitter, then the lens), and the filter's weight for it.
+Ray pixel_camera_ray(const Camera& camera, int x, int y, Rng& rng, float* filter_weight = nullptr);
 
 }  // namespace emlt

@@ -33,8 +33,8 @@ bool split_is_possible(std::span<const VertexDensity> path, int s);
 // p_s; zero for impossible splits.
 double split_density(std::span<const VertexDensity> path, int s);
 
-// MIS weight of split s among every possible split of the same path, by the balance or
-// power heuristic, from the ratios p_{s'}/p_s accumulated vertex by vertex (Veach's
+// MIS weight of split s among every possible split of the same path, by the balance,
+// power or maximum heuristic (second-order: balance), from the ratios p_{s'}/p_s accumulated vertex by vertex (Veach's
 // eq. 10.9): numerically safe even when the densities themselves over- or underflow.
 double mis_weight(std::span<const VertexDensity> path, int s, MisHeuristic heuristic);
 

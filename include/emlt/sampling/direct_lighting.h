@@ -14,6 +14,13 @@ struct DirectLightingOptions {
   int samples = 1;  // light samples and BSDF samples each
   MisHeuristic heuristic = MisHeuristic::Power;
   DirectPointSet point_set = DirectPointSet::Independent;
+  // MisHeuristic::SecondOrder (mixture_direct_estimator.h): the 2 * samples directions come
+  // from the light/BSDF mixture, its light share fixed by `alpha` in [0, 1] or, when alpha
+  // is negative, chosen online by Lu's second-order rule (its pilot share and clamp here).
+  // The point set is then independent.
+  double alpha = -1.0;
+  double alpha_pilot = 0.5;
+  double alpha_clamp = 0.025;
 };
 
 // One light-sampling estimate of the radiance reflected at `hit` towards wo (world, unit),
@@ -32,7 +39,8 @@ Rgb weighted_emission(const Scene& scene, const Vec3& from, const Vec3& directio
 
 // Full direct-lighting estimate at a camera-visible point: `options.samples` light samples
 // and as many BSDF samples, each set either independent or a randomised spherical
-// Fibonacci set (unbiased; see spherical_fibonacci.h).
+// Fibonacci set (unbiased; see spherical_fibonacci.h); under SecondOrder, as many
+// directions in all from the mixture of the two.
 Rgb estimate_direct_lighting(const Scene& scene, const SurfaceHit& hit, const Vec3& wo, Rng& rng,
                              const DirectLightingOptions& options);
 

@@ -19,7 +19,13 @@ inline constexpr int kMaxBootstrapSamples = 1 << 24;
 inline constexpr int kMaxThreads = 1024;                   // 0 means every core TBB may use
 inline constexpr double kMaxTimeSeconds = 30.0 * 86400.0;  // --time: 30 days
 
-enum class MisHeuristic { Balance, Power };
+// SecondOrder: the direct-lighting estimate samples the one-sample mixture of light and
+// BSDF sampling with Lu's second-order split (sampling/second_order_alpha.h); wherever a
+// weight between more strategies or a fixed pair of samples is needed (path tracer, BDPT)
+// it weights as Balance, which is the mixture at alpha = 1/2 (thesis Eq. 5.3).
+enum class MisHeuristic { Balance, Power, Max, SecondOrder };
+// How --mis second-order finds its split when --mis-alpha does not fix it.
+enum class MisAlphaEstimate { Online, Preprocessed };
 enum class DirectPointSet { Independent, Fibonacci };
 
 struct RenderSettings {
@@ -37,6 +43,20 @@ struct RenderSettings {
   bool hide_emitters = false;
   int shortest_path() const { return hide_emitters ? 2 : 1; }  // in segments
   MisHeuristic mis = MisHeuristic::Power;
+  // --mis second-order (sampling/mixture_direct_estimator.h). mis_alpha in [0, 1]: the fixed
+  // fraction of direct-lighting directions drawn by light sampling; < 0: estimated per
+  // shading point (Online, Lu's Eq. 5.6) or per pixel in a pre-pass (Preprocessed).
+  double mis_alpha = -1.0;
+  MisAlphaEstimate mis_alpha_estimate = MisAlphaEstimate::Online;
+  // Online: the share of a shading point's directions spent on the half/half pilot that
+  // estimates alpha (Lu's Table 5.2: M = N, a half).
+  double mis_alpha_pilot = 0.5;
+  // Preprocessed: pilot directions per pixel in the pre-pass (Lu's Table 5.1 used 4096 per
+  // light and camera ray; 256 keeps the pre-pass below the render's own cost at 256
+  // directions per pixel, docs/direct-samplers.md).
+  int mis_alpha_samples = 256;
+  // The estimate is clamped to [c, 1 - c] (Lu's Fig. 5.4 and section 5.4.3: 0.025).
+  double mis_alpha_clamp = 0.025;
   int direct_samples = 1;  // light and BSDF samples per direct-lighting estimate
   DirectPointSet direct_point_set = DirectPointSet::Independent;
   bool progress = true;
@@ -145,7 +165,13 @@ struct RenderSettings {
 };
 
 inline const char* to_string(MisHeuristic h) {
-  return h == MisHeuristic::Balance ? "balance" : "power";
+  switch (h) {
+    case MisHeuristic::Balance: return "balance";
+    case MisHeuristic::Power: return "power";
+    case MisHeuristic::Max: return "max";
+    case MisHeuristic::SecondOrder: return "second-order";
+  }
+  return "power";
 }
 
 }  // namespace emlt
