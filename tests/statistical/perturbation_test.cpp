@@ -260,15 +260,7 @@ Path mirror_lit_floor_path(const Scene& scene, const Vec2& raster, const Vec3& o
   const Vec3 down = glm::normalize(on_light - on_mirror.position);
   EXPECT_TRUE(
       scene.intersect(spawn_ray(on_mirror.position, on_mirror.geometric_normal, down), lit_by));
-  Path path;
-  path.vertices = {make_surface_vertex(lit_by), make_surface_vertex(on_mirror),
-                   make_surface_vertex(seen)};
-  path.vertices.push_back(make_camera_vertex(scene, ray.origin, raster));
-  auto& v = path.vertices;
-  EXPECT_TRUE(perturbation::fill_delta_record(v[1], v[2], v[0], TransportMode::Radiance, false));
-  path.type = compute_path_type(path.vertices);
-  recompute_densities(scene, path);
-  return path;
+  return test::path_through_mirror(scene, {lit_by, on_mirror, seen}, ray.origin, raster, 1);
 }
 
 // log of the light's area per unit of ν through the mirror (the mirror image's conversion,

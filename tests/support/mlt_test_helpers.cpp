@@ -135,12 +135,18 @@ Path floor_mirror_light_path(const Scene& scene, const Vec2& raster, const Vec3&
       scene.intersect(spawn_ray(on_mirror.position, on_mirror.geometric_normal, down), lit));
   EXPECT_TRUE(
       scene.intersect(spawn_ray(lit.position, lit.geometric_normal, Vec3(0, 1, 0)), on_light));
+  return path_through_mirror(scene, {on_light, lit, on_mirror, seen}, ray.origin, raster, 2);
+}
+
+Path path_through_mirror(const Scene& scene, const std::vector<SurfaceHit>& hits, const Vec3& lens,
+                         const Vec2& raster, int mirror) {
   Path path;
-  path.vertices = {make_surface_vertex(on_light), make_surface_vertex(lit),
-                   make_surface_vertex(on_mirror), make_surface_vertex(seen)};
-  path.vertices.push_back(make_camera_vertex(scene, ray.origin, raster));
+  for (const SurfaceHit& hit : hits) path.vertices.push_back(make_surface_vertex(hit));
+  path.vertices.push_back(make_camera_vertex(scene, lens, raster));
   auto& v = path.vertices;
-  EXPECT_TRUE(perturbation::fill_delta_record(v[2], v[3], v[1], TransportMode::Radiance, false));
+  const size_t m = size_t(mirror);
+  EXPECT_TRUE(
+      perturbation::fill_delta_record(v[m], v[m + 1], v[m - 1], TransportMode::Radiance, false));
   path.type = compute_path_type(path.vertices);
   recompute_densities(scene, path);
   return path;

@@ -54,6 +54,11 @@ Path light_floor_eye_path(const Scene& scene, const Vec2& raster);
 // the mirror hit from it along `up`, the floor point lit after the reflection, and the
 // light straight above that.
 Path floor_mirror_light_path(const Scene& scene, const Vec2& raster, const Vec3& up);
+// The path of surface hits `hits` (light first), ending at the lens point `lens` seen through
+// `raster`; the vertex `mirror` is a Dirac reflection (its record filled), the rest are what
+// make_surface_vertex makes; type and densities computed.
+Path path_through_mirror(const Scene& scene, const std::vector<SurfaceHit>& hits, const Vec3& lens,
+                         const Vec2& raster, int mirror);
 // The strategies report densities over the path layer's measure ν, which gives the mirror
 // chain x3 -> x2 -> x1 the product of its segments' solid-angle-to-area factors, while the
 // histograms measure area on the floor, where a direction at x3 reaches x1 at the distance

@@ -66,12 +66,12 @@ def add_scenes(s):
     # a glass sphere's caustic on the floor and the room seen through it make the chains
     # walk specular manifolds; its image is the path tracer's.
     glass = '<bsdf type="dielectric"><float name="intIOR" value="1.5"/></bsdf>'
+    memlt = ('  <integrator type="mlt">\n    <integer name="maxDepth" value="5"/>'
+             '\n    <integer name="luminanceSamples" value="50000"/>'
+             '\n    <boolean name="manifoldPerturbation" value="true"/>'
+             '\n    <float name="lambda" value="50"/>\n  </integrator>\n')
     s["integrator-memlt"] = ("a file naming Mitsuba's mlt with manifoldPerturbation (maxDepth 5) renders with emlt's memlt; reference: Mitsuba's path tracer",
-        scene(sphere(glass, "-0.4, 0.35, 0", 0.35) + sphere(glossy, "0.4, 0.35, -0.2", 0.35),
-              integ='  <integrator type="mlt">\n    <integer name="maxDepth" value="5"/>'
-                    '\n    <integer name="luminanceSamples" value="50000"/>'
-                    '\n    <boolean name="manifoldPerturbation" value="true"/>'
-                    '\n    <float name="lambda" value="50"/>\n  </integrator>\n'),
+        scene(sphere(glass, "-0.4, 0.35, 0", 0.35) + sphere(glossy, "0.4, 0.35, -0.2", 0.35), integ=memlt),
         ["memlt"])
     # The same with the glass ball rough (roughdielectric, alpha 0.05): the manifold
     # perturbation crosses it as specular about its microfacet normals (offset manifolds,
@@ -79,11 +79,7 @@ def add_scenes(s):
     rough_glass = ('<bsdf type="roughdielectric"><float name="intIOR" value="1.5"/>'
                    '<float name="alpha" value="0.05"/></bsdf>')
     s["integrator-memlt-rough"] = ("Mitsuba's mlt with manifoldPerturbation through a rough glass ball (offset manifolds) renders with emlt's memlt; reference: Mitsuba's path tracer",
-        scene(sphere(rough_glass, "-0.4, 0.35, 0", 0.35) + sphere(glossy, "0.4, 0.35, -0.2", 0.35),
-              integ='  <integrator type="mlt">\n    <integer name="maxDepth" value="5"/>'
-                    '\n    <integer name="luminanceSamples" value="50000"/>'
-                    '\n    <boolean name="manifoldPerturbation" value="true"/>'
-                    '\n    <float name="lambda" value="50"/>\n  </integrator>\n'),
+        scene(sphere(rough_glass, "-0.4, 0.35, 0", 0.35) + sphere(glossy, "0.4, 0.35, -0.2", 0.35), integ=memlt),
         ["memlt"])
 
     # Parallel projection: toWorld's scale sizes the film (x in [-1.1, 1.1], y over the
