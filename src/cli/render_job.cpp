@@ -115,6 +115,10 @@ RenderJob::RenderJob(RenderRequest request, const Warn& warn)
     warn("--chains is ignored; the chains are the two ensembles (--ensemble-size)");
   if (given("--gamlt-cone-cell") && settings_.gamlt_cone_cells == 0.0)
     warn("--gamlt-cone-cell is ignored without --gamlt-cone cells");
+  if (settings_.mis != MisHeuristic::SecondOrder)
+    for (const char* flag : {"--mis-alpha", "--mis-alpha-estimate", "--mis-alpha-pilot",
+                             "--mis-alpha-samples", "--mis-alpha-clamp"})
+      if (given(flag)) warn(std::string(flag) + " is ignored without --mis second-order");
   if (!settings_.stats_path.empty()) check_directory_of(settings_.stats_path, "statistics");
 
   if (!r.log.empty() && r.reference.empty()) throw Error("--log " + r.log + ": needs --reference");

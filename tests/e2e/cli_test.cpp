@@ -158,6 +158,29 @@ TEST(Cli, TheCommandLineOverridesWhatTheSceneFileSets) {
   EXPECT_EQ(info.find("emitters hidden"), std::string::npos) << info;
 }
 
+// The MIS split's own flags set nothing unless the split is on: said, not silently dropped.
+TEST(Cli, MisSplitFlagsWithoutTheSplitAreSaidToBeIgnored) {
+  const fs::path dir = test::scratch_dir("mis-alpha-ignored");
+  std::string text;
+  ASSERT_EQ(test::run_command(emlt_cmd("render " + cornell() +
+                                       " --integrator direct --spp 1 --width 8 --height 8 "
+                                       "--mis balance --mis-alpha 0.3 --quiet -o " +
+                                       (dir / "o.exr").string()),
+                              &text),
+            0)
+      << text;
+  EXPECT_NE(text.find("--mis-alpha is ignored without --mis second-order"), std::string::npos)
+      << text;
+  ASSERT_EQ(test::run_command(emlt_cmd("render " + cornell() +
+                                       " --integrator direct --spp 1 --width 8 --height 8 "
+                                       "--mis second-order --mis-alpha 0.3 --quiet -o " +
+                                       (dir / "p.exr").string()),
+                              &text),
+            0)
+      << text;
+  EXPECT_EQ(text.find("is ignored"), std::string::npos) << text;
+}
+
 TEST(Cli, InfoDescribesTheScene) {
   std::string text;
   ASSERT_EQ(0, test::run_command(emlt_cmd("info " + cornell()), &text)) << text;
