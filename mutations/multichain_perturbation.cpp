@@ -35,8 +35,9 @@ int MultiChainPerturbation::fixed_vertex(const PathType& type) {
 
 bool MultiChainPerturbation::walks_to_light(const Path& x) {
   const int k = x.edges();
+  if (k < 2 || x.type.edges() != k) return false;
   const PathVertex& light = x.vertices.front();
-  if (k < 2 || !light.is_surface() || !light.is_emitter() || !x.type.is_specular(1)) return false;
+  if (!light.is_surface() || !light.is_emitter() || !x.type.is_specular(1)) return false;
   // No two adjacent non-specular vertices between the lens and the light: every chain the
   // eye walk enters ends at the next non-specular vertex, the last one at the light.
   for (int i = k - 1; i >= 2; --i)
