@@ -66,10 +66,10 @@ std::optional<Vec3> sample_cube_balanced(const CubeEnvironment& cube, const Cube
 }
 
 EnvironmentSampling environment_sampling(const Scene& scene, EnvSampler kind, const SurfaceHit& hit,
-                                         const Vec3& wo, CubeFaceBalance balance) {
+                                         const Vec3& wo, CubeFaceBalance balance, int resolution) {
   EnvironmentSampling sampling;
   if (kind != EnvSampler::CubeBalanced || !scene.environment()) return sampling;
-  sampling.cube = scene.cube_environment();
+  sampling.cube = scene.cube_environment(resolution);
   const Vec3 n = hit.shading_normal;
   const float side = glm::dot(n, wo);
   sampling.receiver.normal = side < 0.0f ? -n : n;

@@ -80,6 +80,12 @@ const std::vector<RenderOption>& sampling_options() {
       return s.env_sampler == EnvSampler::CubeBalanced;
     };
     o.push_back(balance);
+    RenderOption resolution = whole_option(
+        "--env-cube-resolution", &RenderSettings::env_cube_resolution, 0, 2048,
+        "a whole number from 0 to 2048",
+        "cube-balanced: texels per cube face edge (0: a quarter of the map's width)");
+    resolution.applies = balance.applies;
+    o.push_back(resolution);
 
     // --mis second-order's split (sampling/mixture_direct_estimator.h); they change nothing
     // under the other heuristics, so only second-order renders record them.

@@ -326,10 +326,11 @@ const ClearanceField& Scene::clearance_field() const {
   return clearance_field_;
 }
 
-const CubeEnvironment* Scene::cube_environment() const {
+const CubeEnvironment* Scene::cube_environment(int resolution) const {
   if (!environment()) return nullptr;
-  std::call_once(cube_environment_built_,
-                 [this] { cube_environment_ = std::make_unique<CubeEnvironment>(*environment()); });
+  std::call_once(cube_environment_built_, [this, resolution] {
+    cube_environment_ = std::make_unique<CubeEnvironment>(*environment(), resolution);
+  });
   return cube_environment_.get();
 }
 

@@ -62,7 +62,8 @@ Rgb path_tracer_estimate(const Scene& scene, const RenderSettings& settings, con
     const EnvironmentSampling env = settings.env_sampler == EnvSampler::LatLong
                                         ? EnvironmentSampling{}
                                         : environment_sampling(scene, settings.env_sampler, hit, wo,
-                                                               settings.env_face_balance);
+                                                               settings.env_face_balance,
+                                                               settings.env_cube_resolution);
     if (segments + 1 >= min_segments) {
       const Rgb light =
           throughput * sample_light_contribution(scene, hit, wo, TransportMode::Radiance, u_select,

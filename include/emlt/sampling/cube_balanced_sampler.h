@@ -76,7 +76,8 @@ struct EnvironmentSampling {
 // The sampling `kind` asks for at `hit`, light leaving towards wo (world, unit).
 EnvironmentSampling environment_sampling(const Scene& scene, EnvSampler kind, const SurfaceHit& hit,
                                          const Vec3& wo,
-                                         CubeFaceBalance balance = CubeFaceBalance::Receiver);
+                                         CubeFaceBalance balance = CubeFaceBalance::Receiver,
+                                         int resolution = 0);
 
 // The environment's direct-light sample and its density (light selection excluded) under
 // `sampling`.

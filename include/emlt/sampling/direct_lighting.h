@@ -17,6 +17,7 @@ struct DirectLightingOptions {
   DirectPointSet point_set = DirectPointSet::Independent;
   EnvSampler env_sampler = EnvSampler::LatLong;  // how the environment is sampled
   CubeFaceBalance env_face_balance = CubeFaceBalance::Receiver;
+  int env_cube_resolution = 0;
   // MisHeuristic::SecondOrder (mixture_direct_estimator.h): the 2 * samples directions come
   // from the light/BSDF mixture, its light share fixed by `alpha` in [0, 1] or, when alpha
   // is negative, chosen online by Lu's second-order rule (its pilot share and clamp here).

@@ -120,8 +120,10 @@ class Scene {
   const LightSet& lights() const { return lights_; }
   const EnvironmentLight* environment() const { return lights_.environment(); }
   // The environment resampled onto a cube (cube_environment.h), for --env-sampler
-  // cube-balanced; null without an environment. Built on the first call, as surface_bvh.
-  const CubeEnvironment* cube_environment() const;
+  // cube-balanced; null without an environment. Built on the first call, as surface_bvh,
+  // with that call's `resolution` (texels per face edge; 0: CubeEnvironment's choice): a
+  // render asks with one resolution throughout, so later calls get the same cube.
+  const CubeEnvironment* cube_environment(int resolution = 0) const;
   // The description as built, less its meshes' vertex and index arrays, which the scene's
   // geometry took over (each MeshDesc keeps its name, material and emission).
   const SceneDescription& description() const { return desc_; }

@@ -68,6 +68,7 @@ struct RenderSettings {
   DirectPointSet direct_point_set = DirectPointSet::Independent;
   EnvSampler env_sampler = EnvSampler::LatLong;  // direct lighting's (direct, pt, --direct separate)
   CubeFaceBalance env_face_balance = CubeFaceBalance::Receiver;
+  int env_cube_resolution = 0;  // cube-balanced: texels per face edge; 0: from the map
   bool progress = true;
 
   // Metropolis light transport (integrator "mlt").
