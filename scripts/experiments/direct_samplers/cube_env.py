@@ -7,7 +7,7 @@ and BSDF sampling: variance per direction (N Var).
 Two scenes, written here: a floor and four balls (three diffuse, one rough plastic; their
 surfaces face every way) under
   - sunsky: the engine's sun-and-sky model (Mitsuba's `sunsky`: Hosek-Wilkie sky, Preetham
-    sun; the sun disk is some 1e5 times brighter than the sky), a low morning sun;
+    sun; the sun disk is orders of magnitude brighter than the sky), a low morning sun;
   - studio: a synthetic lat-long studio map (dark surround, two large softboxes, a small hot
     rim light behind the balls and a faint floor bounce), written by this script.
 
