@@ -66,9 +66,8 @@ Rgb estimate_direct_lighting(const Scene& scene, const SurfaceHit& hit, const Ve
   // direct integrator skips the point); the light samples would be zero, the BSDF's not.
   if (!consistent_sides(scene, hit, wo, hit.shading.to_local(wo))) return Rgb(0.0f);
   const int n = glm::max(options.samples, 1);
-  const EnvironmentSampling env =
-      environment_sampling(scene, options.env_sampler, hit, wo, options.env_face_balance,
-                           options.env_cube_resolution);
+  const EnvironmentSampling env = environment_sampling(
+      scene, options.env_sampler, hit, wo, options.env_face_balance, options.env_cube_resolution);
   if (options.heuristic == MisHeuristic::SecondOrder) {
     if (options.alpha >= 0.0)
       return estimate_direct_mixture(scene, hit, wo, rng, options.alpha, 2 * n, env);

@@ -64,7 +64,7 @@ const std::vector<RenderOption>& sampling_options() {
     balance.flag = "--env-face-balance";
     balance.help =
         "cube-balanced: how faces share samples: receiver (Lu's Eq. 3.4) | uniform | mass";
-    balance.values = {OptionValues::Kind::Word, 0, 0, false, {"receiver", "uniform", "mass"},
+    balance.values = {OptionValues::Kind::Word,   0, 0, false, {"receiver", "uniform", "mass"},
                       "receiver, uniform or mass"};
     balance.assign = [](RenderSettings& s, const std::string& text) {
       s.env_face_balance = text == "uniform" ? CubeFaceBalance::Uniform
@@ -80,10 +80,10 @@ const std::vector<RenderOption>& sampling_options() {
       return s.env_sampler == EnvSampler::CubeBalanced;
     };
     o.push_back(balance);
-    RenderOption resolution = whole_option(
-        "--env-cube-resolution", &RenderSettings::env_cube_resolution, 0, 2048,
-        "a whole number from 0 to 2048",
-        "cube-balanced: texels per cube face edge (0: a quarter of the map's width)");
+    RenderOption resolution =
+        whole_option("--env-cube-resolution", &RenderSettings::env_cube_resolution, 0, 2048,
+                     "a whole number from 0 to 2048",
+                     "cube-balanced: texels per cube face edge (0: a quarter of the map's width)");
     resolution.applies = balance.applies;
     o.push_back(resolution);
 

@@ -34,10 +34,9 @@ Rgb path_tracer_estimate(const Scene& scene, const RenderSettings& settings, con
     const bool found = scene.intersect(ray, hit);
     if (!found) {
       if (segments >= min_segments) {
-        const Rgb light =
-            throughput * weighted_emission(scene, previous_position, ray.direction, nullptr,
-                                           previous_pdf, previous_delta, settings.mis,
-                                           previous_env);
+        const Rgb light = throughput * weighted_emission(scene, previous_position, ray.direction,
+                                                         nullptr, previous_pdf, previous_delta,
+                                                         settings.mis, previous_env);
         result += light;
         if (longest && !is_black(light)) *longest = segments;
       }
@@ -59,11 +58,11 @@ Rgb path_tracer_estimate(const Scene& scene, const RenderSettings& settings, con
     if (!scene.sides_agree(hit.geometric_normal, wo, wo_local.z)) break;
     const float u_select = rng.uniform();
     const Vec2 u_light = rng.uniform2();
-    const EnvironmentSampling env = settings.env_sampler == EnvSampler::LatLong
-                                        ? EnvironmentSampling{}
-                                        : environment_sampling(scene, settings.env_sampler, hit, wo,
-                                                               settings.env_face_balance,
-                                                               settings.env_cube_resolution);
+    const EnvironmentSampling env =
+        settings.env_sampler == EnvSampler::LatLong
+            ? EnvironmentSampling{}
+            : environment_sampling(scene, settings.env_sampler, hit, wo, settings.env_face_balance,
+                                   settings.env_cube_resolution);
     if (segments + 1 >= min_segments) {
       const Rgb light =
           throughput * sample_light_contribution(scene, hit, wo, TransportMode::Radiance, u_select,

@@ -48,7 +48,6 @@ struct SecondOrderSplit {
 // purely specular BSDF every direction is the BSDF's (alpha 0) and there is no pilot.
 Rgb estimate_direct_second_order(const Scene& scene, const SurfaceHit& hit, const Vec3& wo,
                                  Rng& rng, int directions, const SecondOrderSplit& split,
-                                 double* alpha_used = nullptr,
-                                 const EnvironmentSampling& env = {});
+                                 double* alpha_used = nullptr, const EnvironmentSampling& env = {});
 
 }  // namespace emlt

@@ -66,7 +66,8 @@ struct RenderSettings {
   double mis_alpha_clamp = 0.025;
   int direct_samples = 1;  // light and BSDF samples per direct-lighting estimate
   DirectPointSet direct_point_set = DirectPointSet::Independent;
-  EnvSampler env_sampler = EnvSampler::LatLong;  // direct lighting's (direct, pt, --direct separate)
+  // How direct lighting samples the environment (direct, pt, --direct separate).
+  EnvSampler env_sampler = EnvSampler::LatLong;
   CubeFaceBalance env_face_balance = CubeFaceBalance::Receiver;
   int env_cube_resolution = 0;  // cube-balanced: texels per face edge; 0: from the map
   bool progress = true;
