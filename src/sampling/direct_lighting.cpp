@@ -20,13 +20,15 @@ bool consistent_sides(const Scene& scene, const SurfaceHit& hit, const Vec3& w_w
 
 Rgb sample_light_contribution(const Scene& scene, const SurfaceHit& hit, const Vec3& wo,
                               TransportMode mode, float u_select, const Vec2& u_light,
-                              MisHeuristic heuristic) {
+                              MisHeuristic heuristic, const EnvironmentSampling& env) {
   const LightSet& lights = scene.lights();
   if (lights.empty() || hit.bsdf->is_purely_delta()) return Rgb(0.0f);
   float selection = 0.0f;
   const Light* light = lights.choose(u_select, &selection);
   if (!light || selection <= 0.0f) return Rgb(0.0f);
-  const auto ls = light->sample_direct(hit.position, u_light);
+  const auto ls = env.cube && light == scene.environment()
+                      ? sample_environment_direct(*scene.environment(), env, hit.position, u_light)
+                      : light->sample_direct(hit.position, u_light);
   if (!ls || ls->pdf <= 0.0f || is_black(ls->radiance)) return Rgb(0.0f);
 
   const Vec3 wo_local = hit.shading.to_local(wo), wi_local = hit.shading.to_local(ls->wi);
@@ -52,8 +54,8 @@ Rgb sample_light_contribution(const Scene& scene, const SurfaceHit& hit, const V
 
 Rgb weighted_emission(const Scene& scene, const Vec3& from, const Vec3& direction,
                       const SurfaceHit* emitter_hit, float bsdf_pdf, bool delta,
-                      MisHeuristic heuristic) {
-  const ArrivingEmission e = arriving_emission(scene, from, direction, emitter_hit, !delta);
+                      MisHeuristic heuristic, const EnvironmentSampling& env) {
+  const ArrivingEmission e = arriving_emission(scene, from, direction, emitter_hit, !delta, env);
   if (delta || is_black(e.radiance)) return e.radiance;
   return e.radiance * mis_weight(heuristic, bsdf_pdf, e.light_pdf);
 }
@@ -64,10 +66,14 @@ Rgb estimate_direct_lighting(const Scene& scene, const SurfaceHit& hit, const Ve
   // direct integrator skips the point); the light samples would be zero, the BSDF's not.
   if (!consistent_sides(scene, hit, wo, hit.shading.to_local(wo))) return Rgb(0.0f);
   const int n = glm::max(options.samples, 1);
+  const EnvironmentSampling env = environment_sampling(
+      scene, options.env_sampler, hit, wo, options.env_face_balance, options.env_cube_resolution);
   if (options.heuristic == MisHeuristic::SecondOrder) {
-    if (options.alpha >= 0.0) return estimate_direct_mixture(scene, hit, wo, rng, options.alpha, 2 * n);
+    if (options.alpha >= 0.0)
+      return estimate_direct_mixture(scene, hit, wo, rng, options.alpha, 2 * n, env);
     return estimate_direct_second_order(scene, hit, wo, rng, 2 * n,
-                                        SecondOrderSplit{options.alpha_pilot, options.alpha_clamp});
+                                        SecondOrderSplit{options.alpha_pilot, options.alpha_clamp},
+                                        nullptr, env);
   }
   std::vector<Vec2> light_points, bsdf_points;
   if (options.point_set == DirectPointSet::Fibonacci) {
@@ -84,7 +90,7 @@ Rgb estimate_direct_lighting(const Scene& scene, const SurfaceHit& hit, const Ve
   for (int i = 0; i < n; ++i) {
     const float u_select = rng.uniform();
     total += sample_light_contribution(scene, hit, wo, TransportMode::Radiance, u_select,
-                                       point(light_points, i), options.heuristic);
+                                       point(light_points, i), options.heuristic, env);
 
     const float u_lobe = rng.uniform();
     const auto bs = hit.bsdf->sample(ctx, wo_local, u_lobe, point(bsdf_points, i));
@@ -94,7 +100,7 @@ Rgb estimate_direct_lighting(const Scene& scene, const SurfaceHit& hit, const Ve
     SurfaceHit next;
     const bool found = scene.intersect(spawn_ray(hit.position, hit.geometric_normal, wi), next);
     total += bs->weight * weighted_emission(scene, hit.position, wi, found ? &next : nullptr,
-                                            bs->pdf, bs->is_delta(), options.heuristic);
+                                            bs->pdf, bs->is_delta(), options.heuristic, env);
   }
   return total / float(n);
 }

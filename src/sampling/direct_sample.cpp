@@ -3,7 +3,8 @@
 namespace emlt {
 
 ArrivingEmission arriving_emission(const Scene& scene, const Vec3& from, const Vec3& direction,
-                                   const SurfaceHit* emitter_hit, bool with_pdf) {
+                                   const SurfaceHit* emitter_hit, bool with_pdf,
+                                   const EnvironmentSampling& sampling) {
   const LightSet& lights = scene.lights();
   ArrivingEmission out;
   if (emitter_hit) {
@@ -15,24 +16,29 @@ ArrivingEmission arriving_emission(const Scene& scene, const Vec3& from, const V
                       emitter_hit->light->pdf_direct(from, emitter_hit->position,
                                                      emitter_hit->geometric_normal, direction);
   } else {
-    const EnvironmentLight* env = scene.environment();
-    if (!env) return out;
-    out.radiance = env->radiance(direction);
+    const EnvironmentLight* environment = scene.environment();
+    if (!environment) return out;
+    out.radiance = environment->radiance(direction);
     if (with_pdf)
-      out.light_pdf = lights.selection_probability(*env) * env->pdf_direction(direction);
+      out.light_pdf = lights.selection_probability(*environment) *
+                      (sampling.cube ? environment_direct_pdf(*environment, sampling, direction)
+                                     : environment->pdf_direction(direction));
   }
   return out;
 }
 
 DirectSample draw_light_direction(const Scene& scene, const SurfaceHit& hit, const Vec3& wo,
-                                  float u_select, const Vec2& u_light) {
+                                  float u_select, const Vec2& u_light,
+                                  const EnvironmentSampling& env) {
   DirectSample out;
   const LightSet& lights = scene.lights();
   if (lights.empty() || hit.bsdf->is_purely_delta()) return out;
   float selection = 0.0f;
   const Light* light = lights.choose(u_select, &selection);
   if (!light || selection <= 0.0f) return out;
-  const auto ls = light->sample_direct(hit.position, u_light);
+  const auto ls = env.cube && light == scene.environment()
+                      ? sample_environment_direct(*scene.environment(), env, hit.position, u_light)
+                      : light->sample_direct(hit.position, u_light);
   if (!ls || ls->pdf <= 0.0f || is_black(ls->radiance)) return out;
   out.own_pdf = selection * ls->pdf;
   out.delta = ls->delta;
@@ -57,7 +63,8 @@ DirectSample draw_light_direction(const Scene& scene, const SurfaceHit& hit, con
 }
 
 DirectSample draw_bsdf_direction(const Scene& scene, const SurfaceHit& hit, const Vec3& wo,
-                                 float u_lobe, const Vec2& u_direction) {
+                                 float u_lobe, const Vec2& u_direction,
+                                 const EnvironmentSampling& env) {
   DirectSample out;
   const Vec3 wo_local = hit.shading.to_local(wo);
   const BsdfContext ctx{hit.uv, TransportMode::Radiance, hit.vertex_color};
@@ -71,7 +78,7 @@ DirectSample draw_bsdf_direction(const Scene& scene, const SurfaceHit& hit, cons
   SurfaceHit next;
   const bool found = scene.intersect(spawn_ray(hit.position, hit.geometric_normal, wi), next);
   const ArrivingEmission e =
-      arriving_emission(scene, hit.position, wi, found ? &next : nullptr, !out.delta);
+      arriving_emission(scene, hit.position, wi, found ? &next : nullptr, !out.delta, env);
   if (is_black(e.radiance)) return out;
   out.estimate = bs->weight * e.radiance;
   out.other_pdf = e.light_pdf;

@@ -45,6 +45,47 @@ const std::vector<RenderOption>& sampling_options() {
                                                                          : "independent");
     };
     o.push_back(points);
+    RenderOption env;
+    env.flag = "--env-sampler";
+    env.help = "How direct lighting samples the environment: latlong | cube-balanced";
+    env.values = {OptionValues::Kind::Word,  0, 0, false, {"latlong", "cube-balanced"},
+                  "latlong or cube-balanced"};
+    env.assign = [](RenderSettings& s, const std::string& text) {
+      s.env_sampler = text == "cube-balanced" ? EnvSampler::CubeBalanced : EnvSampler::LatLong;
+    };
+    env.recorded = [](const RenderSettings& s) {
+      return std::string(s.env_sampler == EnvSampler::CubeBalanced ? "cube-balanced" : "latlong");
+    };
+    // Recorded in a checkpoint only when it is not the default, so that checkpoints written
+    // before the option existed still resume.
+    env.applies = [](const RenderSettings& s) { return s.env_sampler != EnvSampler::LatLong; };
+    o.push_back(env);
+    RenderOption balance;
+    balance.flag = "--env-face-balance";
+    balance.help =
+        "cube-balanced: how faces share samples: receiver (Lu's Eq. 3.4) | uniform | mass";
+    balance.values = {OptionValues::Kind::Word,   0, 0, false, {"receiver", "uniform", "mass"},
+                      "receiver, uniform or mass"};
+    balance.assign = [](RenderSettings& s, const std::string& text) {
+      s.env_face_balance = text == "uniform" ? CubeFaceBalance::Uniform
+                           : text == "mass"  ? CubeFaceBalance::Mass
+                                             : CubeFaceBalance::Receiver;
+    };
+    balance.recorded = [](const RenderSettings& s) {
+      return std::string(s.env_face_balance == CubeFaceBalance::Uniform ? "uniform"
+                         : s.env_face_balance == CubeFaceBalance::Mass  ? "mass"
+                                                                        : "receiver");
+    };
+    balance.applies = [](const RenderSettings& s) {
+      return s.env_sampler == EnvSampler::CubeBalanced;
+    };
+    o.push_back(balance);
+    RenderOption resolution =
+        whole_option("--env-cube-resolution", &RenderSettings::env_cube_resolution, 0, 2048,
+                     "a whole number from 0 to 2048",
+                     "cube-balanced: texels per cube face edge (0: a quarter of the map's width)");
+    resolution.applies = balance.applies;
+    o.push_back(resolution);
 
     // --mis second-order's split (sampling/mixture_direct_estimator.h); they change nothing
     // under the other heuristics, so only second-order renders record them.

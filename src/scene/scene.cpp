@@ -8,6 +8,7 @@
 #include <string>
 
 #include "emlt/core/error.h"
+#include "emlt/scene/cube_environment.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/shape_builders.h"
 #include "emlt/scene/sphere_intersection.h"
@@ -323,6 +324,14 @@ const SurfaceBvh& Scene::surface_bvh() const {
 const ClearanceField& Scene::clearance_field() const {
   std::call_once(clearance_field_built_, [this] { clearance_field_.build(surface_bvh()); });
   return clearance_field_;
+}
+
+const CubeEnvironment* Scene::cube_environment(int resolution) const {
+  if (!environment()) return nullptr;
+  std::call_once(cube_environment_built_, [this, resolution] {
+    cube_environment_ = std::make_unique<CubeEnvironment>(*environment(), resolution);
+  });
+  return cube_environment_.get();
 }
 
 }  // namespace emlt

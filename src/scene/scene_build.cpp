@@ -10,6 +10,7 @@
 
 #include "emlt/core/error.h"
 #include "emlt/scene/collimated_light.h"
+#include "emlt/scene/cube_environment.h"  // complete for Scene's unique_ptr member
 #include "emlt/scene/directional_light.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/point_light.h"

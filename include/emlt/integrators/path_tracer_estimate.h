@@ -22,6 +22,9 @@ Rgb path_tracer_estimate(const Scene& scene, const RenderSettings& settings, con
   Vec3 previous_position = ray.origin;
   float previous_pdf = 0.0f;
   bool previous_delta = true;  // emission seen straight from the camera is never MIS-weighted
+  // How light sampling sampled the environment at the previous vertex (its pdf for a
+  // BSDF-sampled ray that finds the sky depends on that vertex's normal under cube-balanced).
+  EnvironmentSampling previous_env{};
 
   // Scene::intersect sets every field of a hit it finds, so one record serves the whole
   // path (constructing it afresh cost some 26 instructions a bounce, 1 % of a sample).
@@ -31,9 +34,9 @@ Rgb path_tracer_estimate(const Scene& scene, const RenderSettings& settings, con
     const bool found = scene.intersect(ray, hit);
     if (!found) {
       if (segments >= min_segments) {
-        const Rgb light =
-            throughput * weighted_emission(scene, previous_position, ray.direction, nullptr,
-                                           previous_pdf, previous_delta, settings.mis);
+        const Rgb light = throughput * weighted_emission(scene, previous_position, ray.direction,
+                                                         nullptr, previous_pdf, previous_delta,
+                                                         settings.mis, previous_env);
         result += light;
         if (longest && !is_black(light)) *longest = segments;
       }
@@ -55,10 +58,15 @@ Rgb path_tracer_estimate(const Scene& scene, const RenderSettings& settings, con
     if (!scene.sides_agree(hit.geometric_normal, wo, wo_local.z)) break;
     const float u_select = rng.uniform();
     const Vec2 u_light = rng.uniform2();
+    const EnvironmentSampling env =
+        settings.env_sampler == EnvSampler::LatLong
+            ? EnvironmentSampling{}
+            : environment_sampling(scene, settings.env_sampler, hit, wo, settings.env_face_balance,
+                                   settings.env_cube_resolution);
     if (segments + 1 >= min_segments) {
       const Rgb light =
           throughput * sample_light_contribution(scene, hit, wo, TransportMode::Radiance, u_select,
-                                                 u_light, settings.mis);
+                                                 u_light, settings.mis, env);
       result += light;
       if (longest && !is_black(light)) *longest = segments + 1;
     }
@@ -75,6 +83,7 @@ Rgb path_tracer_estimate(const Scene& scene, const RenderSettings& settings, con
     previous_position = hit.position;
     previous_pdf = bs->pdf;
     previous_delta = bs->is_delta();
+    previous_env = env;
     ray = spawn_ray(hit.position, hit.geometric_normal, wi);
 
     if (segments >= settings.rr_depth) {

@@ -5,6 +5,7 @@
 // tracer uses the light-sampling half at every vertex and the emission weight for the
 // BSDF-sampled continuation, so both integrators weight light exactly the same way.
 #include "emlt/core/rng.h"
+#include "emlt/sampling/cube_balanced_sampler.h"
 #include "emlt/scene/scene.h"
 #include "emlt/settings/settings.h"
 
@@ -14,6 +15,9 @@ struct DirectLightingOptions {
   int samples = 1;  // light samples and BSDF samples each
   MisHeuristic heuristic = MisHeuristic::Power;
   DirectPointSet point_set = DirectPointSet::Independent;
+  EnvSampler env_sampler = EnvSampler::LatLong;  // how the environment is sampled
+  CubeFaceBalance env_face_balance = CubeFaceBalance::Receiver;
+  int env_cube_resolution = 0;
   // MisHeuristic::SecondOrder (mixture_direct_estimator.h): the 2 * samples directions come
   // from the light/BSDF mixture, its light share fixed by `alpha` in [0, 1] or, when alpha
   // is negative, chosen online by Lu's second-order rule (its pilot share and clamp here).
@@ -24,18 +28,20 @@ struct DirectLightingOptions {
 };
 
 // One light-sampling estimate of the radiance reflected at `hit` towards wo (world, unit),
-// MIS-weighted against BSDF sampling. `u_select` picks the light, `u_light` the point.
+// MIS-weighted against BSDF sampling. `u_select` picks the light, `u_light` the point;
+// `env` says how the environment is sampled at this point (default: its own table).
 Rgb sample_light_contribution(const Scene& scene, const SurfaceHit& hit, const Vec3& wo,
                               TransportMode mode, float u_select, const Vec2& u_light,
-                              MisHeuristic heuristic);
+                              MisHeuristic heuristic, const EnvironmentSampling& env = {});
 
 // Emission found by a BSDF-sampled ray: radiance arriving at `from` along `direction`
 // from the emitter at `emitter_hit` (or from the environment when `emitter_hit` is null),
 // MIS-weighted against light sampling. `bsdf_pdf` is the solid-angle density the BSDF
 // sample was drawn with; `delta` marks a specular sample, which light sampling cannot make.
+// `env`: how light sampling at `from` samples the environment.
 Rgb weighted_emission(const Scene& scene, const Vec3& from, const Vec3& direction,
                       const SurfaceHit* emitter_hit, float bsdf_pdf, bool delta,
-                      MisHeuristic heuristic);
+                      MisHeuristic heuristic, const EnvironmentSampling& env = {});
 
 // Full direct-lighting estimate at a camera-visible point: `options.samples` light samples
 // and as many BSDF samples, each set either independent or a randomised spherical

@@ -11,6 +11,7 @@
 // unbiased for any fixed alpha), and at alpha = 1/2 with an even n the estimate is the
 // balance heuristic's with n/2 samples of each strategy, as Eq. 5.3 says.
 #include "emlt/core/rng.h"
+#include "emlt/sampling/cube_balanced_sampler.h"
 #include "emlt/sampling/second_order_alpha.h"
 #include "emlt/scene/scene.h"
 
@@ -23,14 +24,16 @@ double effective_light_share(const SurfaceHit& hit, double alpha);
 // (1/n) sum f / (alpha p_L + (1 - alpha) p_B) over `directions` mixture draws; a Dirac draw
 // divides by its strategy's probability alone (alpha or 1 - alpha). alpha in [0, 1]; at 0
 // or 1 one strategy is dropped, and light only it could find is lost.
+// `env` (here and below): how light sampling samples the environment at this point.
 Rgb estimate_direct_mixture(const Scene& scene, const SurfaceHit& hit, const Vec3& wo, Rng& rng,
-                            double alpha, int directions);
+                            double alpha, int directions, const EnvironmentSampling& env = {});
 
 // The pilot of Eq. 5.6: L_{M/2,M/2}, M = `directions` (even) drawn half by each strategy and
 // weighted by the balance heuristic (Eq. 5.2), while the same directions' Eq. 5.5 terms go
 // to `moments` (may be null).
 Rgb estimate_direct_pilot(const Scene& scene, const SurfaceHit& hit, const Vec3& wo, Rng& rng,
-                          int directions, SecondOrderAlpha* moments);
+                          int directions, SecondOrderAlpha* moments,
+                          const EnvironmentSampling& env = {});
 
 struct SecondOrderSplit {
   double pilot = 0.5;    // share of the directions spent on the pilot (Lu's M / (M + N))
@@ -45,6 +48,6 @@ struct SecondOrderSplit {
 // purely specular BSDF every direction is the BSDF's (alpha 0) and there is no pilot.
 Rgb estimate_direct_second_order(const Scene& scene, const SurfaceHit& hit, const Vec3& wo,
                                  Rng& rng, int directions, const SecondOrderSplit& split,
-                                 double* alpha_used = nullptr);
+                                 double* alpha_used = nullptr, const EnvironmentSampling& env = {});
 
 }  // namespace emlt

@@ -20,6 +20,8 @@
 
 namespace emlt {
 
+class CubeEnvironment;
+
 struct SurfaceHit {
   Vec3 position{0.0f};
   Vec3 geometric_normal{0.0f};  // unit; triangle winding / sphere outward (flippable)
@@ -117,6 +119,11 @@ class Scene {
   const Camera& camera() const { return *camera_; }
   const LightSet& lights() const { return lights_; }
   const EnvironmentLight* environment() const { return lights_.environment(); }
+  // The environment resampled onto a cube (cube_environment.h), for --env-sampler
+  // cube-balanced; null without an environment. Built on the first call, as surface_bvh,
+  // with that call's `resolution` (texels per face edge; 0: CubeEnvironment's choice): a
+  // render asks with one resolution throughout, so later calls get the same cube.
+  const CubeEnvironment* cube_environment(int resolution = 0) const;
   // The description as built, less its meshes' vertex and index arrays, which the scene's
   // geometry took over (each MeshDesc keeps its name, material and emission).
   const SceneDescription& description() const { return desc_; }
@@ -164,6 +171,8 @@ class Scene {
   mutable SurfaceBvh surface_bvh_;
   mutable std::once_flag clearance_field_built_;
   mutable ClearanceField clearance_field_;
+  mutable std::once_flag cube_environment_built_;
+  mutable std::unique_ptr<CubeEnvironment> cube_environment_;
 };
 
 }  // namespace emlt

@@ -27,6 +27,13 @@ enum class MisHeuristic { Balance, Power, Max, SecondOrder };
 // How --mis second-order finds its split when --mis-alpha does not fix it.
 enum class MisAlphaEstimate { Online, Preprocessed };
 enum class DirectPointSet { Independent, Fibonacci };
+// How direct lighting samples an environment: its lat-long texel table, or Lu's cube faces
+// balanced per shading point (sampling/cube_balanced_sampler.h).
+enum class EnvSampler { LatLong, CubeBalanced };
+// How cube-balanced shares the samples among the faces: Lu's per-receiver weights (Eq. 3.4),
+// equally among the faces with light (the thesis's Fig. 3.6 comparison), or by each face's
+// mass alone (a global luminance CDF over the cube).
+enum class CubeFaceBalance { Receiver, Uniform, Mass };
 
 struct RenderSettings {
   std::string integrator = "pt";
@@ -59,6 +66,10 @@ struct RenderSettings {
   double mis_alpha_clamp = 0.025;
   int direct_samples = 1;  // light and BSDF samples per direct-lighting estimate
   DirectPointSet direct_point_set = DirectPointSet::Independent;
+  // How direct lighting samples the environment (direct, pt, --direct separate).
+  EnvSampler env_sampler = EnvSampler::LatLong;
+  CubeFaceBalance env_face_balance = CubeFaceBalance::Receiver;
+  int env_cube_resolution = 0;  // cube-balanced: texels per face edge; 0: from the map
   bool progress = true;
 
   // Metropolis light transport (integrator "mlt").
