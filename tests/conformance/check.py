@@ -55,9 +55,10 @@ def load_suite():
         return json.load(f)["scenes"]
 
 
-def render(emlt, scene, integrator, budget, seed, out, threads):
-    """Renders one image; returns the warnings emlt printed."""
-    args = [emlt, "render", os.path.join(HERE, "scenes", scene + ".xml"), "-o", out,
+def render(emlt, scene, integrator, budget, seed, out, threads, scene_file=None):
+    """Renders one image (of scenes/NAME.xml, or of the entry's `emlt_scene` file: the same
+    scene in pbrt-v4's format); returns the warnings emlt printed."""
+    args = [emlt, "render", os.path.join(HERE, "scenes", scene_file or scene + ".xml"), "-o", out,
             "--integrator", integrator, "--seed", str(seed), "--quiet"]
     args += ["--mpp", str(budget)] if integrator in MUTATION_BUDGET else ["--spp", str(budget)]
     if threads:
@@ -104,7 +105,8 @@ def check_scene(emlt, entry, integrator, threads, workdir):
     images, warnings = [], []
     for seed in (1, 2):
         out = os.path.join(workdir, f"{name}.{integrator}.{seed}.pfm")
-        warnings = render(emlt, name, integrator, budget, seed, out, threads)
+        warnings = render(emlt, name, integrator, budget, seed, out, threads,
+                          entry.get("emlt_scene"))
         images.append(read_pfm(out))
     ratios, error_ratio, standard_error, mse = compare(images[0], images[1], reference, budget,
                                                        entry.get("reference_spp", 4096))

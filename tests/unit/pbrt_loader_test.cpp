@@ -188,17 +188,23 @@ AttributeBegin
   Shape "trianglemesh" "point3 P" [1 0 0 0 1 0 0 0 1] "integer indices" [0 1 2]
 AttributeEnd
 AttributeBegin
+  Scale 2 2 2
+  Translate 1 2 3
+  Shape "trianglemesh" "point3 P" [1 0 0 0 1 0 0 0 1] "integer indices" [0 1 2]
+AttributeEnd
+AttributeBegin
   CoordSysTransform "camera"
   Shape "trianglemesh" "point3 P" [0 0 1 1 0 1 0 1 1] "integer indices" [0 1 2]
 AttributeEnd
 )"));
-  ASSERT_EQ(desc.meshes.size(), 4u);
+  ASSERT_EQ(desc.meshes.size(), 5u);
   const auto near = [](const Vec3& a, const Vec3& b) { return glm::length(a - b) < 1e-5f; };
   EXPECT_TRUE(near(desc.meshes[0].positions[0], Vec3(3, 2, 3)));  // T * S * p
   EXPECT_TRUE(near(desc.meshes[1].positions[0], Vec3(0, 1, 0)));  // +x turned to +y
   EXPECT_TRUE(near(desc.meshes[2].positions[0], Vec3(7, 6, 7)));  // column-major, translation last
+  EXPECT_TRUE(near(desc.meshes[3].positions[0], Vec3(4, 4, 6)));  // S * T * p
   // The camera's frame: at the origin looking down +z, so camera space is world space here.
-  EXPECT_TRUE(near(desc.meshes[3].positions[1], Vec3(1, 0, 1)));
+  EXPECT_TRUE(near(desc.meshes[4].positions[1], Vec3(1, 0, 1)));
 }
 
 // pbrt's area lights emit on the side their surface faces (its winding in object space, or
@@ -223,6 +229,14 @@ TEST(PbrtLights, AreaLightsAreOneSidedAndReverseOrientationTurnsThem) {
   // A mirroring transform keeps the object-space facing (pbrt flips the normal back).
   EXPECT_FLOAT_EQ(
       emitted_towards_camera("AttributeBegin\nScale -1 1 1\n" + quad + "AttributeEnd\n"), 1.0f);
+  // A bilinear patch faces dp/du x dp/dv: (p10 - p00) x (p01 - p00) is +z here, away.
+  const std::string patch = R"(AreaLightSource "diffuse" "rgb L" [1 1 1]
+  Shape "bilinearmesh" "point3 P" [-1 -1 3  1 -1 3  -1 1 3  1 1 3]
+)";
+  EXPECT_FLOAT_EQ(emitted_towards_camera("AttributeBegin\n" + patch + "AttributeEnd\n"), 0.0f);
+  EXPECT_FLOAT_EQ(
+      emitted_towards_camera("AttributeBegin\nReverseOrientation\n" + patch + "AttributeEnd\n"),
+      1.0f);
   // A sphere emits outwards, and inwards when reversed.
   const std::string sphere =
       "AreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\nTranslate 0 0 4\nShape \"sphere\"\n";
