@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "emlt/scene/shape_builders.h"
 #include "src/scene/loaders/pbrt_reader.h"
 
 namespace emlt::pbrt {
@@ -40,6 +41,7 @@ void Reader::area_light(const Where& at, const std::string& type, const Params& 
 void Reader::light(const Where& at, const std::string& type, const Params& params) {
   const std::string what = "LightSource \"" + type + "\"";
   const Mat4& ctm = state_.ctm;
+  if (!is_finite_matrix(ctm)) fail(at, what + ": the transformation has NaN or infinity");
   const float scale = params.get_float("scale", 1.0f);
   for (const char* name : {"power", "illuminance"})
     if (const Param* p = params.get(name))

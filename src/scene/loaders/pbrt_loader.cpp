@@ -367,15 +367,17 @@ void Reader::directive(Tokenizer& tokens, const Token& word, int depth) {
     if (current_object_) fail(at, "ObjectInstance inside ObjectBegin (nested instancing)");
     const auto it = objects_.find(object);
     if (it == objects_.end()) fail(at, "ObjectInstance \"" + object + "\" is not defined");
+    if (!is_finite_matrix(g.ctm))
+      fail(at, "ObjectInstance: the transformation has NaN or infinity");
     // Instances are copied into the scene: the same image, more memory.
     for (MeshDesc mesh : it->second.meshes) {
       transform_mesh(mesh, g.ctm, true);
       mesh.name += " (instance at line " + std::to_string(at.line) + ")";
+      loader::drop_non_finite_triangles(desc_, mesh, at.file);
       desc_.meshes.push_back(std::move(mesh));
     }
     for (SphereDesc sphere : it->second.spheres) {
-      loader::transform_sphere(sphere, g.ctm, at.file + ": line " + std::to_string(at.line),
-                               desc_.warnings);
+      place_sphere(at, sphere, g.ctm);
       desc_.spheres.push_back(sphere);
     }
   } else if (name == "Include" || name == "Import") {

@@ -66,6 +66,10 @@ class Reader {
   // the scene's input files.
   std::string resolve(const Where& at, const std::string& name) const;
 
+  // Moves a sphere by `to_world` (a non-uniform scale is an approximated item; a center
+  // or radius that is no longer finite an error).
+  void place_sphere(const Where& at, SphereDesc& sphere, const Mat4& to_world);
+
   // pbrt's material for shapes before any Material: two-sided diffuse 0.5.
   int default_material();
 

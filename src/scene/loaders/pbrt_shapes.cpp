@@ -38,6 +38,16 @@ std::vector<int> read_indices(const Params& params, size_t vertices, size_t corn
 
 }  // namespace
 
+void Reader::place_sphere(const Where& at, SphereDesc& sphere, const Mat4& to_world) {
+  std::vector<std::string> uneven;
+  loader::transform_sphere(sphere, to_world, at.file + ": line " + std::to_string(at.line), uneven);
+  if (!uneven.empty())
+    warn(at, "a sphere under a non-uniform scale is not supported; its mean scale is used",
+         Divergence::Kind::Approximated);
+  if (!is_finite(sphere.center) || !std::isfinite(sphere.radius) || !(sphere.radius > 0.0f))
+    fail(at, "the sphere's transformed center or radius is not finite");
+}
+
 void Reader::shape(const Where& at, const std::string& type, const Params& params) {
   const std::string what = "Shape \"" + type + "\"";
   if (state_.interface) {
@@ -87,8 +97,7 @@ void Reader::shape(const Where& at, const std::string& type, const Params& param
       warn(at, what +
                    ": a partial sphere (zmin, zmax, phimax) is not supported; the whole "
                    "sphere is used");
-    loader::transform_sphere(sphere, ctm, at.file + ": line " + std::to_string(at.line),
-                             desc_.warnings);
+    place_sphere(at, sphere, ctm);
     sphere.material = material;
     sphere.emission = emission;
     sphere.flip_normals = state_.reverse_orientation;
