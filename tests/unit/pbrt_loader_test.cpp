@@ -7,6 +7,8 @@
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "emlt/core/warp.h"
+#include "emlt/image/image.h"
 #include "emlt/scene/camera.h"
 #include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/scene.h"
@@ -330,7 +332,6 @@ Material "diffuse" "rgb reflectance" [0.5 0.5 0.5] "float sheen" 2
 Shape "sphere" "float radius" 1 "float zmax" 0.5
 Material "coateddiffuse" "float roughness" 0.1
 Shape "sphere" "float radius" 1
-LightSource "infinite" "string filename" "sky.exr"
 LightSource "goniometric"
 MakeNamedMedium "fog" "string type" "homogeneous"
 )");
@@ -346,15 +347,14 @@ MakeNamedMedium "fog" "string type" "homogeneous"
         "scene.pbrt: line 7: parameter 'float sheen' of material \"diffuse\" is not supported",
         "scene.pbrt: line 8: Shape \"sphere\": a partial sphere",
         "scene.pbrt: line 9: material \"coateddiffuse\": approximated",
-        "scene.pbrt: line 11: LightSource \"infinite\" with an image",
-        "scene.pbrt: line 12: LightSource \"goniometric\" is not supported",
-        "scene.pbrt: line 13: MakeNamedMedium \"fog\""})
+        "scene.pbrt: line 11: LightSource \"goniometric\" is not supported",
+        "scene.pbrt: line 12: MakeNamedMedium \"fog\""})
     EXPECT_TRUE(any_contains(items, expected)) << expected;
   // The sampler's seed and the accelerator change no image: notes, not items.
   EXPECT_FALSE(any_contains(items, "seed"));
   EXPECT_FALSE(any_contains(items, "Accelerator"));
   EXPECT_TRUE(any_contains(desc.warnings, "Accelerator \"bvh\" ignored"));
-  EXPECT_EQ(desc.verdict(), "approximated: 1 item, unsupported: 6 items");
+  EXPECT_EQ(desc.verdict(), "approximated: 1 item, unsupported: 5 items");
 }
 
 TEST(PbrtReader, EveryMaterialShapeAndLightLoads) {
@@ -397,4 +397,80 @@ LightSource "infinite" "rgb L" [0.1 0.2 0.3]
   EXPECT_EQ(desc.environment.kind, EnvironmentDesc::Kind::Constant);
   EXPECT_EQ(desc.environment.radiance, Rgb(0.1f, 0.2f, 0.3f));
   EXPECT_NO_THROW(Scene::build(desc));
+}
+
+// pbrt-v4 stores an infinite light's image on an equal-area octahedral square in the
+// light's frame: the square's centre diamond is z > 0, its right half x > 0, its lower half
+// y > 0. Resampled onto a lat-long map under Rotate -90 about x (light z is world +y, light
+// y world -z), each octant must land where pbrt puts it.
+TEST(PbrtLights, ImageInfiniteLightIsResampledFromPbrtsOctahedralMap) {
+  const auto dir = test::scratch_dir("pbrt-octahedral");
+  const int n = 32;
+  Image square(n, n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const float u = (float(i) + 0.5f) / float(n), v = (float(j) + 0.5f) / float(n);
+      square.at(i, j) = Rgb(std::abs(2 * u - 1) + std::abs(2 * v - 1) < 1.0f ? 1.0f : 0.0f,
+                            u > 0.5f ? 1.0f : 0.0f, v > 0.5f ? 1.0f : 0.0f);
+    }
+  write_image((dir / "sky.pfm").string(), square);
+  const std::string path = write_file(
+      dir, "scene.pbrt",
+      pbrt_scene("AttributeBegin\nRotate -90 1 0 0\nLightSource \"infinite\" \"string filename\" "
+                 "\"sky.pfm\" \"float scale\" 2\nAttributeEnd\n" +
+                 std::string(kTriangle)));
+  const SceneDescription desc = load_scene_description(path);
+  ASSERT_EQ(desc.environment.kind, EnvironmentDesc::Kind::Map);
+  EXPECT_FLOAT_EQ(desc.environment.scale, 2.0f);
+  const Image& map = desc.environment.map;
+  ASSERT_EQ(map.width, 2 * n);
+  ASSERT_EQ(map.height, n);
+  int checked = 0, wrong = 0;
+  for (int j = 0; j < map.height; ++j)
+    for (int i = 0; i < map.width; ++i) {
+      const Vec3 d = latlong_to_direction(
+          Vec2((float(i) + 0.5f) / float(map.width), (float(j) + 0.5f) / float(map.height)));
+      const Rgb c = map.at(i, j);
+      const auto agrees = [](float value, float component, bool positive) {
+        if (std::abs(component) < 0.4f) return true;  // near an edge: blurred
+        return (component > 0.0f) == positive ? value > 0.75f : value < 0.25f;
+      };
+      ++checked;
+      if (!agrees(c.x, d.y, true) || !agrees(c.y, d.x, true) || !agrees(c.z, d.z, false)) ++wrong;
+    }
+  EXPECT_EQ(wrong, 0) << "of " << checked;
+  EXPECT_TRUE(any_contains(desc.warnings, "resampled from pbrt's equal-area octahedral map"));
+
+  // Within the octants: a map that stores at each texel the direction pbrt's inverse
+  // mapping (EqualAreaSquareToSphere, written out here) gives its centre, as (d + 1) / 2,
+  // must read back at every direction the light-frame direction itself.
+  const auto square_to_sphere = [](const Vec2& p) {
+    const float u = 2 * p.x - 1, v = 2 * p.y - 1, up = std::abs(u), vp = std::abs(v);
+    const float signed_distance = 1 - (up + vp), r = 1 - std::abs(signed_distance);
+    const float phi = (r == 0 ? 1 : (vp - up) / r + 1) * kPi / 4;
+    const float z = std::copysign(1 - r * r, signed_distance);
+    const float s = r * std::sqrt(std::max(0.0f, 2 - r * r));
+    return Vec3(std::copysign(std::cos(phi), u) * s, std::copysign(std::sin(phi), v) * s, z);
+  };
+  const int m = 64;
+  Image encoded(m, m);
+  for (int j = 0; j < m; ++j)
+    for (int i = 0; i < m; ++i)
+      encoded.at(i, j) =
+          (square_to_sphere(Vec2((float(i) + 0.5f) / float(m), (float(j) + 0.5f) / float(m))) +
+           1.0f) *
+          0.5f;
+  write_image((dir / "sky.pfm").string(), encoded);
+  const Image& directions = load_scene_description(path).environment.map;
+  int far = 0;
+  for (int j = 0; j < directions.height; ++j)
+    for (int i = 0; i < directions.width; ++i) {
+      const Vec3 w = latlong_to_direction(Vec2((float(i) + 0.5f) / float(directions.width),
+                                               (float(j) + 0.5f) / float(directions.height)));
+      const Vec3 light(w.x, -w.z, w.y);  // Rotate -90 about x, undone
+      if (glm::length(directions.at(i, j) * 2.0f - 1.0f - light) > 0.06f) ++far;
+    }
+  // Bilinear reading blurs by about a texel; only near the square's border (clamped where
+  // pbrt wraps the octahedron) do a few texels stray further.
+  EXPECT_LT(far, directions.width * directions.height / 50);
 }

@@ -1,7 +1,7 @@
 // pbrt-v4's lights: AreaLightSource "diffuse" (one-sided, as pbrt's default), and
-// LightSource "point", "spot", "distant" and "infinite" (a constant L). An image-based
-// infinite light (pbrt's equal-area octahedral map), "goniometric" and "projection" are
-// refused loudly: warned, counted in the verdict and left out.
+// LightSource "point", "spot", "distant" and "infinite" (a constant L, or an image resampled
+// by pbrt_infinite_map.cpp). "goniometric" and "projection" are refused loudly: warned,
+// counted in the verdict and left out.
 #include <fmt/format.h>
 
 #include <cmath>
@@ -90,18 +90,17 @@ void Reader::light(const Where& at, const std::string& type, const Params& param
     report_unused(params, what);
     desc_.directional_lights.push_back(light);
   } else if (type == "infinite") {
-    if (params.has("filename")) {
-      if (params.has("L")) fail(at, what + ": both 'L' and 'filename' given");
-      for (const Param* p : params.unused()) p->used = true;
-      warn(at, what +
-                   " with an image: pbrt's equal-area octahedral maps are not supported "
-                   "(emlt's maps are lat-long); the light is left out");
-      return;
-    }
     params.ignore("portal");  // where pbrt samples the light, not what it emits
     if (desc_.environment.kind != EnvironmentDesc::Kind::None) {
       for (const Param* p : params.unused()) p->used = true;
       warn(at, what + ": only one infinite light is supported; this one is left out");
+      return;
+    }
+    if (params.has("filename")) {
+      if (params.has("L")) fail(at, what + ": both 'L' and 'filename' given");
+      if (!(scale >= 0.0f)) fail(at, what + ": scale must not be negative");
+      infinite_map(at, params.get_string("filename", ""), scale);
+      report_unused(params, what);
       return;
     }
     desc_.environment.kind = EnvironmentDesc::Kind::Constant;

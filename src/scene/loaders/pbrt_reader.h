@@ -82,6 +82,8 @@ class Reader {
   void shape(const Where& at, const std::string& type, const Params& params);
   void light(const Where& at, const std::string& type, const Params& params);
   void area_light(const Where& at, const std::string& type, const Params& params);
+  // LightSource "infinite" with an image (pbrt_infinite_map.cpp).
+  void infinite_map(const Where& at, const std::string& file_name, float scale);
   int material(const Where& at, const std::string& type, const Params& params,
                const std::string& name, bool* interface);
   void texture_declaration(const Where& at, const std::string& name, const std::string& kind,
