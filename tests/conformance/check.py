@@ -18,6 +18,8 @@ decide:
     emitter edges make the estimate itself noisy), so the limit is 2; a shifted, blurred,
     flipped or wrongly coloured image gives far more (a box-filtered image against a
     Gaussian-filtered reference: 14).
+A scene whose entry names an `emlt_scene` (NAME.pbrt: the same scene in pbrt-v4's format)
+is rendered by emlt from that file; Mitsuba's reference is still of NAME.xml.
 A scene may list known differences ("known": {"reason": ..., "integrators": [...]}) in
 the manifest: those are reported as XFAIL and do not fail the run; one that passes is
 reported as XPASS so that the entry can be removed. Exit status 1 when any other check

@@ -10,7 +10,9 @@
 #include "emlt/core/warp.h"
 #include "emlt/image/image.h"
 #include "emlt/scene/camera.h"
+#include "emlt/scene/conductor_presets.h"
 #include "emlt/scene/loaders/loader.h"
+#include "emlt/scene/materials.h"
 #include "emlt/scene/scene.h"
 #include "support/loader_scenes.h"
 #include "support/test_support.h"
@@ -473,4 +475,27 @@ TEST(PbrtLights, ImageInfiniteLightIsResampledFromPbrtsOctahedralMap) {
   // Bilinear reading blurs by about a texel; only near the square's border (clamped where
   // pbrt wraps the octahedron) do a few texels stray further.
   EXPECT_LT(far, directions.width * directions.height / 50);
+}
+
+// pbrt remaps roughness to alpha = sqrt(roughness) unless remaproughness is false, and its
+// conductor defaults to copper: the loaded BSDF must be emlt's GGX conductor of that alpha.
+TEST(PbrtMaterials, RoughnessIsRemappedAsPbrtDoes) {
+  const SceneDescription desc = load("pbrt-remap", pbrt_scene(R"(
+Material "conductor" "float roughness" 0.04
+Shape "sphere"
+Material "conductor" "float roughness" 0.04 "bool remaproughness" false
+Shape "sphere" "float radius" 2
+)"));
+  ASSERT_EQ(desc.spheres.size(), 2u);
+  Rgb eta, k;
+  ASSERT_TRUE(conductor_preset("Cu", &eta, &k));
+  const BsdfContext ctx;
+  const Vec3 wo = glm::normalize(Vec3(0.3f, 0.0f, 0.95f)),
+             wi = glm::normalize(Vec3(-0.4f, 0.1f, 0.9f));
+  const auto value = [&](const BsdfPtr& bsdf) { return bsdf->eval(ctx, wo, wi).x; };
+  const float wide = value(make_rough_conductor(0.2f, eta, k)),
+              narrow = value(make_rough_conductor(0.04f, eta, k));
+  ASSERT_GT(std::abs(wide - narrow), 0.1f * wide);  // the two alphas are told apart here
+  EXPECT_NEAR(value(desc.materials[size_t(desc.spheres[0].material)].bsdf), wide, 1e-5f * wide);
+  EXPECT_NEAR(value(desc.materials[size_t(desc.spheres[1].material)].bsdf), narrow, 1e-5f * narrow);
 }
