@@ -107,7 +107,7 @@ TEST(PbrtReader, BadInputIsAOneLineErrorNamingFileAndLine) {
       {"Material \"diffuse\" \"texture reflectance\" \"nope\"\n",
        "line 6: 'texture reflectance': no spectrum texture named \"nope\""},
       {"Camera \"perspective\"\n", "line 6: Camera after WorldBegin"},
-      {"ObjectBegin \"a\"\n", "scene.pbrt: line 0: ObjectBegin \"a\" without ObjectEnd"},
+      {"ObjectBegin \"a\"\n", "scene.pbrt: line 6: ObjectBegin \"a\" without ObjectEnd"},
       {"Rotate 10 0 0 0\n", "line 6: Rotate about a zero axis"},
       {"Shape \"sphere\" ]\n", "line 6: expected a directive, got ']'"},
   };

@@ -99,13 +99,13 @@ int Reader::default_material() {
 
 SceneDescription Reader::read() {
   read_file(desc_.source, 0);
-  if (!stack_.empty())
-    note({desc_.source, 0}, std::to_string(stack_.size()) +
-                                " AttributeBegin (or TransformBegin) without an end at the end of "
-                                "the file");
   if (current_object_)
-    fail({desc_.source, 0}, "ObjectBegin \"" + current_object_name_ + "\" without ObjectEnd");
-  if (!in_world_) fail({desc_.source, 0}, "no WorldBegin: the file describes no scene");
+    fail(current_object_at_, "ObjectBegin \"" + current_object_name_ + "\" without ObjectEnd");
+  if (!stack_.empty())
+    note(opened_.back(), std::to_string(stack_.size()) +
+                             " AttributeBegin (or TransformBegin) without an end at the end of "
+                             "the file (the innermost begins here)");
+  if (!in_world_) throw file_error(desc_.source, "no WorldBegin: the file describes no scene");
   CameraDesc& cam = desc_.camera;
   // pbrt's orthographic window is [-1, 1] on the shorter side, emlt's on x.
   if (ortho_ && cam.width > cam.height) {
@@ -223,6 +223,7 @@ void Reader::directive(Tokenizer& tokens, const Token& word, int depth) {
                    "transform applies at all times");
   } else if (name == "AttributeBegin" || name == "TransformBegin") {
     stack_.push_back({g, name == "AttributeBegin" ? 'a' : 't'});
+    opened_.push_back(at);
   } else if (name == "AttributeEnd" || name == "TransformEnd") {
     const char kind = name == "AttributeEnd" ? 'a' : 't';
     if (stack_.empty() || stack_.back().second != kind)
@@ -232,6 +233,7 @@ void Reader::directive(Tokenizer& tokens, const Token& word, int depth) {
     else
       g.ctm = stack_.back().first.ctm;
     stack_.pop_back();
+    opened_.pop_back();
   } else if (name == "Attribute") {
     const std::string target = string();
     const Params p = params();
@@ -352,6 +354,8 @@ void Reader::directive(Tokenizer& tokens, const Token& word, int depth) {
     if (current_object_) fail(at, "ObjectBegin \"" + object + "\" inside another ObjectBegin");
     if (objects_.count(object)) fail(at, "object \"" + object + "\" defined twice");
     stack_.push_back({g, 'a'});
+    opened_.push_back(at);
+    current_object_at_ = at;
     current_object_ = &objects_[object];
     current_object_name_ = object;
   } else if (name == "ObjectEnd") {
@@ -360,6 +364,7 @@ void Reader::directive(Tokenizer& tokens, const Token& word, int depth) {
       fail(at, "ObjectEnd inside an unclosed TransformBegin");
     g = stack_.back().first;
     stack_.pop_back();
+    opened_.pop_back();
     current_object_ = nullptr;
   } else if (name == "ObjectInstance") {
     world_only(true);

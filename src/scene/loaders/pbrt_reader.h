@@ -92,6 +92,7 @@ class Reader {
   SceneDescription desc_;
   GraphicsState state_;
   std::vector<std::pair<GraphicsState, char>> stack_;  // 'a' attributes, 't' transform only
+  std::vector<Where> opened_;                          // where each level of stack_ began
   std::map<std::string, Mat4> coordinate_systems_;
   std::map<std::string, int> named_materials_;
   std::map<std::string, bool> named_interfaces_;
@@ -99,6 +100,7 @@ class Reader {
   std::map<std::string, ObjectShapes> objects_;
   ObjectShapes* current_object_ = nullptr;
   std::string current_object_name_;
+  Where current_object_at_;
   bool in_world_ = false;
   bool camera_seen_ = false;
   bool ortho_ = false;        // an orthographic camera, whose window read() sizes
