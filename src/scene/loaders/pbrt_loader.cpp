@@ -45,7 +45,8 @@ Mat4 pbrt_look_at(const Vec3& eye, const Vec3& target, const Vec3& up, bool* ok)
 
 Reader::Reader(const std::string& path) {
   desc_.source = path;
-  // pbrt's path tracers orient by the shading normal alone: no strict normals.
+  // pbrt-v4's BSDFs are evaluated in the shading frame alone, with no check of the
+  // geometric normal's side: no strict normals.
   desc_.strict_normals = false;
   // pbrt's default integrator (volpath) stops after 5 bounces: emlt's depth counts edges,
   // so 6 (a light seen directly is depth 1 in emlt, 0 in pbrt).
@@ -158,8 +159,8 @@ void Reader::directive(Tokenizer& tokens, const Token& word, int depth) {
       if (!close || close->kind != Token::Kind::Close)
         fail(at, name + ": expected ']' after 16 numbers");
     }
-    // pbrt lists the matrix's columns' worth as its rows' transpose: the 13th to 15th
-    // numbers are the translation, as in glm's column-major layout.
+    // pbrt reads the 16 numbers row by row and transposes them: they are the matrix column
+    // by column, the translation 13th to 15th, which is glm's column-major layout.
     return glm::make_mat4(values);
   };
   auto params = [&]() { return Params::read(tokens); };
