@@ -499,3 +499,30 @@ Shape "sphere" "float radius" 2
   EXPECT_NEAR(value(desc.materials[size_t(desc.spheres[0].material)].bsdf), wide, 1e-5f * wide);
   EXPECT_NEAR(value(desc.materials[size_t(desc.spheres[1].material)].bsdf), narrow, 1e-5f * narrow);
 }
+
+// pbrt-v4 looks an image up at (s, 1 - t) with row 0 at the top: t = 1 is the image's top
+// row (emlt's, Mitsuba's, v = 0 is).
+TEST(PbrtTextures, ImageMapsAreReadWithTUpwards) {
+  const auto dir = test::scratch_dir("pbrt-imagemap");
+  Image image(2, 2);
+  image.at(0, 0) = image.at(1, 0) = Rgb(1, 0, 0);  // top row red
+  image.at(0, 1) = image.at(1, 1) = Rgb(0, 0, 1);  // bottom row blue
+  write_image((dir / "img.pfm").string(), image);
+  const SceneDescription desc = load_scene_description(write_file(dir, "scene.pbrt", pbrt_scene(R"(
+Texture "img" "spectrum" "imagemap" "string filename" "img.pfm" "string wrap" "clamp"
+Material "diffuse" "texture reflectance" "img"
+Shape "sphere"
+)")));
+  ASSERT_EQ(desc.spheres.size(), 1u);
+  const BsdfPtr& bsdf = desc.materials[size_t(desc.spheres[0].material)].bsdf;
+  const Vec3 up(0.0f, 0.0f, 1.0f);
+  const auto reflectance = [&](float t) {
+    BsdfContext ctx;
+    ctx.uv = Vec2(0.5f, t);
+    return bsdf->eval(ctx, up, up) * kPi;
+  };
+  EXPECT_NEAR(reflectance(0.95f).x, 1.0f, 1e-5f);  // near t = 1: the top row
+  EXPECT_NEAR(reflectance(0.95f).z, 0.0f, 1e-5f);
+  EXPECT_NEAR(reflectance(0.05f).z, 1.0f, 1e-5f);  // near t = 0: the bottom row
+  EXPECT_TRUE(desc.materials[size_t(desc.spheres[0].material)].textured);
+}

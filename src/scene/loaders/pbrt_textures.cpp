@@ -7,6 +7,7 @@
 // sampled and black-body spectra are converted to RGB (approximated loudly).
 #include <fmt/format.h>
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 
@@ -126,7 +127,12 @@ void Reader::texture_declaration(const Where& at, const std::string& name, const
     uv.scale = Vec2(su, -sv);
     uv.offset = Vec2(du, 1.0f - dv);
     std::optional<float> gamma;
-    const std::string encoding = params.get_string("encoding", "sRGB");
+    // pbrt-v4's default: sRGB for a PNG file, linear for any other (a JPEG's 8-bit values
+    // too, unless the file says "sRGB").
+    std::string extension = std::filesystem::path(file).extension().string();
+    for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+    const std::string encoding =
+        params.get_string("encoding", extension == ".png" ? "sRGB" : "linear");
     if (is_stored_image(file)) {
       if (encoding == "linear")
         gamma = 1.0f;
