@@ -6,7 +6,7 @@
 PYBIND11_MODULE(emlt, m) {
   m.doc() =
       "emlt: Monte Carlo and Markov chain Monte Carlo light transport.\n\n"
-      "scene = emlt.load('scene.xml', name=value)    # Mitsuba XML or JSON, with defines\n"
+      "scene = emlt.load('scene.xml', name=value)    # Mitsuba XML, JSON or pbrt-v4, with defines\n"
       "image, stats = emlt.render(scene, integrator='mlt', mpp=16, max_depth=5)\n"
       "metrics = emlt.compare(reference, image)\n\n"
       "Every option of `emlt render` is a keyword of render(): --max-depth 5 is max_depth=5.";

@@ -18,6 +18,8 @@ decide:
     emitter edges make the estimate itself noisy), so the limit is 2; a shifted, blurred,
     flipped or wrongly coloured image gives far more (a box-filtered image against a
     Gaussian-filtered reference: 14).
+A scene whose entry names an `emlt_scene` (NAME.pbrt: the same scene in pbrt-v4's format)
+is rendered by emlt from that file; Mitsuba's reference is still of NAME.xml.
 A scene may list known differences ("known": {"reason": ..., "integrators": [...]}) in
 the manifest: those are reported as XFAIL and do not fail the run; one that passes is
 reported as XPASS so that the entry can be removed. Exit status 1 when any other check
@@ -55,9 +57,10 @@ def load_suite():
         return json.load(f)["scenes"]
 
 
-def render(emlt, scene, integrator, budget, seed, out, threads):
-    """Renders one image; returns the warnings emlt printed."""
-    args = [emlt, "render", os.path.join(HERE, "scenes", scene + ".xml"), "-o", out,
+def render(emlt, scene, integrator, budget, seed, out, threads, scene_file=None):
+    """Renders one image (of scenes/NAME.xml, or of the entry's `emlt_scene` file: the same
+    scene in pbrt-v4's format); returns the warnings emlt printed."""
+    args = [emlt, "render", os.path.join(HERE, "scenes", scene_file or scene + ".xml"), "-o", out,
             "--integrator", integrator, "--seed", str(seed), "--quiet"]
     args += ["--mpp", str(budget)] if integrator in MUTATION_BUDGET else ["--spp", str(budget)]
     if threads:
@@ -104,7 +107,8 @@ def check_scene(emlt, entry, integrator, threads, workdir):
     images, warnings = [], []
     for seed in (1, 2):
         out = os.path.join(workdir, f"{name}.{integrator}.{seed}.pfm")
-        warnings = render(emlt, name, integrator, budget, seed, out, threads)
+        warnings = render(emlt, name, integrator, budget, seed, out, threads,
+                          entry.get("emlt_scene"))
         images.append(read_pfm(out))
     ratios, error_ratio, standard_error, mse = compare(images[0], images[1], reference, budget,
                                                        entry.get("reference_spp", 4096))

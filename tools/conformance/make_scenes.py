@@ -21,15 +21,15 @@ import os
 from tools import ROOT
 from tools.conformance.scene_groups import SCENES, SUITE
 from tools.conformance.scene_groups import (bsdf_wrappers, bsdfs, camera_transforms, depth, films,
-                                            lights, normals, orientation, plugins, ptracer, shapes,
-                                            spectra, textures)
+                                            lights, normals, orientation, pbrt, plugins, ptracer,
+                                            shapes, spectra, textures)
 from tools.conformance.scene_groups.assets import write_assets
 
 # The scenes are defined by group in scene_groups/, one module a group; this is the order
 # their scenes go into suite.json. The particle tracer's group reuses scenes of the groups
 # before it, so it comes after them.
 GROUPS = (orientation, depth, bsdfs, bsdf_wrappers, textures, spectra, camera_transforms, films,
-          normals, shapes, lights, ptracer, plugins)
+          normals, shapes, lights, ptracer, plugins, pbrt)
 
 
 def build():
@@ -46,10 +46,21 @@ def main():
     write_assets()
     os.makedirs(SCENES, exist_ok=True)
     manifest = []
+    # Scenes written in pbrt-v4's format too (NAME.pbrt): emlt renders that file, Mitsuba
+    # the XML twin (the entry's emlt_scene, which tests/conformance/check.py reads).
+    pbrt_files = {}
+    for group in GROUPS:
+        if hasattr(group, "add_pbrt_scenes"):
+            group.add_pbrt_scenes(pbrt_files)
     for name, (convention, xml, integrators) in build().items():
         with open(os.path.join(SCENES, name + ".xml"), "w") as f:
             f.write(xml)
-        manifest.append({"name": name, "convention": convention, "integrators": integrators})
+        entry = {"name": name, "convention": convention, "integrators": integrators}
+        if name in pbrt_files:
+            with open(os.path.join(SCENES, name + ".pbrt"), "w") as f:
+                f.write(pbrt_files[name])
+            entry["emlt_scene"] = name + ".pbrt"
+        manifest.append(entry)
     path = os.path.join(SUITE, "suite.json")
     old = {}
     if os.path.exists(path):  # keep hand-set fields (spp, known differences) of existing entries

@@ -23,15 +23,16 @@ SceneDescription load_scene_description(const std::string& path, const SceneDefi
   std::string extension = std::filesystem::path(path).extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return char(std::tolower(c)); });
-  if (extension != ".json" && extension != ".xml")
-    throw file_error(path, "unknown scene format (expected .json or Mitsuba .xml)");
+  if (extension != ".json" && extension != ".xml" && extension != ".pbrt")
+    throw file_error(path, "unknown scene format (expected .json, Mitsuba .xml or pbrt-v4 .pbrt)");
   std::vector<std::string> inputs{path};
   t_input_files = &inputs;
   struct Forget {
     ~Forget() { t_input_files = nullptr; }
   } forget;
-  SceneDescription desc =
-      extension == ".json" ? load_json_scene(path, defines) : load_mitsuba_scene(path, defines);
+  SceneDescription desc = extension == ".json"   ? load_json_scene(path, defines)
+                          : extension == ".pbrt" ? load_pbrt_scene(path)
+                                                 : load_mitsuba_scene(path, defines);
   desc.input_files = std::move(inputs);
   return desc;
 }
