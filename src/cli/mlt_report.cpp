@@ -18,7 +18,16 @@ void report_mlt_statistics(const std::string& name, const MltStatistics& st,
   // b's samples: the bootstrap's, and any drawn beside the chains; pssmlt's and mmlt's, the
   // seeds' primary samples and the chains' large steps.
   char samples[160];
-  if (st.b_large_steps > 0)
+  if (st.b_large_steps > 0 && st.b_bidirectional_samples > 0)
+    std::snprintf(samples, sizeof samples,
+                  "%llu samples: %llu the seeds', %llu large steps, %llu BDPT; the largest %.2g "
+                  "of b",
+                  static_cast<unsigned long long>(st.b_samples),
+                  static_cast<unsigned long long>(st.b_samples - st.b_large_steps -
+                                                  st.b_bidirectional_samples),
+                  static_cast<unsigned long long>(st.b_large_steps),
+                  static_cast<unsigned long long>(st.b_bidirectional_samples), st.b_largest_share);
+  else if (st.b_large_steps > 0)
     std::snprintf(samples, sizeof samples,
                   "%llu samples: %llu the seeds', %llu large steps; the largest %.2g of b",
                   static_cast<unsigned long long>(st.b_samples),
@@ -113,6 +122,7 @@ nlohmann::json mlt_statistics_json(const MltStatistics& st) {
       {"b_samples", st.b_samples},
       {"b_largest_share", st.b_largest_share},
       {"b_large_steps", st.b_large_steps},
+      {"b_bidirectional_samples", st.b_bidirectional_samples},
       {"normalisation_seconds", st.normalisation_seconds},
       {"chains", st.chains},
       {"mutations", st.mutations},

@@ -124,6 +124,71 @@ TEST(NormalisationPass, StateRoundTripsAndDamageIsRefused) {
   EXPECT_THROW(refused.load(bad), StateError);
 }
 
+// Split by length (mmlt's b_k): each length's sums are those of the same samples' weights of
+// that length, their sum over the lengths the whole sums', and b's sums the counted lengths'.
+// The bootstrap's pool split by sample and length sums what the pass draws for the same
+// sample numbers (injected: a strategy's length taken as s + t segments, one too many, puts
+// each sample's weights in the next length: the pool's split and the drawn one then differ).
+// Sliced, threaded or saved and loaded, the same bits.
+TEST(NormalisationPass, SplitByLengthSumsEachLengthOfTheSameSamples) {
+  const auto scene = test::shipped_scene("cornell-box", 16);
+  const BootstrapParams p = params(7, 3 * int(NormalisationPass::kGroup), 2);
+  const Bootstrap bootstrap = run_bootstrap(*scene, p);
+  std::vector<bool> counted(size_t(p.max_edges - p.min_edges + 1), true);
+  counted[2] = false;
+  NormalisationPass split(*scene, p, 1.0);
+  split.split_by_length(counted);
+  split.start(bootstrap);
+  ASSERT_TRUE(split.up_to(5000));
+  NormalisationPass whole(*scene, p, 1.0);
+  whole.start(bootstrap);
+  ASSERT_TRUE(whole.up_to(5000));
+  ASSERT_EQ(split.lengths().size(), counted.size());
+  double all = 0.0, counted_sum = 0.0;
+  for (size_t k = 0; k < counted.size(); ++k) {
+    EXPECT_EQ(split.lengths()[k].samples, whole.sums().samples);
+    all += split.lengths()[k].sum;
+    if (counted[k]) counted_sum += split.lengths()[k].sum;
+  }
+  EXPECT_NEAR(all, whole.sums().sum, 1e-12 * whole.sums().sum);
+  EXPECT_NEAR(split.sums().sum, counted_sum, 1e-12 * counted_sum);
+  EXPECT_LT(split.sums().sum, 0.999 * all);  // the uncounted length carries light
+  EXPECT_EQ(split.sums().samples, whole.sums().samples);
+
+  // The bootstrap's pool, split, against the same samples drawn by the pass.
+  NormalisationPass drawn(*scene, p, 1.0);
+  drawn.split_by_length(counted);
+  Bootstrap empty;
+  drawn.start(empty);
+  ASSERT_TRUE(drawn.up_to(uint64_t(p.samples)));
+  NormalisationPass pooled(*scene, p, 1.0);
+  pooled.split_by_length(counted);
+  pooled.start(bootstrap);
+  for (size_t k = 0; k < counted.size(); ++k) {
+    const NormalisationSums &a = drawn.lengths()[k], &b = pooled.lengths()[k];
+    EXPECT_EQ(a.samples, b.samples);
+    EXPECT_NEAR(a.sum, b.sum, 1e-12 * std::max(a.sum, 1e-30)) << "length index " << k;
+    EXPECT_NEAR(a.sum_squares, b.sum_squares, 1e-12 * std::max(a.sum_squares, 1e-30));
+    EXPECT_EQ(a.largest, b.largest);
+  }
+  EXPECT_NEAR(drawn.sums().sum, pooled.sums().sum, 1e-12 * pooled.sums().sum);
+
+  // Sliced over three threads, then saved and loaded: the same bits.
+  NormalisationPass sliced(*scene, params(7, p.samples, 3), 1.0);
+  sliced.split_by_length(counted);
+  sliced.start(bootstrap);
+  for (uint64_t mutations : {1u, 1500u, 3333u, 5000u}) ASSERT_TRUE(sliced.up_to(mutations));
+  StateWriter out;
+  sliced.save(out);
+  NormalisationPass loaded(*scene, p, 1.0);
+  loaded.split_by_length(counted);
+  StateReader in(out.data());
+  loaded.load(in);
+  EXPECT_TRUE(same_sums(loaded.sums(), split.sums()));
+  for (size_t k = 0; k < counted.size(); ++k)
+    EXPECT_TRUE(same_sums(loaded.lengths()[k], split.lengths()[k])) << "length index " << k;
+}
+
 namespace {
 
 // Mean z^2 over seeds 100, 101, ... of b on the caustic pool after `drawn` pass samples

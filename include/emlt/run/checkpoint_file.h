@@ -15,8 +15,9 @@ namespace emlt::checkpoint_file {
 // 2: PSSMLT's per-length counters. 3: MLT/EMLT's counters in up to 256 blocks (were 64).
 // 5: the path-space chains' normalisation drawn beside them (normalisation_pass.h).
 // 6: pssmlt's and mmlt's two parts of the image in layers of their films, and the sums of
-// their converging b (pss_chains.h, pss_normalisation.h).
-inline constexpr uint32_t kVersion = 6;
+// their converging b (pss_chains.h, pss_normalisation.h). 7: mmlt's BDPT samples of b_k split
+// by length, at the end of its chains' section.
+inline constexpr uint32_t kVersion = 7;
 // The oldest version still read: 4 lacks only the sums of the normalisation at the end of the
 // path-space chains' section, which a resumed render then starts from the bootstrap's figures.
 // pssmlt's and mmlt's chains' sections of formats 4 and 5 hold one film of the two parts

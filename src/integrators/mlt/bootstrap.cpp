@@ -250,6 +250,23 @@ void bootstrap_sample_totals(const Scene& scene, const BootstrapParams& p, uint3
   }
 }
 
+void bootstrap_sample_lengths(const Scene& scene, const BootstrapParams& p, uint32_t first,
+                              uint32_t last,
+                              const std::function<void(std::span<const double>)>& each) {
+  SampleScratch scratch;
+  std::vector<double> by_length(size_t(std::max(p.max_edges - p.min_edges + 1, 0)));
+  for (uint32_t sample = first; sample < last; ++sample) {
+    std::fill(by_length.begin(), by_length.end(), 0.0);
+    enumerate_sample(scene, p, sample, scratch, [&](int s, int t, const Rgb& c, auto, auto) {
+      const float weight = luminance(c);
+      const int k = s + t - 1 - p.min_edges;
+      if (weight > 0.0f && k >= 0 && k < int(by_length.size())) by_length[size_t(k)] += weight;
+      return true;
+    });
+    each(by_length);
+  }
+}
+
 Bootstrap run_bootstrap(const Scene& scene, const BootstrapParams& p) {
   Bootstrap pool;
   grow_bootstrap(scene, p, uint64_t(std::max(p.samples, 0)), pool);

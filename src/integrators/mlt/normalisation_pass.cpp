@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <span>
 #include <vector>
 
 #include "emlt/core/cluster.h"
@@ -17,9 +18,40 @@ namespace emlt {
 NormalisationPass::NormalisationPass(const Scene& scene, const BootstrapParams& params, double rate)
     : scene_(scene), params_(params), rate_(rate) {}
 
+void NormalisationPass::split_by_length(std::vector<bool> counted) {
+  counted_ = std::move(counted);
+  lengths_.assign(counted_.size(), NormalisationSums{});
+}
+
 void NormalisationPass::start(const Bootstrap& bootstrap) {
   first_sample_ = bootstrap.samples;
-  sums_ = {bootstrap.samples, bootstrap.sum, bootstrap.sum_squares, bootstrap.largest_sample};
+  if (!split()) {
+    sums_ = {bootstrap.samples, bootstrap.sum, bootstrap.sum_squares, bootstrap.largest_sample};
+    return;
+  }
+  // The pool's candidates sit in sample order, each sample's in the order of its strategies,
+  // as bootstrap_sample_lengths sums them; samples without candidates count as zeros.
+  sums_ = {};
+  lengths_.assign(counted_.size(), NormalisationSums{});
+  std::vector<double> by_length(counted_.size(), 0.0);
+  const auto flush = [&] {
+    double total = 0.0;
+    for (size_t k = 0; k < by_length.size(); ++k) {
+      if (by_length[k] > 0.0) lengths_[k].add(by_length[k]);
+      if (counted_[k]) total += by_length[k];
+      by_length[k] = 0.0;
+    }
+    if (total > 0.0) sums_.add(total);
+  };
+  for (size_t i = 0; i < bootstrap.candidates.size(); ++i) {
+    const BootstrapCandidate& c = bootstrap.candidates[i];
+    if (i > 0 && c.sample != bootstrap.candidates[i - 1].sample) flush();
+    const int k = int(c.s) + int(c.t) - 1 - params_.min_edges;
+    if (k >= 0 && k < int(by_length.size())) by_length[size_t(k)] += c.weight;
+  }
+  flush();
+  sums_.samples = bootstrap.samples;
+  for (NormalisationSums& l : lengths_) l.samples = bootstrap.samples;
 }
 
 void NormalisationPass::start(uint64_t samples, double b, double standard_error) {
@@ -45,7 +77,8 @@ bool NormalisationPass::up_to(uint64_t mutations) {
   const uint64_t first_group = drawn_before / kGroup, last_group = target / kGroup;
   const uint64_t groups = last_group - first_group;
   struct alignas(64) Group {
-    double sum = 0.0, sum_squares = 0.0, largest = 0.0;
+    NormalisationSums total;
+    std::vector<NormalisationSums> lengths;
   };
   std::vector<Group> results(groups);
   std::atomic<bool> interrupted{false};
@@ -56,41 +89,54 @@ bool NormalisationPass::up_to(uint64_t mutations) {
   tbb::task_arena(threads).execute([&] {
     tbb::parallel_for(mine_first, mine_last, [&](uint64_t g) {
       Group& out = results[g];
-      const uint64_t first = first_sample_ + (first_group + g) * kGroup;
+      const uint32_t first = uint32_t(first_sample_ + (first_group + g) * kGroup);
       // A group at a time between stop checks: a group takes milliseconds.
       if (interrupted || interruption::stop_requested()) {
         interrupted = true;
         return;
       }
-      bootstrap_sample_totals(scene_, params_, uint32_t(first), uint32_t(first + kGroup),
-                              [&](double x) {
-                                out.sum += x;
-                                out.sum_squares += x * x;
-                                out.largest = std::max(out.largest, x);
-                              });
+      if (!split()) {
+        bootstrap_sample_totals(scene_, params_, first, first + uint32_t(kGroup),
+                                [&](double x) { out.total.add(x); });
+        return;
+      }
+      out.lengths.assign(counted_.size(), NormalisationSums{});
+      bootstrap_sample_lengths(scene_, params_, first, first + uint32_t(kGroup),
+                               [&](std::span<const double> by_length) {
+                                 double total = 0.0;
+                                 for (size_t k = 0; k < by_length.size(); ++k) {
+                                   out.lengths[k].add(by_length[k]);
+                                   if (counted_[k]) total += by_length[k];
+                                 }
+                                 out.total.add(total);
+                               });
     });
   });
   bool any_interrupted = interrupted.load();
   if (cluster::size() > 1) {
     StateWriter mine;
     mine.put<uint8_t>(any_interrupted);
-    for (uint64_t g = mine_first; g < mine_last; ++g) mine.put(results[g]);
+    for (uint64_t g = mine_first; g < mine_last; ++g) {
+      mine.put(results[g].total);
+      if (split()) mine.put_vector(results[g].lengths);
+    }
     const std::vector<std::string_view> parts = cluster::gather_everywhere(mine.data());
     for (int r = 0; r < int(parts.size()); ++r) {
       StateReader in(parts[size_t(r)]);
       any_interrupted |= in.get<uint8_t>() != 0;
       const auto [first, last] = cluster::share(groups, r, int(parts.size()));
-      for (uint64_t g = first; g < last; ++g) results[g] = in.get<Group>();
+      for (uint64_t g = first; g < last; ++g) {
+        results[g].total = in.get<NormalisationSums>();
+        if (split()) results[g].lengths = in.get_vector<NormalisationSums>(counted_.size());
+      }
     }
   }
   seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   if (any_interrupted) return false;
   for (const Group& group : results) {  // group order: the same sums at any thread count
-    sums_.sum += group.sum;
-    sums_.sum_squares += group.sum_squares;
-    sums_.largest = std::max(sums_.largest, group.largest);
+    sums_.add(group.total);
+    for (size_t k = 0; k < group.lengths.size(); ++k) lengths_[k].add(group.lengths[k]);
   }
-  sums_.samples = first_sample_ + target;
   return true;
 }
 
@@ -101,6 +147,7 @@ void NormalisationPass::save(StateWriter& out) const {
   out.put(sums_.sum_squares);
   out.put(sums_.largest);
   out.put(seconds_);
+  if (split()) out.put_vector(lengths_);
 }
 
 void NormalisationPass::load(StateReader& in) {
@@ -110,11 +157,16 @@ void NormalisationPass::load(StateReader& in) {
   sums_.sum_squares = in.get<double>();
   sums_.largest = in.get<double>();
   seconds_ = in.get<double>();
-  const bool consistent =
-      first_sample_ > 0 && sums_.samples >= first_sample_ && sums_.samples <= UINT32_MAX &&
-      (sums_.samples - first_sample_) % kGroup == 0 && std::isfinite(sums_.sum) &&
-      sums_.sum > 0.0 && std::isfinite(sums_.sum_squares) && std::isfinite(sums_.largest) &&
-      sums_.largest >= 0.0 && sums_.largest <= sums_.sum && std::isfinite(seconds_);
+  bool consistent = first_sample_ > 0 && sums_.samples >= first_sample_ &&
+                    sums_.samples <= UINT32_MAX && (sums_.samples - first_sample_) % kGroup == 0 &&
+                    std::isfinite(sums_.sum) && sums_.sum > 0.0 &&
+                    std::isfinite(sums_.sum_squares) && std::isfinite(sums_.largest) &&
+                    sums_.largest >= 0.0 && sums_.largest <= sums_.sum && std::isfinite(seconds_);
+  if (split()) {
+    lengths_ = in.get_vector<NormalisationSums>(counted_.size());
+    for (const NormalisationSums& l : lengths_)
+      consistent = consistent && l.consistent() && l.samples == sums_.samples;
+  }
   if (!consistent) throw StateError("the saved normalisation's figures are inconsistent");
 }
 

@@ -183,6 +183,7 @@ void PssChains::save(StateWriter& out) const {
   out.put<uint64_t>(sweep_end_);
   out.put<uint64_t>(rounds_);
   out.put<uint64_t>(logged_);
+  if (setup_.normalisation) setup_.normalisation->save(out);
 }
 
 void PssChains::load(StateReader& in) {
@@ -201,6 +202,7 @@ void PssChains::load(StateReader& in) {
   sweep_end_ = in.get<uint64_t>();
   rounds_ = in.get<uint64_t>();
   logged_ = in.get<uint64_t>();
+  if (setup_.normalisation) setup_.normalisation->load(in);
   in.expect_end();
   // Every count that steers the loop is checked, so that a damaged state can neither
   // loop (nearly) forever nor promise a chain steps it cannot take.
@@ -346,7 +348,18 @@ bool PssChains::log_final(uint64_t done) {
 
 std::vector<double> PssChains::normalise() {
   const PssBootstrap& bootstrap = setup_.bootstrap;
-  const PssNormalisation n = pss_normalisation(bootstrap.seeds, chains_, first_owned_, end_owned_);
+  PssNormalisation n = pss_normalisation(bootstrap.seeds, chains_, first_owned_, end_owned_);
+  const uint64_t primary_samples = n.samples(has_chains_);
+  uint64_t bidirectional_samples = 0;
+  if (setup_.normalisation) {
+    // The lengths' BDPT samples are disjoint from their primary samples, both unbiased for b_k:
+    // pooled, each b_k is the mean of all its samples, its error their spread's.
+    const NormalisationPass& pass = *setup_.normalisation;
+    for (size_t k = 0; k < has_chains_.size(); ++k)
+      if (has_chains_[k]) n.lengths[k].add(pass.lengths()[k]);
+    bidirectional_samples = pass.sums().samples;
+    stats_.normalisation_seconds = pass.seconds();
+  }
   std::vector<double> factors = {1.0};
   double b = 0.0;
   for (size_t k = 0; k < has_chains_.size(); ++k)
@@ -360,9 +373,10 @@ std::vector<double> PssChains::normalise() {
   stats_.b = b;
   stats_.b_standard_error =
       setup_.options.scale_by_bootstrap_b ? bootstrap.standard_error : n.error(has_chains_);
-  stats_.b_samples = n.samples(has_chains_);
+  stats_.b_samples = primary_samples + bidirectional_samples;
+  stats_.b_bidirectional_samples = bidirectional_samples;
   stats_.b_largest_share = n.largest_share(has_chains_);
-  uint64_t large_steps = stats_.b_samples;
+  uint64_t large_steps = primary_samples;
   for (size_t k = 0; k < has_chains_.size(); ++k)
     if (has_chains_[k]) large_steps -= bootstrap.seeds[k].samples;
   stats_.b_large_steps = large_steps;

@@ -82,6 +82,8 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
   std::vector<int32_t>& chains_of_length = boot.chains_of_length;
   int& chain_count = boot.chain_count;
   std::optional<StateReader> chain_in;
+  const BootstrapParams bp = BootstrapParams::of(settings, min_edges, max_edges, threads);
+  Bootstrap path_bootstrap;  // a fresh render's
   // Fresh: the pool of each length's bootstrap samples (in sample order) with their
   // cumulative f*, for the chains' seeds.
   std::vector<std::vector<uint64_t>> pool(static_cast<size_t>(lengths));
@@ -93,6 +95,10 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
                        std::to_string(run.control()->resume_format()) +
                        " holds the chains' film in a form this emlt no longer splits; render "
                        "again from the start");
+    if (multiplexed && run.control() && run.control()->resume_format() < kMmltChainsOldestFormat)
+      throw StateError("this mmlt checkpoint of format " +
+                       std::to_string(run.control()->resume_format()) +
+                       " lacks the BDPT samples its b is now made of; render again from the start");
     chain_in.emplace(chain_section);
     boot.load(*chain_in, lengths, stats_);
   } else {
@@ -144,8 +150,7 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
     // but every BDPT sample adds to every length at once, with MIS: b_k's error is the
     // error of the length's whole share of the image, and 100 000 MMLT samples spread over
     // 28 lengths measured 2.5 % on b against 0.3 % this way (Cornell box).
-    const BootstrapParams bp = BootstrapParams::of(settings, min_edges, max_edges, threads);
-    const Bootstrap path_bootstrap = run_bootstrap(scene, bp);
+    path_bootstrap = run_bootstrap(scene, bp);
     if (run.stopped_in_bootstrap(path_bootstrap.interrupted, result, stats_)) return result;
     for (const BootstrapCandidate& c : path_bootstrap.candidates) {
       const int k = multiplexed ? int(c.s) + int(c.t) - 1 - min_edges : 0;
@@ -201,7 +206,17 @@ RenderResult PssMltIntegrator::render(const Scene& scene, const RenderSettings& 
   stats_.b = stats_.bootstrap_b = b;
   stats_.b_samples = stats_.bootstrap_samples;
 
-  PssChains pss(PssSetup{scene, settings, tracer, options_, min_edges, max_edges, std::move(boot)},
+  std::optional<NormalisationPass> normalisation;
+  if (multiplexed && !options_.mmlt_b_from_large_steps_only) {
+    normalisation.emplace(scene, bp, settings.normalisation_rate);
+    std::vector<bool> counted;
+    for (const int32_t chains : boot.chains_of_length) counted.push_back(chains > 0);
+    normalisation->split_by_length(std::move(counted));
+    if (!chain_in) normalisation->start(path_bootstrap);
+  }
+  path_bootstrap = {};
+  PssChains pss(PssSetup{scene, settings, tracer, options_, min_edges, max_edges, std::move(boot),
+                         std::move(normalisation)},
                 run, progress, stats_, chain_in ? &*chain_in : nullptr);
   if (!chain_in) {
     std::vector<PssChain>& chains = pss.chains();

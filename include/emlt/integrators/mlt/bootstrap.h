@@ -90,6 +90,13 @@ void grow_bootstrap(const Scene& scene, const BootstrapParams& params, uint64_t 
 void bootstrap_sample_totals(const Scene& scene, const BootstrapParams& params, uint32_t first,
                              uint32_t last, const std::function<void(double)>& each);
 
+// The same samples split by path length: each sample's summed candidate weights of every
+// length, params.min_edges first (params.max_edges - params.min_edges + 1 of them), in sample
+// order to `each` (one thread). mmlt's b_k (pss_chains.h).
+void bootstrap_sample_lengths(const Scene& scene, const BootstrapParams& params, uint32_t first,
+                              uint32_t last,
+                              const std::function<void(std::span<const double>)>& each);
+
 // How many samples the pool should have, given what `samples` of them are worth
 // (effective_candidates) and the chains they seed: chains seeded from a pool worth fewer
 // candidates than chains restart from its few bright paths, and short chains keep that noise

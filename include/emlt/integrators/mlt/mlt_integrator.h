@@ -30,6 +30,9 @@ struct MltStatistics {
   // sample's share of b (0: not known).
   double b = 0.0, b_standard_error = 0.0, b_largest_share = 0.0;
   uint64_t b_samples = 0, b_large_steps = 0;
+  // mmlt's: of b_samples, the BDPT samples split by length (the path-space bootstrap's and
+  // those drawn beside the chains), each counted once though it adds to every length.
+  uint64_t b_bidirectional_samples = 0;
   // The bootstrap's own b and samples.
   double bootstrap_b = 0.0;
   uint64_t bootstrap_samples = 0, chains = 0, mutations = 0;

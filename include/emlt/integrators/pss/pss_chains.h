@@ -12,18 +12,22 @@
 //     and a), alpha F / f* = F / (f* + p_L b_w) each, into layer 1 (for MMLT a layer per
 //     length with chains); the chains' states have density f*/b, so this layer estimates
 //     the integral of alpha F only when scaled by the true b: by b_k/N_k at the end, with b_k
-//     the mean of f* over every independent primary sample so far (pss_normalisation.h);
+//     the mean of f* over every independent primary sample so far (pss_normalisation.h),
+//     for MMLT pooled with the path-space bootstrap's samples split by length and those
+//     drawn beside the chains (normalisation_pass.h);
 //   - the independent part: at large steps only, the proposal's (1 - alpha) F / p_L, the
 //     same F / (f* + p_L b_w) times b_w, into layer 0, scaled by b_w/N: it estimates the
 //     integral of (1 - alpha) F with uniform samples, whatever b is.
 // Their sum is Kelemen's image when the final b is b_w, and unbiased for any b_w as the
 // final b converges: b_w only chooses how the two halves share each path (alpha).
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "emlt/image/image.h"
 #include "emlt/integrators/mlt/mcmc_run.h"
 #include "emlt/integrators/mlt/mlt_integrator.h"
+#include "emlt/integrators/mlt/normalisation_pass.h"
 #include "emlt/integrators/pss/pss_chain.h"
 #include "emlt/integrators/pss/pss_integrator.h"
 #include "emlt/integrators/pss/pss_normalisation.h"
@@ -34,6 +38,8 @@ namespace emlt {
 // The oldest checkpoint format (checkpoint_file.h) whose chains' section this reads: earlier
 // ones summed the image's two parts into one film.
 inline constexpr uint32_t kPssChainsOldestFormat = 6;
+// mmlt's chains' section ends with its normalisation beside the chains from format 7 on.
+inline constexpr uint32_t kMmltChainsOldestFormat = 7;
 
 // What the bootstrap gave the chains: each length's normalisation b_k (b for PSSMLT) and
 // chains, the sums of f* over each length's samples that seeded them (the start of the b
@@ -61,6 +67,11 @@ struct PssSetup {
   PssOptions options;
   int min_edges, max_edges;
   PssBootstrap bootstrap;
+  // mmlt's: BDPT samples split by length, the path-space bootstrap's then those drawn beside
+  // the chains, pooled with the large steps into each b_k. MMLT's f*_k picks one of k + 1
+  // strategies, so the rare bright paths a strategy finds come k + 1 times rarer among its
+  // large steps than in a BDPT sample, where every strategy of every length is evaluated.
+  std::optional<NormalisationPass> normalisation;
 };
 
 class PssChains final : public ChainSteps {
@@ -84,6 +95,9 @@ class PssChains final : public ChainSteps {
   uint64_t taken_before() const override;
   bool may_end_for_time() const override { return steps_done_ > 0; }
   bool in_sweep() const override { return sweep_active_; }
+  bool keep_pace(uint64_t mutations) override {
+    return !setup_.normalisation || setup_.normalisation->up_to(mutations);
+  }
   void begin_sweep(uint64_t rounds) override;
   uint64_t sweep_end() const override;
   uint64_t sweep_block(int block, size_t film) override;

@@ -39,6 +39,10 @@ struct PssOptions {
   // Not a mistake: the bootstrap's b (b_k) times this, as a bootstrap that far off would
   // give, to show that the image no longer depends on it.
   double bootstrap_b_factor = 1.0;
+  // mmlt's b_k from the chains' large steps (and the seeds') alone, as pssmlt's b: without
+  // the path-space bootstrap's samples split by length and those drawn beside the chains
+  // (pss_chains.h). An ablation of the measurement in docs/normalisation.md.
+  bool mmlt_b_from_large_steps_only = false;
 };
 
 class PssMltIntegrator final : public Integrator, public ChainStatisticsSource {

@@ -8,8 +8,8 @@
 //
 // The path-space bootstrap's b (bootstrap.h), from BDPT samples, stays the b of the splats'
 // weights: it is fixed before the chains and any fixed b keeps the estimator unbiased; only
-// the scale of the chains' part must converge. Its samples are not added here: they are
-// another estimator (every length at once, with MIS), whose per-length spread is not kept.
+// the scale of the chains' part must converge. For mmlt its samples, split by length, and
+// those drawn beside the chains are pooled with these (pss_chains.h).
 //
 // Determinism: each chain sums its own large steps in its order of steps; the sums here add,
 // for each length, the seeds' sums (in sample order), then the chains' in chain order, so the
