@@ -5,10 +5,13 @@
 
 Renders each scene's reference once (cached by the scene's content and the reference
 settings), then runs every (scene, budget, method, seed) of the experiment with
-`emlt render --reference REF --log run.csv`, one engine call each, in sequence.  Runs whose
+`emlt render --reference REF --log run.csv`, one render each, in sequence.  Runs whose
 outputs exist are skipped, so an interrupted experiment resumes where it stopped.  Final
 metrics come from `emlt compare --json --scene SCENE` on the saved images, so the tables
-equal what `emlt compare` prints.  Writes into --out:
+equal what `emlt compare` prints.  Renders and comparisons go through the Python module built
+beside --emlt (BUILD/python: `import emlt`, in this process, the same bits as the binary)
+when there is one, else through the binary; `--engine cli` spawns the binary, and `--mpi R`
+spawns `mpirun -n R emlt render ...` for every render.  Writes into --out:
 
   results.csv            one row per run: metrics, seconds, MLT acceptance rates
   table.md               MSE / relMSE / time per scene x method, mean +- std over seeds
@@ -30,7 +33,6 @@ import json
 import os
 import re
 import shutil
-import subprocess
 import sys
 import tempfile
 import threading
@@ -41,6 +43,7 @@ from ablation_config import REPO_ROOT, ConfigError, load_config
 # The image helpers are tools.images, in the repository's Python package at the root; run as
 # scripts/ablation.py, Python puts this folder on the path (for ablation_config), not the root.
 sys.path.insert(0, REPO_ROOT)
+from tools.engine import EngineError, choose  # noqa: E402
 
 PROG = "ablation"
 RESULT_FIELDS = ["scene", "method", "seed", "budget_kind", "budget", "per_pixel", "seconds", "mse", "relmse",
@@ -55,23 +58,13 @@ class RunError(Exception):
 # Engine calls
 
 
-def engine_version(emlt):
-    """The engine's version line, e.g. 'emlt 0.1.0'."""
-    out = subprocess.run([emlt, "--version"], capture_output=True, text=True)
-    return out.stdout.strip() or out.stderr.strip()
-
-
-def run_engine(cmd, cwd=None, log_path=None):
-    """Run an engine command; raise RunError with the engine's last error line if it fails."""
-    result = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True)
-    if log_path:
-        with open(log_path, "w") as f:
-            f.write("$ " + " ".join(cmd) + "\n" + result.stdout + result.stderr)
-    if result.returncode != 0:
-        lines = [line for line in (result.stderr + result.stdout).splitlines() if line.strip()]
-        errors = [line for line in lines if "error" in line.lower()]
-        raise RunError((errors or lines or [f"exit status {result.returncode}"])[-1].strip())
-    return result
+def render(emlt, args, log_path=None):
+    """`emlt render ARGS` with the chosen engine (module or binary, tools/engine.py); RunError
+    with the engine's one-line error if it fails."""
+    try:
+        emlt.render(args, log_path=log_path)
+    except EngineError as e:
+        raise RunError(str(e))
 
 
 def hash_file(path):
@@ -132,7 +125,7 @@ def render_cached(emlt, args, output):
             if f.read() == text:
                 return output
     os.makedirs(os.path.dirname(output), exist_ok=True)
-    run_engine([emlt, "render"] + args + ["-o", output, "--quiet"], log_path=output + ".log")
+    render(emlt, args + ["-o", output, "--quiet"], log_path=output + ".log")
     with open(record, "w") as f:
         f.write(text)
     return output
@@ -180,9 +173,9 @@ def ensure_reference(config, scene, emlt, cache_dir, out_dir):
                 args = ref.engine_args(part)
                 if config.indirect_only and ref.is_mcmc:
                     args += ["--direct", "separate", "--direct-spp", str(ref.direct_spp)]
-                cmd = [emlt, "render", scene.path, "-o", image, "--quiet", "--threads", str(config.threads)]
+                cmd = [scene.path, "-o", image, "--quiet", "--threads", str(config.threads)]
                 try:
-                    run_engine(cmd + scene.engine_args() + args, log_path=os.path.join(tmp, f"engine-{part}.log"))
+                    render(emlt, cmd + scene.engine_args() + args, log_path=os.path.join(tmp, f"engine-{part}.log"))
                     pixels = read_pfm(image).astype(np.float64)
                     if config.indirect_only:
                         direct = os.path.join(tmp, f"direct-{part}.pfm")
@@ -276,13 +269,14 @@ class Run:
         os.makedirs(self.dir, exist_ok=True)
         if os.path.exists(self.marker):
             os.remove(self.marker)
-        cmd = [emlt, "render", self.scene.path, "-o", self.image, "--quiet", "--reference", reference,
+        cmd = [self.scene.path, "-o", self.image, "--quiet", "--reference", reference,
                "--log", self.log] + (["--stats", self.stats] if self.method.is_mlt else []) + self.engine_args()
         start = time.monotonic()
-        run_engine(cmd, log_path=os.path.join(self.dir, "engine.log"))
+        render(emlt, cmd, log_path=os.path.join(self.dir, "engine.log"))
         wall = time.monotonic() - start
         with open(self.marker, "w") as f:
-            json.dump({"key": self.key(reference_key), "command": cmd, "wall_seconds": round(wall, 3)}, f, indent=1)
+            json.dump({"key": self.key(reference_key), "engine": emlt.describe(), "arguments": ["render"] + cmd,
+                       "wall_seconds": round(wall, 3)}, f, indent=1)
         return wall
 
     def describe(self):
@@ -305,10 +299,10 @@ def probe_methods(config, methods, emlt):
             args = list(method.args)
             if method.is_mlt and "--bootstrap" not in args:
                 args += ["--bootstrap", "64"]
-            cmd = [emlt, "render", scene.path, "-o", os.path.join(tmp, "probe.pfm"), "--quiet", "--width", "2",
+            cmd = [scene.path, "-o", os.path.join(tmp, "probe.pfm"), "--quiet", "--width", "2",
                    "--height", "2", "--threads", "1", method.budget_flag, "1"] + args + config.extra_args
             try:
-                run_engine(cmd)
+                render(emlt, cmd)
             except RunError as e:
                 raise RunError(f"method '{method.name}' does not run in this engine: {e}")
 
@@ -382,17 +376,10 @@ def read_log(path):
 
 def compare_metrics(emlt, reference, images, scene_path):
     """`emlt compare --json --scene SCENE REF IMAGES...`: a dict image path -> metrics dict."""
-    metrics = {}
-    chunk = 200
-    for i in range(0, len(images), chunk):
-        part = images[i:i + chunk]
-        result = run_engine([emlt, "compare", reference] + part + ["--json", "--scene", scene_path])
-        objects = [json.loads(line) for line in result.stdout.splitlines() if line.strip().startswith("{")]
-        if len(objects) != len(part):
-            raise RunError(f"emlt compare printed {len(objects)} results for {len(part)} images")
-        for image, obj in zip(part, objects):
-            metrics[image] = obj
-    return metrics
+    try:
+        return dict(zip(images, emlt.compare(reference, images, scene=scene_path)))
+    except EngineError as e:
+        raise RunError(f"emlt compare: {e}")
 
 
 def collect_results(config, runs, emlt, references, out_dir):
@@ -516,9 +503,17 @@ def parse_args(argv):
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("config", help="experiment file (JSON), e.g. scripts/experiments/cornell-small.json")
     parser.add_argument("--out", help="output directory (default: out/ablation-<config name>)")
-    parser.add_argument("--emlt", default=None, help="the emlt binary (default: build/emlt)")
+    parser.add_argument("--emlt", default=None,
+                        help="the emlt binary (default: build/emlt); its build's Python module renders unless "
+                             "--engine cli")
+    parser.add_argument("--engine", choices=("auto", "module", "cli"), default="auto",
+                        help="render through the Python module beside --emlt (auto: when it was built) or by "
+                             "spawning the binary")
+    parser.add_argument("--mpi", type=int, metavar="R", default=None,
+                        help="spawn every render as `mpirun -n R emlt render ...` (the binary, with MPI)")
     parser.add_argument("--jobs", type=int, default=1,
-                        help="engine runs at a time (default 1; more distorts the time columns)")
+                        help="renders at a time, each a process of the binary (default 1; more distorts the "
+                             "time columns)")
     parser.add_argument("--cache", default=None,
                         help="reference cache directory (default: $XDG_CACHE_HOME/emlt/references)")
     parser.add_argument("--scenes", metavar="DIR", default=None,
@@ -550,6 +545,22 @@ def main(argv=None):
     if args.jobs < 1:
         print(f"{PROG}: error: --jobs must be at least 1", file=sys.stderr)
         return 2
+    if args.mpi is not None and args.mpi < 1:
+        print(f"{PROG}: error: --mpi must be at least 1", file=sys.stderr)
+        return 2
+    # The module renders one image at a time per process: N renders at once are N processes.
+    kind = args.engine
+    if args.jobs > 1 and kind == "module":
+        print(f"{PROG}: error: --jobs {args.jobs} needs the binary (the Python module renders one image at a "
+              "time): drop --engine module", file=sys.stderr)
+        return 2
+    if args.jobs > 1:
+        kind = "cli"
+    try:
+        emlt = choose(emlt, kind, args.mpi)
+    except EngineError as e:
+        print(f"{PROG}: error: {e}", file=sys.stderr)
+        return 2
     out_dir = os.path.abspath(args.out or os.path.join("out", f"ablation-{config.name}"))
     os.makedirs(out_dir, exist_ok=True)
     cache_dir = os.path.abspath(args.cache or default_cache())
@@ -571,7 +582,7 @@ def main(argv=None):
             write_chains_csv(chains, os.path.join(out_dir, "chains.csv"))
         if not args.no_report:
             import ablation_report
-            ablation_report.write_report(config, rows, out_dir, engine_version(emlt),
+            ablation_report.write_report(config, rows, out_dir, emlt.version(),
                                          {scene.name: run_reference_for_strip(config, scene, references)
                                           for scene in config.scenes}, chains)
             if args.figures:

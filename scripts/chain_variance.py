@@ -21,14 +21,15 @@ with the same seed and samples gives the same bits), subtracts it, and reports:
                      method beats the first.
 
 The mean chains' image over every run of every method stands in for the true one in the
-ideal figure.  Runs go one at a time, so equal-time budgets are fair.  Needs numpy.
+ideal figure.  Runs go one at a time, so equal-time budgets are fair.  Renders go through the
+Python module built beside --emlt (BUILD/python), in this process, else through the binary
+(--engine cli forces it); --mpi R spawns `mpirun -n R emlt render ...` for each.  Needs numpy.
 """
 import argparse
 import json
 import os
 import re
 import shlex
-import subprocess
 import sys
 import tempfile
 
@@ -37,6 +38,7 @@ import numpy as np
 # The image helpers are tools.images, in the repository's Python package at the root; run as
 # scripts/chain_variance.py, Python puts this folder on the path, not the root.
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from tools.engine import EngineError, EngineMissing, choose  # noqa: E402
 from tools.images import read_pfm  # noqa: E402
 
 LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
@@ -47,22 +49,22 @@ def read_image(path):
     return read_pfm(path).reshape(-1, 3).astype(np.float64)
 
 
-def run(cmd, output):
-    """Runs the engine unless `output` was made by the same arguments before (--out keeps
-    them in OUTPUT.args); on failure exits with the engine's own one-line error."""
+def run(engine, args, output):
+    """Renders `emlt render ARGS` unless `output` was made by the same arguments before (--out
+    keeps them in OUTPUT.args: the engine, module or binary, may change; what it renders may
+    not); on failure exits with the engine's own one-line error."""
     record = output + ".args"
-    arguments = shlex.join(cmd[1:])  # the binary may move; what it renders may not
+    arguments = shlex.join(["render"] + args)
     if os.path.exists(output) and os.path.exists(record):
         with open(record) as f:
             if f.read() == arguments:
                 return
     try:
-        done = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    except OSError as error:
-        sys.exit(f"chain_variance: {cmd[0]}: {error.strerror}")
-    if done.returncode != 0:
-        lines = done.stdout.strip().splitlines() or [f"exit status {done.returncode}"]
-        sys.exit(f"chain_variance: {os.path.basename(output)}: {lines[-1]}")
+        engine.render(args)
+    except EngineMissing as error:
+        sys.exit(f"chain_variance: {error}")
+    except EngineError as error:
+        sys.exit(f"chain_variance: {os.path.basename(output)}: {error}")
     with open(record, "w") as f:
         f.write(arguments)
 
@@ -89,13 +91,19 @@ def main():
     parser.add_argument("--threads", type=int, default=0, help="engine threads (default: all)")
     parser.add_argument("--width", type=int)
     parser.add_argument("--height", type=int)
-    parser.add_argument("--emlt", default=os.path.join(os.path.dirname(__file__), "..", "build", "emlt"))
+    parser.add_argument("--emlt", default=os.path.join(os.path.dirname(__file__), "..", "build", "emlt"),
+                        help="the emlt binary; its build's Python module renders unless --engine cli")
+    parser.add_argument("--engine", choices=("auto", "module", "cli"), default="auto",
+                        help="render through the Python module beside --emlt (auto: when built) or the binary")
+    parser.add_argument("--mpi", type=int, metavar="R", help="spawn `mpirun -n R emlt render ...` for each render")
     parser.add_argument("--json", help="also write the figures to this JSON file")
     parser.add_argument("--out", help="keep the images here, and reuse those that the same "
                         "engine arguments made (default: a temporary directory)")
     args = parser.parse_args()
     if args.seeds < 2:
         parser.error("--seeds must be at least 2")
+    if args.mpi is not None and args.mpi < 1:
+        parser.error("--mpi must be at least 1")
     methods = []
     for spec in args.method:
         name, sep, engine_args = spec.partition("=")
@@ -108,6 +116,10 @@ def main():
             parser.error(f"--method {name}: given twice")
         methods.append((name, shlex.split(engine_args)))
 
+    try:
+        engine = choose(args.emlt, args.engine, args.mpi)
+    except EngineError as error:
+        sys.exit(f"chain_variance: {error}")
     work = args.out or tempfile.mkdtemp(prefix="chain_variance.")
     os.makedirs(work, exist_ok=True)
     common = [args.scene, "--quiet", "--threads", str(args.threads)]
@@ -119,8 +131,8 @@ def main():
     direct = {}
     for seed in range(1, args.seeds + 1):
         path = os.path.join(work, f"direct.{seed}.pfm")
-        run([args.emlt, "render", *common, "--integrator", "direct", "--spp", str(args.direct_spp),
-             "--seed", str(seed), "-o", path], path)
+        run(engine, [*common, "--integrator", "direct", "--spp", str(args.direct_spp), "--seed", str(seed),
+                     "-o", path], path)
         direct[seed] = read_image(path)
 
     results = []
@@ -128,9 +140,9 @@ def main():
         chains, mpp, seconds = [], [], []
         for seed in range(1, args.seeds + 1):
             stem = os.path.join(work, f"{name}.{seed}")
-            run([args.emlt, "render", *common, *engine_args, *shlex.split(args.budget),
-                 "--direct", "separate", "--direct-spp", str(args.direct_spp), "--seed", str(seed),
-                 "-o", stem + ".pfm", "--stats", stem + ".json"], stem + ".json")
+            run(engine, [*common, *engine_args, *shlex.split(args.budget), "--direct", "separate",
+                         "--direct-spp", str(args.direct_spp), "--seed", str(seed), "-o", stem + ".pfm",
+                         "--stats", stem + ".json"], stem + ".json")
             chains.append(read_image(stem + ".pfm") - direct[seed])
             with open(stem + ".json") as f:
                 stats = json.load(f)
@@ -160,7 +172,7 @@ def main():
         print(f"{row['method']:<16}{row['mutations_per_pixel']:>10.1f}{row['seconds']:>9.2f}"
               f"{row['chains_variance']:>12.3e}{'-' if ideal is None else f'{ideal:.3e}':>11}"
               f"{ratio(row['chains_variance'], ideal):>9}{ratio(first, row['chains_variance']):>12}")
-    print(f"(images in {work})")
+    print(f"(images in {work}; rendered by {engine.describe()})")
 
 
 if __name__ == "__main__":

@@ -167,6 +167,31 @@ class AblationTest(unittest.TestCase):
         self.assertIn("cached", again.stderr)  # the reference comes from the cache
         self.assertEqual(before, {p: os.stat(p).st_mtime_ns for p in images})
 
+    def test_the_binary_and_mpirun_render_the_module_s_bits(self):
+        # The runs above went through the Python module built beside the binary; spawning the
+        # binary under `mpirun -n 2` must give every fixed-budget image bit for bit (the binary
+        # alone: test_chain_variance.py).
+        budget = self.config["budgets"]["per_pixel"][0]
+        first = os.path.join(self.out, "runs", "cornell-box", "mlt", f"pp-{budget}", "seed-1")
+        with open(os.path.join(first, "run.json")) as f:
+            self.assertIn("Python module", json.load(f)["engine"])
+        config = dict(self.config, seeds=[1], budgets={"per_pixel": [budget]})
+        config["scenes"] = [dict(self.config["scenes"][0], path=os.path.join(ROOT, "scenes/cornell-box/scene.json"))]
+        path = os.path.join(self.tmp.name, "fixed-budget.json")
+        with open(path, "w") as f:
+            json.dump(config, f)
+        for engine in (("--mpi", "2"),):
+            out = os.path.join(self.tmp.name, "spawned-" + engine[0].strip("-"))
+            result = run_ablation(path, out, self.cache, ("--no-report",) + engine)
+            self.assertEqual(result.returncode, 0, result.stderr)
+            for method in self.config["methods"]:
+                run_dir = os.path.join("runs", "cornell-box", method, f"pp-{budget}", "seed-1")
+                with open(os.path.join(out, run_dir, "run.json")) as f:
+                    self.assertNotIn("Python module", json.load(f)["engine"])
+                with open(os.path.join(out, run_dir, "image.pfm"), "rb") as a, \
+                        open(os.path.join(self.out, run_dir, "image.pfm"), "rb") as b:
+                    self.assertEqual(a.read(), b.read(), f"{engine}: {method}")
+
     def bad_method(self, methods, name):
         """Run a copy of the tiny config with methods; assert a one-line error naming name."""
         config = dict(self.config, methods=methods)

@@ -7,7 +7,8 @@ Checks that the direct image the script subtracts is the renderer's own (a metho
 chains have nothing to render leaves exactly zero), that the reported variance is the
 variance of the kept images, that the ideal-sampler yardstick matches a simulated
 independent sampler, that a second call reuses the images its arguments made (and only
-those), and that bad arguments and engine errors fail with one line.
+those), that the Python module (the default), the binary and `mpirun -n 2` render the same
+bits, and that bad arguments and engine errors fail with one line.
 """
 import json
 import os
@@ -54,6 +55,18 @@ class ChainVariance(unittest.TestCase):
     def test_runs(self):
         self.assertEqual(self.first.returncode, 0, self.first.stdout + self.first.stderr)
         self.assertIn("mlt", self.first.stdout)
+        self.assertIn("rendered by the Python module", self.first.stdout)
+
+    def test_the_binary_and_mpirun_render_the_module_s_bits(self):
+        for engine in (("--engine", "cli"), ("--mpi", "2")):
+            with tempfile.TemporaryDirectory() as out:
+                done = chain_variance(out, seeds=2, extra=engine)
+                self.assertEqual(done.returncode, 0, done.stdout + done.stderr)
+                self.assertNotIn("Python module", done.stdout)
+                for name in ("direct.1", "direct.2", "mlt.1", "mlt.2"):
+                    with open(os.path.join(out, name + ".pfm"), "rb") as a, \
+                            open(os.path.join(self.out, name + ".pfm"), "rb") as b:
+                        self.assertEqual(a.read(), b.read(), f"{engine}: {name}")
 
     def test_direct_image_is_the_renderers_own(self):
         # With at most two segments the chains render nothing: what is left after
