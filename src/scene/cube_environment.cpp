@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "emlt/scene/cube_map_environment.h"
+
 namespace emlt {
 
 namespace {
@@ -23,6 +25,9 @@ int chosen_resolution(const EnvironmentLight& environment, int requested) {
   if (requested > 0) return requested;
   if (const auto* map = dynamic_cast<const EnvironmentMap*>(&environment))
     return std::clamp(map->map().width / 4, 8, 512);
+  // A cube map's own texels (its table then matches them when the map is not rotated).
+  if (const auto* cube = dynamic_cast<const CubeMapEnvironment*>(&environment))
+    return cube->face_resolution();
   return 8;
 }
 

@@ -11,6 +11,7 @@
 #include "emlt/core/error.h"
 #include "emlt/scene/collimated_light.h"
 #include "emlt/scene/cube_environment.h"  // complete for Scene's unique_ptr member
+#include "emlt/scene/cube_map_environment.h"
 #include "emlt/scene/directional_light.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/point_light.h"
@@ -286,6 +287,21 @@ std::unique_ptr<Scene> Scene::build(SceneDescription desc, const SceneBuildOptio
       throw file_error(d.source, "environment map '" + env.map_path + "' is empty");
     if (env.scale > 0.0f)
       environment = std::make_unique<EnvironmentMap>(std::move(map), env.scale, Mat3(env.to_world));
+  } else if (env.kind == EnvironmentDesc::Kind::CubeMap) {
+    if (!std::isfinite(env.scale) || env.scale < 0.0f || !is_finite_matrix(env.to_world))
+      throw file_error(d.source, "environment map scale/transform must be finite (scale >= 0)");
+    if (env.cube_faces.size() != size_t(CubeMapEnvironment::kFaces))
+      throw file_error(d.source, "a cube map needs six faces");
+    std::array<Image, CubeMapEnvironment::kFaces> faces;
+    for (size_t f = 0; f < faces.size(); ++f) {
+      faces[f] = env.cube_faces[f];
+      if (faces[f].width <= 0 || faces[f].width != faces[f].height ||
+          faces[f].width != faces[0].width)
+        throw file_error(d.source, "a cube map's faces must be square and of one size");
+    }
+    if (env.scale > 0.0f)
+      environment = std::make_unique<CubeMapEnvironment>(std::move(faces), env.scale,
+                                                         Mat3(env.to_world));
   }
   if (environment) {
     environment->set_scene_bounds(s.bounds_center_, s.bounds_radius_);

@@ -15,9 +15,9 @@
 // P(texel) / (texel area in u,v) x (1 + u^2 + v^2)^(3/2), evaluated exactly at the
 // direction (dw = (1 + u^2 + v^2)^(-3/2) du dv), so nothing is approximated in the pdf.
 //
-// Input: the engine's environment loader reads lat-long maps (and constant colours, and the
-// sky models, which rasterise lat-long maps); it has no cube-map input, so every cube here
-// is resampled from a lat-long (or analytic) environment.
+// Input: any environment light, read through its radiance: a lat-long map, a constant
+// colour, a sky model (rasterised to lat-long), or a cube map (cube_map_environment.h),
+// whose own face resolution is then the default.
 #include <array>
 #include <vector>
 
@@ -32,7 +32,7 @@ class CubeEnvironment {
 
   // `resolution` texels per face edge (> 0); 0 chooses it from the environment: a lat-long
   // map W wide has about W/4 texels per quarter turn at its equator, so W/4 (within [8,
-  // 512]); a constant sky gets 8.
+  // 512]); a cube map its own face size; a constant sky gets 8.
   explicit CubeEnvironment(const EnvironmentLight& environment, int resolution = 0);
 
   int resolution() const { return resolution_; }

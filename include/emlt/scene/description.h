@@ -73,10 +73,11 @@ struct MaterialDesc {
 };
 
 struct EnvironmentDesc {
-  enum class Kind { None, Constant, Map } kind = Kind::None;
+  enum class Kind { None, Constant, Map, CubeMap } kind = Kind::None;
   Rgb radiance{0.0f};      // Constant
   std::string map_path;    // Map: lat-long .exr/.hdr, already resolved to a usable path
   Image map;               // Map: loaded texels
+  std::vector<Image> cube_faces;  // CubeMap: +x, -x, +y, -y, +z, -z (cube_map_environment.h)
   float scale = 1.0f;
   Mat4 to_world{1.0f};     // rotation of the map (directions only)
 };

@@ -293,8 +293,20 @@ void JsonSceneReader::read_environment(const json& e) {
         env, path_,
         loader::resolve_path(path_,
                              string(required(e, "file", "environment"), "environment.file")));
+  } else if (type == "cubemap") {
+    check_keys(e, "environment", {"type", "faces", "scale", "transform"});
+    env.scale = number(e, "scale", "environment", 1.0f, loader::kNonNegativeRange);
+    if (e.contains("transform")) env.to_world = transform(e["transform"], "environment.transform");
+    const json& faces = required(e, "faces", "environment");
+    if (!faces.is_array() || faces.size() != 6)
+      fail("environment.faces", "expected six file names (+x, -x, +y, -y, +z, -z)");
+    std::vector<std::string> files;
+    for (size_t f = 0; f < faces.size(); ++f)
+      files.push_back(loader::resolve_path(
+          path_, string(faces[f], "environment.faces[" + std::to_string(f) + "]")));
+    loader::load_cube_map(env, path_, files);
   } else {
-    fail("environment.type", "unknown environment type '" + type + "' (constant, envmap)");
+    fail("environment.type", "unknown environment type '" + type + "' (constant, envmap, cubemap)");
   }
 }
 

@@ -103,6 +103,29 @@ void load_environment_map(EnvironmentDesc& env, const std::string& scene_file,
                   decode_gamma(texel.z, *gamma));
 }
 
+void load_cube_map(EnvironmentDesc& env, const std::string& scene_file,
+                   const std::vector<std::string>& files) {
+  if (files.size() != 6)
+    throw file_error(scene_file, "a cube map needs six faces (+x, -x, +y, -y, +z, -z), got " +
+                                     std::to_string(files.size()));
+  env.kind = EnvironmentDesc::Kind::CubeMap;
+  env.cube_faces.clear();
+  for (const std::string& file : files) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec))
+      throw file_error(scene_file, "cube map face '" + file + "' not found");
+    Image face = read_image(file);
+    if (face.width != face.height)
+      throw file_error(file, "a cube map face must be square (" + std::to_string(face.width) +
+                                 " x " + std::to_string(face.height) + ")");
+    if (!env.cube_faces.empty() && face.width != env.cube_faces.front().width)
+      throw file_error(file, "the cube map's faces differ in size (" +
+                                 std::to_string(face.width) + " against " +
+                                 std::to_string(env.cube_faces.front().width) + ")");
+    env.cube_faces.push_back(std::move(face));
+  }
+}
+
 Mat4 rotation_matrix(const Vec3& axis, float degrees) {
   const float length = glm::length(axis);
   if (!(length > 0.0f)) return Mat4(std::numeric_limits<float>::quiet_NaN());

@@ -28,6 +28,11 @@ Rgb conductor_normal_reflectance(const Rgb& eta, const Rgb& k);
 void load_environment_map(EnvironmentDesc& env, const std::string& scene_file,
                           const std::string& file, std::optional<float> gamma = std::nullopt);
 
+// Reads a cube map's six faces (files in the order +x, -x, +y, -y, +z, -z, resolved):
+// square images of one size, else "<file>: ..." (cube_map_environment.h: conventions).
+void load_cube_map(EnvironmentDesc& env, const std::string& scene_file,
+                   const std::vector<std::string>& files);
+
 // Rotation about `axis` by `degrees` (right-handed), as Mitsuba's <rotate>.
 Mat4 rotation_matrix(const Vec3& axis, float degrees);
 
