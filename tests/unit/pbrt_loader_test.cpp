@@ -86,8 +86,6 @@ TEST(PbrtReader, BadInputIsAOneLineErrorNamingFileAndLine) {
        "line 6: 'float radius': '[' without a closing ']'"},
       {"Shape \"sphere\" \"float radius\" \"one\"\n", "line 6: 'float radius': expected a number"},
       {"Shape \"sphere\" \"floaty radius\" 1\n", "line 6: unknown parameter type 'floaty'"},
-      {"Shape \"sphere\" \"float radius\" 1 \"float radius\" 2\n",
-       "line 6: parameter 'radius' given twice"},
       {"Shape \"sphere\" \"float radius\" 1e999\n",
        "line 6: 'float radius': '1e999' is not a finite number"},
       {"Shape \"sphere\" \"bool radius\" maybe\n",
@@ -320,6 +318,80 @@ AttributeEnd
   EXPECT_EQ(desc.input_files.size(), 3u);  // the scene and both included files
 }
 
+// pbrt-v4 reads a parameter given twice from its last occurrence (it searches the list from
+// the end); the public watercolor scene's camera-2 sets its focus twice.
+TEST(PbrtReader, ParameterGivenTwiceTakesTheLastAsPbrtDoes) {
+  const SceneDescription desc =
+      load("pbrt-twice", pbrt_scene("Shape \"sphere\" \"float radius\" 1 \"float radius\" 2\n"));
+  ASSERT_EQ(desc.spheres.size(), 1u);
+  EXPECT_EQ(desc.spheres[0].radius, 2.0f);
+  // A note, not an item: the first one is not reported as unused.
+  EXPECT_TRUE(any_contains(desc.warnings, "'radius' at line 6 given again; the last one counts"));
+  EXPECT_TRUE(desc.divergences.empty());
+}
+
+// pbrt-v4's spot light: "coneangle" (default 30) and "conedeltaangle" (default 5), the
+// angle inside the cone over which the intensity falls off.
+TEST(PbrtLights, SpotConeAnglesAreReadAsPbrtNamesThem) {
+  const SceneDescription desc = load("pbrt-spot", pbrt_scene(std::string(kTriangle) + R"(
+LightSource "spot" "point3 to" [0 0 1] "float coneangle" 30 "float conedeltaangle" 10
+LightSource "spot" "point3 to" [0 0 1] "float coneangle" 30 "float conedeltaangle" 0
+LightSource "spot" "point3 to" [0 0 1]
+)"));
+  ASSERT_EQ(desc.point_lights.size(), 3u);
+  for (const PointLightDesc& light : desc.point_lights)
+    EXPECT_NEAR(light.cutoff, glm::radians(30.0f), 1e-6f);
+  EXPECT_NEAR(desc.point_lights[0].beam_width, glm::radians(20.0f), 1e-6f);
+  EXPECT_NEAR(desc.point_lights[1].beam_width, glm::radians(30.0f), 1e-6f);
+  EXPECT_NEAR(desc.point_lights[2].beam_width, glm::radians(25.0f), 1e-6f);
+  EXPECT_FALSE(any_contains(desc.warnings, "not supported"));
+}
+
+// pbrt-v4 resolves material names once the whole scene is read, so a NamedMaterial may
+// come before its MakeNamedMaterial (the public contemporary-bathroom scene's lights do).
+// Every shape that used the name, a cut-out copy of it included, gets the definition.
+TEST(PbrtReader, MaterialNamedBeforeItsDefinitionIsResolvedAsPbrtDoes) {
+  const SceneDescription desc = load("pbrt-forward-material", pbrt_scene(R"(
+NamedMaterial "late"
+Shape "trianglemesh" "point3 P" [-1 -1 5  1 -1 5  0 1 5] "integer indices" [0 1 2]
+Shape "trianglemesh" "point3 P" [-1 -1 6  1 -1 6  0 1 6] "integer indices" [0 1 2]
+    "float alpha" 0.5
+Texture "checks" "spectrum" "checkerboard" "rgb tex1" [1 0 0] "rgb tex2" [0 0 1]
+MakeNamedMaterial "late" "string type" "diffuse" "texture reflectance" "checks"
+NamedMaterial "late"
+Shape "trianglemesh" "point3 P" [-1 -1 7  1 -1 7  0 1 7] "integer indices" [0 1 2]
+)"));
+  ASSERT_EQ(desc.meshes.size(), 3u);
+  const MaterialDesc& defined = desc.materials[size_t(desc.meshes[2].material)];
+  EXPECT_EQ(defined.name, "late");
+  EXPECT_TRUE(defined.textured);
+  for (int i : {0, 1}) {
+    const MaterialDesc& used = desc.materials[size_t(desc.meshes[size_t(i)].material)];
+    EXPECT_EQ(used.bsdf, defined.bsdf) << "mesh " << i;
+    EXPECT_TRUE(used.textured) << "mesh " << i;
+  }
+  EXPECT_TRUE(desc.materials[size_t(desc.meshes[1].material)].opacity);  // still cut out
+  // A name never defined is still an error, at the line that used it.
+  EXPECT_NE(load_error("pbrt-forward-material",
+                       pbrt_scene("NamedMaterial \"never\"\n" + std::string(kTriangle)))
+                .find("scene.pbrt: line 6: NamedMaterial \"never\" is not defined"),
+            std::string::npos);
+}
+
+// pbrt-v4 makes no material for Material "" or "none" (as for "interface"): the shape only
+// bounds a medium (the public clouds scene's sphere).
+TEST(PbrtReader, EmptyAndNoneMaterialsMakeNoSurface) {
+  for (const char* type : {"\"\"", "\"none\""}) {
+    const SceneDescription desc =
+        load("pbrt-no-material", pbrt_scene(std::string("Material ") + type + R"(
+Shape "sphere"
+Material "diffuse"
+)" + kTriangle));
+    EXPECT_TRUE(desc.spheres.empty()) << type;
+    EXPECT_EQ(desc.meshes.size(), 1u) << type;
+  }
+}
+
 // Each parameter the reader does not honour, and each approximation, is an item of the
 // verdict with its file and line; what changes no image is a note.
 TEST(PbrtVerdict, EveryUnhonouredParameterIsAnItem) {
@@ -381,7 +453,7 @@ Shape "cylinder"
 NamedMaterial "i"
 Shape "sphere"
 LightSource "point" "rgb I" [1 2 3] "point3 from" [0 5 0]
-LightSource "spot" "point3 from" [0 5 0] "point3 to" [0 0 0] "float coneangle" 20 "float conedelta" 0
+LightSource "spot" "point3 from" [0 5 0] "point3 to" [0 0 0] "float coneangle" 20 "float conedeltaangle" 0
 LightSource "distant" "point3 from" [0 1 0] "point3 to" [0 0 0] "blackbody L" 5500
 LightSource "infinite" "rgb L" [0.1 0.2 0.3]
 )"));

@@ -63,16 +63,18 @@ void Reader::light(const Where& at, const std::string& type, const Params& param
       if (!(glm::length(axis) > 0.0f)) fail(at, what + ": 'from' and 'to' must differ");
       light.spot = true;
       light.orientation = frame_from_z(glm::normalize(axis));
+      // pbrt-v4's names and defaults: the cone's half-angle, and the angle over which the
+      // intensity falls off inside it, in degrees.
       const float cone = params.get_float("coneangle", 30.0f),
-                  delta = params.get_float("conedelta", 5.0f);
+                  delta = params.get_float("conedeltaangle", 5.0f);
       if (!(cone > 0.0f && cone <= 180.0f) || !(delta >= 0.0f && delta <= cone))
-        fail(at, what + ": coneangle must be in (0, 180] and conedelta in [0, coneangle]");
+        fail(at, what + ": coneangle must be in (0, 180] and conedeltaangle in [0, coneangle]");
       light.cutoff = glm::radians(cone);
       light.beam_width = glm::radians(cone - delta);
       if (delta > 0.0f)
         warn(at,
              what +
-                 ": the falloff over conedelta is linear in angle (Mitsuba's spot); "
+                 ": the falloff over conedeltaangle is linear in angle (Mitsuba's spot); "
                  "pbrt's is a smoothstep in the cosine",
              Divergence::Kind::Approximated);
     }

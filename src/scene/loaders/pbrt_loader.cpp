@@ -102,6 +102,10 @@ SceneDescription Reader::read() {
   read_file(desc_.source, 0);
   if (current_object_)
     fail(current_object_at_, "ObjectBegin \"" + current_object_name_ + "\" without ObjectEnd");
+  if (!pending_materials_.empty()) {
+    const auto& [material_name, pending] = *pending_materials_.begin();
+    fail(pending.first_use, "NamedMaterial \"" + material_name + "\" is not defined");
+  }
   if (!stack_.empty())
     note(opened_.back(), std::to_string(stack_.size()) +
                              " AttributeBegin (or TransformBegin) without an end at the end of "
@@ -163,7 +167,13 @@ void Reader::directive(Tokenizer& tokens, const Token& word, int depth) {
     // by column, the translation 13th to 15th, which is glm's column-major layout.
     return glm::make_mat4(values);
   };
-  auto params = [&]() { return Params::read(tokens); };
+  auto params = [&]() {
+    Params p = Params::read(tokens);
+    for (const std::string& replaced : p.replaced())
+      note(at,
+           name + ": parameter " + replaced + " given again; the last one counts (as in pbrt-v4)");
+    return p;
+  };
   auto world_only = [&](bool inside) {
     if (inside && !in_world_) fail(at, name + " before WorldBegin");
     if (!inside && in_world_) fail(at, name + " after WorldBegin");
@@ -335,16 +345,40 @@ void Reader::directive(Tokenizer& tokens, const Token& word, int depth) {
       fail(at, "MakeNamedMaterial \"" + material_name + "\" needs a 'string type'");
     const std::string type = p.get_string("type", "");
     bool interface = false;
-    named_materials_[material_name] = material(at, type, p, material_name, &interface);
+    const int index = material(at, type, p, material_name, &interface);
+    named_materials_[material_name] = index;
     named_interfaces_[material_name] = interface;
+    if (const auto pending = pending_materials_.find(material_name);
+        pending != pending_materials_.end()) {
+      if (interface)
+        fail(at, "MakeNamedMaterial \"" + material_name + "\" is an interface, but line " +
+                     std::to_string(pending->second.first_use.line) + " of " +
+                     pending->second.first_use.file +
+                     " used it before, as a surface (declare an interface before its use)");
+      const MaterialDesc& defined = desc_.materials[size_t(index)];
+      for (MaterialDesc& m : desc_.materials)
+        if (m.bsdf == pending->second.stand_in) {
+          m.bsdf = defined.bsdf;
+          m.textured = m.textured || defined.textured;
+        }
+      pending_materials_.erase(pending);
+    }
   } else if (name == "NamedMaterial") {
     world_only(true);
     const std::string material_name = string();
-    const auto it = named_materials_.find(material_name);
-    if (it == named_materials_.end())
-      fail(at, "NamedMaterial \"" + material_name + "\" is not defined");
-    g.material = it->second;
-    g.interface = named_interfaces_[material_name];
+    g.interface = false;
+    if (const auto it = named_materials_.find(material_name); it != named_materials_.end()) {
+      g.material = it->second;
+      g.interface = named_interfaces_[material_name];
+    } else if (const auto pending = pending_materials_.find(material_name);
+               pending != pending_materials_.end()) {
+      g.material = pending->second.index;
+    } else {
+      BsdfPtr stand_in = make_two_sided(make_lambertian(Rgb(0.5f)));
+      desc_.materials.push_back(MaterialDesc(material_name, stand_in));
+      g.material = int(desc_.materials.size()) - 1;
+      pending_materials_[material_name] = {g.material, stand_in, at};
+    }
   } else if (name == "Texture") {
     world_only(true);
     const std::string texture_name = string(), kind = string(), type = string();

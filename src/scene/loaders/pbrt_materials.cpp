@@ -57,7 +57,8 @@ int Reader::material(const Where& at, const std::string& type, const Params& par
   for (const char* n : {"displacement", "normalmap"})
     if (const Param* p = params.get(n))
       warn({p->file, p->line}, what + " " + p->quoted() + " is not supported; ignored");
-  if (type == "interface") {
+  // pbrt-v4 makes no material for "interface", "" and "none": the surface only bounds media.
+  if (type == "interface" || type.empty() || type == "none") {
     *interface = true;
     report_unused(params, what);
     return -1;

@@ -118,11 +118,14 @@ Params Params::read(Tokenizer& tokens) {
       add_value(param, *value, tokens.path());
     }
     if (param.size() == 0) fail_at(tokens.path(), head->line, param.quoted() + " has no value");
-    for (const Param& earlier : params.list_)
-      if (earlier.name == param.name)
-        fail_at(tokens.path(), head->line,
-                "parameter '" + name + "' given twice (first at line " +
-                    std::to_string(earlier.line) + ")");
+    // pbrt-v4 looks a parameter up from the end of the list: given twice, the last one
+    // counts and the earlier one is never read (public scenes do this, e.g. a camera's
+    // focus written for two subjects).
+    std::erase_if(params.list_, [&](const Param& earlier) {
+      if (earlier.name != param.name) return false;
+      params.replaced_.push_back("'" + earlier.name + "' at line " + std::to_string(earlier.line));
+      return true;
+    });
     params.list_.push_back(std::move(param));
   }
   return params;

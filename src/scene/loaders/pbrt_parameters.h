@@ -51,10 +51,14 @@ class Params {
 
   [[noreturn]] static void fail(const Param& param, const std::string& problem);
 
+  // Parameters given again later in the same list, which replaced them: "'name' at line N".
+  const std::vector<std::string>& replaced() const { return replaced_; }
+
  private:
   const Param* find(const std::string& name) const;
   const Param& typed(const std::string& name, const char* type) const;
   std::vector<Param> list_;
+  std::vector<std::string> replaced_;
 };
 
 }  // namespace emlt::pbrt

@@ -95,6 +95,15 @@ class Reader {
   std::vector<Where> opened_;                          // where each level of stack_ began
   std::map<std::string, Mat4> coordinate_systems_;
   std::map<std::string, int> named_materials_;
+  // A NamedMaterial before its MakeNamedMaterial: pbrt-v4 resolves material names once the
+  // whole scene is read, so the use is valid. The shapes meanwhile get a stand-in material
+  // (its own BSDF object, found again by pointer) that the definition replaces.
+  struct PendingMaterial {
+    int index;         // the stand-in's entry in desc_.materials
+    BsdfPtr stand_in;  // the stand-in's BSDF, also in any copy made for a cut-out shape
+    Where first_use;
+  };
+  std::map<std::string, PendingMaterial> pending_materials_;
   std::map<std::string, bool> named_interfaces_;
   std::map<std::string, TexturePtr> float_textures_, color_textures_;
   std::map<std::string, ObjectShapes> objects_;
