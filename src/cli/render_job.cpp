@@ -111,6 +111,16 @@ RenderJob::RenderJob(RenderRequest request, const Warn& warn)
                    "chains (--direct mlt), as light sampling cannot find the beam\n");
     }
   }
+  // Bayesian Monte Carlo's weights are fixed by its prior, so its estimate is biased: the
+  // path tracer and the MCMC integrators' direct pass must stay unbiased.
+  if (settings_.direct_point_set == DirectPointSet::Bmc && settings_.integrator != "direct")
+    throw Error("--direct-sampler bmc is biased (deterministic Bayesian quadrature weights) and " +
+                settings_.integrator +
+                " needs an unbiased direct-lighting estimate; only direct takes it");
+  if (settings_.direct_point_set == DirectPointSet::Bmc && settings_.direct_samples > 1024)
+    throw Error(
+        "--direct-sampler bmc takes --direct-samples up to 1024 (its Gaussian-process "
+        "system grows as the square of the directions)");
   if (settings_.integrator == "emlt" && given("--chains"))
     warn("--chains is ignored; the chains are the two ensembles (--ensemble-size)");
   if (given("--gamlt-cone-cell") && settings_.gamlt_cone_cells == 0.0)

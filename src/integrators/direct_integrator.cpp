@@ -27,6 +27,7 @@ Rgb DirectIntegrator::radiance(const Scene& scene, const RenderSettings& setting
   options.samples = settings.direct_samples;
   options.heuristic = settings.mis;
   options.point_set = settings.direct_point_set;
+  options.bmc = {settings.bmc_noise, settings.bmc_lengthscale_factor};
   options.env_sampler = settings.env_sampler;
   options.env_face_balance = settings.env_face_balance;
   options.env_cube_resolution = settings.env_cube_resolution;

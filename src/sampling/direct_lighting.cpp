@@ -66,6 +66,8 @@ Rgb estimate_direct_lighting(const Scene& scene, const SurfaceHit& hit, const Ve
   // direct integrator skips the point); the light samples would be zero, the BSDF's not.
   if (!consistent_sides(scene, hit, wo, hit.shading.to_local(wo))) return Rgb(0.0f);
   const int n = glm::max(options.samples, 1);
+  if (options.point_set == DirectPointSet::Bmc)
+    if (const auto bmc = estimate_direct_bmc(scene, hit, wo, rng, 2 * n, options.bmc)) return *bmc;
   const EnvironmentSampling env = environment_sampling(
       scene, options.env_sampler, hit, wo, options.env_face_balance, options.env_cube_resolution);
   if (options.heuristic == MisHeuristic::SecondOrder) {

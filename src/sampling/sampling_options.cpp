@@ -21,8 +21,8 @@ const std::vector<RenderOption>& sampling_options() {
                   {"balance", "power", "max", "second-order"},
                   "balance, power, max or second-order"};
     mis.assign = [](RenderSettings& s, const std::string& text) {
-      s.mis = text == "balance" ? MisHeuristic::Balance
-              : text == "max"   ? MisHeuristic::Max
+      s.mis = text == "balance"        ? MisHeuristic::Balance
+              : text == "max"          ? MisHeuristic::Max
               : text == "second-order" ? MisHeuristic::SecondOrder
                                        : MisHeuristic::Power;
     };
@@ -33,18 +33,24 @@ const std::vector<RenderOption>& sampling_options() {
                              "Light and BSDF samples per direct-lighting estimate"));
     RenderOption points;
     points.flag = "--direct-sampler";
-    points.help = "Point set for direct lighting: independent | fibonacci";
-    points.values = {OptionValues::Kind::Word,  0, 0, false, {"independent", "fibonacci"},
-                     "independent or fibonacci"};
+    points.help =
+        "Direct lighting: independent | fibonacci | bmc (Bayesian Monte Carlo: biased, direct "
+        "only)";
+    points.values = {
+        OptionValues::Kind::Word,       0, 0, false, {"independent", "fibonacci", "bmc"},
+        "independent, fibonacci or bmc"};
     points.assign = [](RenderSettings& s, const std::string& text) {
-      s.direct_point_set =
-          text == "fibonacci" ? DirectPointSet::Fibonacci : DirectPointSet::Independent;
+      s.direct_point_set = text == "fibonacci" ? DirectPointSet::Fibonacci
+                           : text == "bmc"     ? DirectPointSet::Bmc
+                                               : DirectPointSet::Independent;
     };
     points.recorded = [](const RenderSettings& s) {
       return std::string(s.direct_point_set == DirectPointSet::Fibonacci ? "fibonacci"
+                         : s.direct_point_set == DirectPointSet::Bmc     ? "bmc"
                                                                          : "independent");
     };
     o.push_back(points);
+    for (RenderOption& option : bmc_options()) o.push_back(std::move(option));
     RenderOption env;
     env.flag = "--env-sampler";
     env.help = "How direct lighting samples the environment: latlong | cube-balanced";

@@ -726,3 +726,21 @@ TEST(CliConvergenceLog, RowsAtPowersOfTwoAndTheImageIsUnchanged) {
                            " --log " + (dir / "x.csv").string(),
                        "ref.pfm", dir / "o.exr");
 }
+
+// Bayesian Monte Carlo's estimate is biased (its weights are fixed by the prior): integrators
+// that need an unbiased direct-lighting estimate refuse it in one line; `direct` takes it.
+TEST(CliBadInput, BiasedBmcDirectSamplerOnlyForDirect) {
+  const fs::path dir = test::scratch_dir("bmc-refused");
+  const std::string base = "render " + cornell() + " --width 8 --height 8 --spp 1 --quiet -o " +
+                           (dir / "o.exr").string() + " --direct-sampler bmc ";
+  expect_clean_failure(base + "--integrator pt", "--direct-sampler bmc is biased", dir / "o.exr");
+  expect_clean_failure(base + "--integrator mlt --direct separate --mpp 1",
+                       "mlt needs an unbiased direct-lighting estimate", dir / "o.exr");
+  expect_clean_failure(base + "--integrator direct --bmc-noise 0", "--bmc-noise", dir / "o.exr");
+  expect_clean_failure(base + "--integrator direct --direct-samples 2048", "up to 1024",
+                       dir / "o.exr");
+  std::string text;
+  EXPECT_EQ(test::run_command(emlt_cmd(base + "--integrator direct --direct-samples 4"), &text), 0)
+      << text;
+  EXPECT_TRUE(fs::exists(dir / "o.exr"));
+}

@@ -5,6 +5,7 @@
 // tracer uses the light-sampling half at every vertex and the emission weight for the
 // BSDF-sampled continuation, so both integrators weight light exactly the same way.
 #include "emlt/core/rng.h"
+#include "emlt/sampling/bmc_direct_estimator.h"
 #include "emlt/sampling/cube_balanced_sampler.h"
 #include "emlt/scene/scene.h"
 #include "emlt/settings/settings.h"
@@ -15,6 +16,7 @@ struct DirectLightingOptions {
   int samples = 1;  // light samples and BSDF samples each
   MisHeuristic heuristic = MisHeuristic::Power;
   DirectPointSet point_set = DirectPointSet::Independent;
+  BmcHyperparameters bmc;                        // DirectPointSet::Bmc
   EnvSampler env_sampler = EnvSampler::LatLong;  // how the environment is sampled
   CubeFaceBalance env_face_balance = CubeFaceBalance::Receiver;
   int env_cube_resolution = 0;
@@ -46,7 +48,9 @@ Rgb weighted_emission(const Scene& scene, const Vec3& from, const Vec3& directio
 // Full direct-lighting estimate at a camera-visible point: `options.samples` light samples
 // and as many BSDF samples, each set either independent or a randomised spherical
 // Fibonacci set (unbiased; see spherical_fibonacci.h); under SecondOrder, as many
-// directions in all from the mixture of the two.
+// directions in all from the mixture of the two. DirectPointSet::Bmc: 2 * samples directions
+// by Bayesian Monte Carlo (biased) where the BSDF allows it (bmc_direct_estimator.h), the
+// independent MIS estimate elsewhere.
 Rgb estimate_direct_lighting(const Scene& scene, const SurfaceHit& hit, const Vec3& wo, Rng& rng,
                              const DirectLightingOptions& options);
 

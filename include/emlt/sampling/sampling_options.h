@@ -9,5 +9,7 @@
 namespace emlt {
 
 const std::vector<RenderOption>& sampling_options();
+// --direct-sampler bmc's hyperparameters (bmc_options.cpp), recorded only where it is chosen.
+std::vector<RenderOption> bmc_options();
 
 }  // namespace emlt

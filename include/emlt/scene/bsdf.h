@@ -67,6 +67,15 @@ struct RoughComponents {
   float eta = 1.0f;
 };
 
+// A BSDF that is a Lambertian term diffuse / pi plus one normalised Phong lobe,
+// specular (n + 2) / (2 pi) cos^n about wo's mirror direction, one-sided: the form the
+// Bayesian direct-lighting estimator models in closed form (sampling/bmc_direct_estimator.h).
+struct PhongLobes {
+  Rgb diffuse{0.0f};
+  Rgb specular{0.0f};
+  float exponent = 0.0f;
+};
+
 class Bsdf {
  public:
   virtual ~Bsdf() = default;
@@ -92,6 +101,9 @@ class Bsdf {
     }
     return r;
   }
+
+  // This BSDF as PhongLobes at a point, or nothing when it is not of that form.
+  virtual std::optional<PhongLobes> phong_lobes(const BsdfContext&) const { return std::nullopt; }
 
   bool has_delta_lobe() const { return (lobes() & kLobeSpecular) != 0; }
   bool is_purely_delta() const {

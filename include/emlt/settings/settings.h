@@ -26,7 +26,9 @@ inline constexpr double kMaxTimeSeconds = 30.0 * 86400.0;  // --time: 30 days
 enum class MisHeuristic { Balance, Power, Max, SecondOrder };
 // How --mis second-order finds its split when --mis-alpha does not fix it.
 enum class MisAlphaEstimate { Online, Preprocessed };
-enum class DirectPointSet { Independent, Fibonacci };
+// Bmc: not a point set but Bayesian Monte Carlo's own estimator (sampling/bmc_direct_estimator.h),
+// biased; only `direct` accepts it.
+enum class DirectPointSet { Independent, Fibonacci, Bmc };
 // How direct lighting samples an environment: its lat-long texel table, or Lu's cube faces
 // balanced per shading point (sampling/cube_balanced_sampler.h).
 enum class EnvSampler { LatLong, CubeBalanced };
@@ -66,6 +68,10 @@ struct RenderSettings {
   double mis_alpha_clamp = 0.025;
   int direct_samples = 1;  // light and BSDF samples per direct-lighting estimate
   DirectPointSet direct_point_set = DirectPointSet::Independent;
+  // --direct-sampler bmc: the GP's noise ratio and lengthscale factor (l = factor / sqrt(m)),
+  // by default the fast rule of Marques et al. (TVCG 2013, section 5.4).
+  double bmc_noise = 0.5;
+  double bmc_lengthscale_factor = 1.25;
   // How direct lighting samples the environment (direct, pt, --direct separate).
   EnvSampler env_sampler = EnvSampler::LatLong;
   CubeFaceBalance env_face_balance = CubeFaceBalance::Receiver;

@@ -39,6 +39,9 @@ class Lambertian final : public Bsdf {
 
   uint32_t lobes() const override { return kLobeDiffuse | kLobeReflection; }
   std::string name() const override { return "lambertian"; }
+  std::optional<PhongLobes> phong_lobes(const BsdfContext& ctx) const override {
+    return PhongLobes{reflectance_.at(ctx), Rgb(0.0f), 0.0f};
+  }
 
  private:
   TextureParam reflectance_;

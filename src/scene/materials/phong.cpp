@@ -67,6 +67,10 @@ class Phong final : public Bsdf {
 
   uint32_t lobes() const override { return kLobeDiffuse | kLobeGlossy | kLobeReflection; }
   std::string name() const override { return "phong"; }
+  std::optional<PhongLobes> phong_lobes(const BsdfContext& ctx) const override {
+    const Parameters p = parameters(ctx);
+    return PhongLobes{p.kd, p.ks, p.exponent};
+  }
 
  private:
   struct Parameters {
