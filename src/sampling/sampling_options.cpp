@@ -33,16 +33,22 @@ const std::vector<RenderOption>& sampling_options() {
                              "Light and BSDF samples per direct-lighting estimate"));
     RenderOption points;
     points.flag = "--direct-sampler";
-    points.help = "Point set for direct lighting: independent | fibonacci";
-    points.values = {OptionValues::Kind::Word,  0, 0, false, {"independent", "fibonacci"},
-                     "independent or fibonacci"};
+    points.help = "Point set for direct lighting: independent | fibonacci | adaptive";
+    points.values = {OptionValues::Kind::Word,
+                     0,
+                     0,
+                     false,
+                     {"independent", "fibonacci", "adaptive"},
+                     "independent, fibonacci or adaptive"};
     points.assign = [](RenderSettings& s, const std::string& text) {
-      s.direct_point_set =
-          text == "fibonacci" ? DirectPointSet::Fibonacci : DirectPointSet::Independent;
+      s.direct_point_set = text == "fibonacci"  ? DirectPointSet::Fibonacci
+                           : text == "adaptive" ? DirectPointSet::Adaptive
+                                                : DirectPointSet::Independent;
     };
     points.recorded = [](const RenderSettings& s) {
-      return std::string(s.direct_point_set == DirectPointSet::Fibonacci ? "fibonacci"
-                                                                         : "independent");
+      return std::string(s.direct_point_set == DirectPointSet::Fibonacci  ? "fibonacci"
+                         : s.direct_point_set == DirectPointSet::Adaptive ? "adaptive"
+                                                                          : "independent");
     };
     o.push_back(points);
     RenderOption env;

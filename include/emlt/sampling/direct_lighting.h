@@ -25,6 +25,10 @@ struct DirectLightingOptions {
   double alpha = -1.0;
   double alpha_pilot = 0.5;
   double alpha_clamp = 0.025;
+  // DirectPointSet::Adaptive (adaptive_direct_sampler.h): 2 * samples directions.
+  int adaptive_initial = 1;
+  double adaptive_robustness = 1.0;
+  AdaptiveParametrisation adaptive_parametrisation = AdaptiveParametrisation::Cosine;
 };
 
 // One light-sampling estimate of the radiance reflected at `hit` towards wo (world, unit),
@@ -46,7 +50,9 @@ Rgb weighted_emission(const Scene& scene, const Vec3& from, const Vec3& directio
 // Full direct-lighting estimate at a camera-visible point: `options.samples` light samples
 // and as many BSDF samples, each set either independent or a randomised spherical
 // Fibonacci set (unbiased; see spherical_fibonacci.h); under SecondOrder, as many
-// directions in all from the mixture of the two.
+// directions in all from the mixture of the two; under DirectPointSet::Adaptive, Szécsi et
+// al.'s adaptive quadrature over 2 * samples directions (biased), except at a BSDF with a
+// delta lobe, which only BSDF sampling finds.
 Rgb estimate_direct_lighting(const Scene& scene, const SurfaceHit& hit, const Vec3& wo, Rng& rng,
                              const DirectLightingOptions& options);
 

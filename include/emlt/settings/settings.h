@@ -26,7 +26,12 @@ inline constexpr double kMaxTimeSeconds = 30.0 * 86400.0;  // --time: 30 days
 enum class MisHeuristic { Balance, Power, Max, SecondOrder };
 // How --mis second-order finds its split when --mis-alpha does not fix it.
 enum class MisAlphaEstimate { Online, Preprocessed };
-enum class DirectPointSet { Independent, Fibonacci };
+// Adaptive: Szécsi et al.'s deterministic Halton-cell quadrature (a biased estimate;
+// sampling/adaptive_direct_sampler.h), only where a biased direct estimate is allowed.
+enum class DirectPointSet { Independent, Fibonacci, Adaptive };
+// The unit square's map onto directions under --direct-sampler adaptive: the diffuse BRDF's
+// (the hemisphere, seed 001 section 4.2) or the global spherical one (section 4.1).
+enum class AdaptiveParametrisation { Cosine, Global };
 // How direct lighting samples an environment: its lat-long texel table, or Lu's cube faces
 // balanced per shading point (sampling/cube_balanced_sampler.h).
 enum class EnvSampler { LatLong, CubeBalanced };
@@ -66,6 +71,11 @@ struct RenderSettings {
   double mis_alpha_clamp = 0.025;
   int direct_samples = 1;  // light and BSDF samples per direct-lighting estimate
   DirectPointSet direct_point_set = DirectPointSet::Independent;
+  // --direct-sampler adaptive: points placed uniformly before the errors decide (1: the
+  // paper's single root cell), the robustness term's factor, and the parametrisation.
+  int adaptive_initial = 1;
+  double adaptive_robustness = 1.0;
+  AdaptiveParametrisation adaptive_parametrisation = AdaptiveParametrisation::Cosine;
   // How direct lighting samples the environment (direct, pt, --direct separate).
   EnvSampler env_sampler = EnvSampler::LatLong;
   CubeFaceBalance env_face_balance = CubeFaceBalance::Receiver;
