@@ -132,10 +132,15 @@ std::vector<AdaptiveLeaf> refine_adaptively(
     }
   };
   std::priority_queue<Candidate> candidates;
+  // The robustness term scales with the points' mean |F|, which moves as points are added;
+  // the candidates are recomputed whenever it has moved by more than a factor of 2 since
+  // they were, so that a cell offered while the mean was still 0 (every point so far dark)
+  // is not left with no error for ever.
+  double scale = 0.0;
   const auto offer = [&](size_t leaf) {
     const HaltonCell& cell = leaves[leaf].cell;
     const CellSample& s = samples[leaves[leaf].point];
-    const double mean_abs = sum_abs / double(samples.size());
+    const double mean_abs = scale;
     for (int axis = 0; axis < 2; ++axis) {
       if (!can_split(cell, axis)) continue;
       const double edge = cell.size(axis);
@@ -144,8 +149,18 @@ std::vector<AdaptiveLeaf> refine_adaptively(
           Candidate{slope * edge / 2.0 * cell.area(), cell.area(), leaf, axis, cell.level});
     }
   };
-  for (size_t i = 0; i < leaves.size(); ++i) offer(i);
+  const auto offer_all = [&] {
+    scale = sum_abs / double(samples.size());
+    candidates = {};
+    for (size_t i = 0; i < leaves.size(); ++i) offer(i);
+  };
+  offer_all();
   while (leaves.size() < budget && !candidates.empty()) {
+    const double mean_abs = sum_abs / double(samples.size());
+    if (options.robustness > 0.0 && (mean_abs > 2.0 * scale || mean_abs < 0.5 * scale)) {
+      offer_all();
+      continue;
+    }
     const Candidate c = candidates.top();
     candidates.pop();
     if (c.level != leaves[c.leaf].cell.level) continue;  // split since
