@@ -275,3 +275,58 @@ TEST(AdaptiveDirectSampler, SunSkyFloorImageAgreesWithTheDefaultEstimator) {
   EXPECT_NEAR(adaptive, reference, 5.0 * std::hypot(se_default, se_adaptive) + 3e-3 * reference);
   EXPECT_LT(few, 0.9 * reference);
 }
+
+// Area and delta lights: a square emitter of radiance 10, 2 above a diffuse floor, is found
+// by the cells' rays (the cells are solid-angle cells of the receiver's hemisphere, not
+// cells on the light); a point light is added exactly. Against Lambert's formula for the
+// square's irradiance (E = L/2 sum_i acos(r_i . r_i+1) n . (r_i x r_i+1)/|r_i x r_i+1|)
+// and I cos / d^2 for the point.
+TEST(AdaptiveDirectSampler, AreaAndPointLightsConvergeToTheirClosedForms) {
+  SceneDescription d;
+  d.source = "adaptive-area-point";
+  const float albedo = 0.7f;
+  const int floor = test::add_material(d, make_lambertian(Rgb(albedo)));
+  const int black = test::add_material(d, make_lambertian(Rgb(0.0f)));
+  test::add_quad(d, Vec3(-4, 0, -4), Vec3(-4, 0, 4), Vec3(4, 0, 4), Vec3(4, 0, -4), floor);
+  const Vec3 corners[4] = {Vec3(-0.5f, 2, -0.5f), Vec3(0.5f, 2, -0.5f), Vec3(0.5f, 2, 0.5f),
+                           Vec3(-0.5f, 2, 0.5f)};
+  test::add_quad(d, corners[0], corners[1], corners[2], corners[3], black, Rgb(10.0f));
+  PointLightDesc point;
+  point.position = Vec3(1.5f, 1.0f, 0.0f);
+  point.intensity = Rgb(2.0f);
+  d.point_lights.push_back(point);
+  d.camera = test::camera_at(Vec3(0, 3, -5), Vec3(0, 0, 0), 8);
+  const auto scene = Scene::build(std::move(d));
+  const Vec3 p(0.3f, 0.0f, 0.2f), n(0, 1, 0);
+  SurfaceHit hit;
+  ASSERT_TRUE(scene->intersect(Ray{p + Vec3(0, 1, 0), Vec3(0, -1, 0)}, hit));
+  double e_area = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    const glm::dvec3 a = glm::normalize(glm::dvec3(corners[i] - p));
+    const glm::dvec3 b = glm::normalize(glm::dvec3(corners[(i + 1) % 4] - p));
+    const glm::dvec3 c = glm::cross(a, b);
+    e_area += std::acos(glm::dot(a, b)) * glm::dot(glm::dvec3(n), c / glm::length(c));
+  }
+  e_area = 10.0 * std::abs(e_area) / 2.0;
+  const glm::dvec3 to_point = glm::dvec3(point.position - p);
+  const double e_point = 2.0 * to_point.y / std::pow(glm::length(to_point), 3.0);
+  const double exact = albedo / kPiD * (e_area + e_point);
+  const auto rms_error = [&](int budget) {
+    double squared = 0.0, mean = 0.0;
+    for (uint64_t stream = 0; stream < 4; ++stream) {
+      Rng rng(7, stream);
+      AdaptiveDirectOptions options;
+      options.budget = budget;
+      const double v = estimate_direct_adaptive(*scene, hit, Vec3(0, 1, 0), rng, options).y;
+      squared += (v - exact) * (v - exact) / 4;
+      mean += (v - exact) / 4;
+    }
+    std::printf(
+        "area + point: exact %.5f (point %.5f), at %d directions rms error %.3g, mean %.3g\n",
+        exact, albedo / kPiD * e_point, budget, std::sqrt(squared), mean);
+    return std::sqrt(squared);
+  };
+  const double coarse = rms_error(256), fine = rms_error(8192);
+  EXPECT_LT(fine, 1e-2 * exact);
+  EXPECT_LT(fine, coarse / 4.0);
+}
