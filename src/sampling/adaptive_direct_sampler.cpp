@@ -97,7 +97,8 @@ Rgb estimate_direct_adaptive(const Scene& scene, const SurfaceHit& hit, const Ve
     values.push_back(value);
     if (trace) trace->directions.push_back(r.w);
     s.value = luminance(value);
-    for (int axis = 0; axis < 2; ++axis) {
+    // Equal cells only (`initial` covers the budget): the slopes would never be read.
+    for (int axis = 0; axis < 2 && options.initial < options.budget; ++axis) {
       std::array<double, 2> lo = u, hi = u;
       lo[size_t(axis)] = std::max(0.0, u[size_t(axis)] - kDerivativeStep);
       hi[size_t(axis)] = std::min(1.0 - 1e-12, u[size_t(axis)] + kDerivativeStep);
