@@ -24,8 +24,8 @@ averaged over the seeds (as squared error). Methods (D directions per pixel):
   - Halton cells, equal  --direct-sampler adaptive --adaptive-initial 65536: the same cells
                    split evenly, never by the error: Halton points with a random first index
                    through the cosine map, which for a diffuse surface is the paper's own
-                   baseline (BRDF sampling by a randomly started Halton sequence); its time
-                   includes the derivatives it computes and does not use
+                   baseline (BRDF sampling by a randomly started Halton sequence); it
+                   computes no derivatives
   - adaptive       --direct-sampler adaptive: D directions, the paper's diffuse (cosine)
                    parametrisation, one root cell, robustness c = 1
   - adaptive, c = 16  the same with --adaptive-robustness 16 (closer to equal cells)
