@@ -129,6 +129,17 @@ RenderJob::RenderJob(RenderRequest request, const Warn& warn)
     for (const char* flag : {"--mis-alpha", "--mis-alpha-estimate", "--mis-alpha-pilot",
                              "--mis-alpha-samples", "--mis-alpha-clamp"})
       if (given(flag)) warn(std::string(flag) + " is ignored without --mis second-order");
+  // Adaptive sampling's cells follow the values it finds, so its estimate is biased; the
+  // path tracer and the MCMC integrators' separate direct image must be unbiased.
+  if (settings_.direct_point_set == DirectPointSet::Adaptive && settings_.integrator != "direct")
+    throw Error(
+        "--direct-sampler adaptive is a biased (deterministic, value-driven) estimate: "
+        "only the direct integrator takes it, not " +
+        settings_.integrator);
+  if (settings_.direct_point_set != DirectPointSet::Adaptive)
+    for (const char* flag :
+         {"--adaptive-initial", "--adaptive-robustness", "--adaptive-parametrisation"})
+      if (given(flag)) warn(std::string(flag) + " is ignored without --direct-sampler adaptive");
   if (!settings_.stats_path.empty()) check_directory_of(settings_.stats_path, "statistics");
 
   if (!r.log.empty() && r.reference.empty()) throw Error("--log " + r.log + ": needs --reference");

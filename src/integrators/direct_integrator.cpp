@@ -34,6 +34,9 @@ Rgb DirectIntegrator::radiance(const Scene& scene, const RenderSettings& setting
   options.alpha = settings.mis_alpha >= 0.0 ? settings.mis_alpha : pixel_alpha;
   options.alpha_pilot = settings.mis_alpha_pilot;
   options.alpha_clamp = settings.mis_alpha_clamp;
+  options.adaptive_initial = settings.adaptive_initial;
+  options.adaptive_robustness = settings.adaptive_robustness;
+  options.adaptive_parametrisation = settings.adaptive_parametrisation;
   return result + estimate_direct_lighting(scene, hit, wo, rng, options);
 }
 

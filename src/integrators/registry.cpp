@@ -11,6 +11,7 @@
 #include "emlt/integrators/pss/pss_options.h"
 #include "emlt/run/integrator.h"
 #include "emlt/run/run_options.h"
+#include "emlt/sampling/adaptive_options.h"
 #include "emlt/sampling/sampling_options.h"
 
 namespace emlt {
@@ -75,9 +76,9 @@ const Registration kIntegrators[] = {
 // sampling's (every integrator), bdpt's, the path-space MLT family's with its gamlt and
 // emlt groups (the ga-* and emlt-* strategies read theirs in any mix), and pssmlt/mmlt's.
 using OptionGroup = const std::vector<RenderOption>& (*)();
-const OptionGroup kOptionGroups[] = {run_options,   sampling_options, bdpt_options, mlt_options,
-                                     gamlt_options, ensemble_options, pss_options,
-                                     erpt_options};
+const OptionGroup kOptionGroups[] = {run_options,      sampling_options, adaptive_sampler_options,
+                                     bdpt_options,     mlt_options,      gamlt_options,
+                                     ensemble_options, pss_options,      erpt_options};
 
 }  // namespace
 

@@ -1,6 +1,7 @@
 #include "emlt/sampling/direct_lighting.h"
 
 #include "emlt/core/spherical_fibonacci.h"
+#include "emlt/sampling/adaptive_direct_sampler.h"
 #include "emlt/sampling/direct_sample.h"
 #include "emlt/sampling/mixture_direct_estimator.h"
 #include "emlt/sampling/mis.h"
@@ -70,6 +71,15 @@ Rgb estimate_direct_lighting(const Scene& scene, const SurfaceHit& hit, const Ve
     if (const auto bmc = estimate_direct_bmc(scene, hit, wo, rng, 2 * n, options.bmc)) return *bmc;
   const EnvironmentSampling env = environment_sampling(
       scene, options.env_sampler, hit, wo, options.env_face_balance, options.env_cube_resolution);
+  if (options.point_set == DirectPointSet::Adaptive && !hit.bsdf->has_delta_lobe()) {
+    // The cosine map covers one hemisphere: a BSDF that transmits takes the whole sphere.
+    const bool transmits = (hit.bsdf->lobes() & kLobeTransmission) != 0;
+    return estimate_direct_adaptive(
+        scene, hit, wo, rng,
+        AdaptiveDirectOptions{
+            2 * n, options.adaptive_initial, options.adaptive_robustness,
+            transmits ? AdaptiveParametrisation::Global : options.adaptive_parametrisation});
+  }
   if (options.heuristic == MisHeuristic::SecondOrder) {
     if (options.alpha >= 0.0)
       return estimate_direct_mixture(scene, hit, wo, rng, options.alpha, 2 * n, env);

@@ -34,20 +34,25 @@ const std::vector<RenderOption>& sampling_options() {
     RenderOption points;
     points.flag = "--direct-sampler";
     points.help =
-        "Direct lighting: independent | fibonacci | bmc (Bayesian Monte Carlo: biased, direct "
-        "only)";
-    points.values = {
-        OptionValues::Kind::Word,       0, 0, false, {"independent", "fibonacci", "bmc"},
-        "independent, fibonacci or bmc"};
+        "Direct lighting: independent | fibonacci | bmc (Bayesian Monte Carlo) | adaptive "
+        "(Szecsi et al.); bmc and adaptive are biased, direct only";
+    points.values = {OptionValues::Kind::Word,
+                     0,
+                     0,
+                     false,
+                     {"independent", "fibonacci", "bmc", "adaptive"},
+                     "independent, fibonacci, bmc or adaptive"};
     points.assign = [](RenderSettings& s, const std::string& text) {
-      s.direct_point_set = text == "fibonacci" ? DirectPointSet::Fibonacci
-                           : text == "bmc"     ? DirectPointSet::Bmc
-                                               : DirectPointSet::Independent;
+      s.direct_point_set = text == "fibonacci"  ? DirectPointSet::Fibonacci
+                           : text == "bmc"      ? DirectPointSet::Bmc
+                           : text == "adaptive" ? DirectPointSet::Adaptive
+                                                : DirectPointSet::Independent;
     };
     points.recorded = [](const RenderSettings& s) {
-      return std::string(s.direct_point_set == DirectPointSet::Fibonacci ? "fibonacci"
-                         : s.direct_point_set == DirectPointSet::Bmc     ? "bmc"
-                                                                         : "independent");
+      return std::string(s.direct_point_set == DirectPointSet::Fibonacci  ? "fibonacci"
+                         : s.direct_point_set == DirectPointSet::Bmc      ? "bmc"
+                         : s.direct_point_set == DirectPointSet::Adaptive ? "adaptive"
+                                                                          : "independent");
     };
     o.push_back(points);
     for (RenderOption& option : bmc_options()) o.push_back(std::move(option));

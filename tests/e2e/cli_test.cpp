@@ -179,6 +179,28 @@ TEST(Cli, MisSplitFlagsWithoutTheSplitAreSaidToBeIgnored) {
   EXPECT_EQ(used.find("is ignored"), std::string::npos) << used;
 }
 
+// Adaptive sampling is biased (its cells follow the values it finds): the integrators
+// whose direct light must be unbiased refuse it with one line; `direct` renders with it.
+TEST(Cli, AdaptiveDirectSamplerOnlyWhereABiasedDirectEstimateIsAllowed) {
+  const fs::path dir = test::scratch_dir("adaptive-direct");
+  for (const char* integrator : {"pt", "mlt"}) {
+    const fs::path out = dir / (std::string(integrator) + ".exr");
+    expect_clean_failure("render " + cornell() + " --integrator " + integrator +
+                             " --direct-sampler adaptive --spp 1 --width 8 --height 8 -o " +
+                             out.string(),
+                         "--direct-sampler adaptive is a biased", out);
+  }
+  std::string text;
+  EXPECT_EQ(test::run_command(emlt_cmd("render " + cornell() +
+                                       " --integrator direct --direct-sampler adaptive "
+                                       "--direct-samples 4 --spp 1 --width 8 --height 8 --quiet -o " +
+                                       (dir / "direct.exr").string()),
+                              &text),
+            0)
+      << text;
+  EXPECT_TRUE(fs::exists(dir / "direct.exr"));
+}
+
 TEST(Cli, InfoDescribesTheScene) {
   std::string text;
   ASSERT_EQ(0, test::run_command(emlt_cmd("info " + cornell()), &text)) << text;

@@ -27,6 +27,10 @@ struct DirectLightingOptions {
   double alpha = -1.0;
   double alpha_pilot = 0.5;
   double alpha_clamp = 0.025;
+  // DirectPointSet::Adaptive (adaptive_direct_sampler.h): 2 * samples directions.
+  int adaptive_initial = 1;
+  double adaptive_robustness = 1.0;
+  AdaptiveParametrisation adaptive_parametrisation = AdaptiveParametrisation::Cosine;
 };
 
 // One light-sampling estimate of the radiance reflected at `hit` towards wo (world, unit),
@@ -50,7 +54,9 @@ Rgb weighted_emission(const Scene& scene, const Vec3& from, const Vec3& directio
 // Fibonacci set (unbiased; see spherical_fibonacci.h); under SecondOrder, as many
 // directions in all from the mixture of the two. DirectPointSet::Bmc: 2 * samples directions
 // by Bayesian Monte Carlo (biased) where the BSDF allows it (bmc_direct_estimator.h), the
-// independent MIS estimate elsewhere.
+// independent MIS estimate elsewhere. DirectPointSet::Adaptive: Szécsi et al.'s adaptive
+// quadrature over 2 * samples directions (biased), except at a BSDF with a delta lobe, which
+// only BSDF sampling finds.
 Rgb estimate_direct_lighting(const Scene& scene, const SurfaceHit& hit, const Vec3& wo, Rng& rng,
                              const DirectLightingOptions& options);
 

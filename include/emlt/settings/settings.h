@@ -26,9 +26,13 @@ inline constexpr double kMaxTimeSeconds = 30.0 * 86400.0;  // --time: 30 days
 enum class MisHeuristic { Balance, Power, Max, SecondOrder };
 // How --mis second-order finds its split when --mis-alpha does not fix it.
 enum class MisAlphaEstimate { Online, Preprocessed };
-// Bmc: not a point set but Bayesian Monte Carlo's own estimator (sampling/bmc_direct_estimator.h),
-// biased; only `direct` accepts it.
-enum class DirectPointSet { Independent, Fibonacci, Bmc };
+// Bmc: not a point set but Bayesian Monte Carlo's own estimator (sampling/bmc_direct_estimator.h);
+// Adaptive: Szécsi et al.'s deterministic Halton-cell quadrature
+// (sampling/adaptive_direct_sampler.h). Both are biased; only `direct` accepts them.
+enum class DirectPointSet { Independent, Fibonacci, Bmc, Adaptive };
+// The unit square's map onto directions under --direct-sampler adaptive: the diffuse BRDF's
+// (the hemisphere, seed 001 section 4.2) or the global spherical one (section 4.1).
+enum class AdaptiveParametrisation { Cosine, Global };
 // How direct lighting samples an environment: its lat-long texel table, or Lu's cube faces
 // balanced per shading point (sampling/cube_balanced_sampler.h).
 enum class EnvSampler { LatLong, CubeBalanced };
@@ -72,6 +76,11 @@ struct RenderSettings {
   // by default the fast rule of Marques et al. (TVCG 2013, section 5.4).
   double bmc_noise = 0.5;
   double bmc_lengthscale_factor = 1.25;
+  // --direct-sampler adaptive: points placed uniformly before the errors decide (1: the
+  // paper's single root cell), the robustness term's factor, and the parametrisation.
+  int adaptive_initial = 1;
+  double adaptive_robustness = 1.0;
+  AdaptiveParametrisation adaptive_parametrisation = AdaptiveParametrisation::Cosine;
   // How direct lighting samples the environment (direct, pt, --direct separate).
   EnvSampler env_sampler = EnvSampler::LatLong;
   CubeFaceBalance env_face_balance = CubeFaceBalance::Receiver;
