@@ -12,41 +12,17 @@
 
 #include "emlt/image/image.h"
 #include "emlt/image/image_metrics.h"
+#include "support/cli_checks.h"
 #include "support/test_support.h"
 
 using namespace emlt;
 namespace fs = std::filesystem;
+using test::cornell;
+using test::count_lines;
+using test::emlt_cmd;
+using test::expect_clean_failure;
 
 namespace {
-
-std::string emlt_cmd(const std::string& args) {
-  return test::emlt_binary() + " " + args;
-}
-std::string cornell(const std::string& file = "scene.json") {
-  return test::source_path("scenes/cornell-box/" + file);
-}
-
-int count_lines(const std::string& s) {
-  int n = 0;
-  for (char c : s) n += c == '\n';
-  return n;
-}
-
-// Runs a command that must fail: non-zero exit, one line naming `must_mention`, no file.
-void expect_clean_failure(const std::string& args, const std::string& must_mention,
-                          const fs::path& output) {
-  std::string text;
-  const int status = test::run_command(emlt_cmd(args), &text);
-  EXPECT_NE(status, 0) << args;
-  EXPECT_EQ(count_lines(text), 1) << text;
-  EXPECT_NE(text.find("error"), std::string::npos) << text;
-  EXPECT_NE(text.find(must_mention), std::string::npos)
-      << "expected '" << must_mention << "' in: " << text;
-  EXPECT_FALSE(fs::exists(output)) << output;
-  if (!fs::is_directory(output.parent_path())) return;
-  for (const auto& entry : fs::directory_iterator(output.parent_path()))
-    EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
-}
 
 void write_file(const fs::path& path, const std::string& text) {
   std::ofstream(path) << text;
@@ -177,28 +153,6 @@ TEST(Cli, MisSplitFlagsWithoutTheSplitAreSaidToBeIgnored) {
       << ignored;
   const std::string used = render("--mis second-order", "p.exr");
   EXPECT_EQ(used.find("is ignored"), std::string::npos) << used;
-}
-
-// Adaptive sampling is biased (its cells follow the values it finds): the integrators
-// whose direct light must be unbiased refuse it with one line; `direct` renders with it.
-TEST(Cli, AdaptiveDirectSamplerOnlyWhereABiasedDirectEstimateIsAllowed) {
-  const fs::path dir = test::scratch_dir("adaptive-direct");
-  for (const char* integrator : {"pt", "mlt"}) {
-    const fs::path out = dir / (std::string(integrator) + ".exr");
-    expect_clean_failure("render " + cornell() + " --integrator " + integrator +
-                             " --direct-sampler adaptive --spp 1 --width 8 --height 8 -o " +
-                             out.string(),
-                         "--direct-sampler adaptive is a biased", out);
-  }
-  std::string text;
-  EXPECT_EQ(test::run_command(emlt_cmd("render " + cornell() +
-                                       " --integrator direct --direct-sampler adaptive "
-                                       "--direct-samples 4 --spp 1 --width 8 --height 8 --quiet -o " +
-                                       (dir / "direct.exr").string()),
-                              &text),
-            0)
-      << text;
-  EXPECT_TRUE(fs::exists(dir / "direct.exr"));
 }
 
 TEST(Cli, InfoDescribesTheScene) {
@@ -747,22 +701,4 @@ TEST(CliConvergenceLog, RowsAtPowersOfTwoAndTheImageIsUnchanged) {
                            " --width 8 --height 8 --reference " + (dir / "ref.pfm").string() +
                            " --log " + (dir / "x.csv").string(),
                        "ref.pfm", dir / "o.exr");
-}
-
-// Bayesian Monte Carlo's estimate is biased (its weights are fixed by the prior): integrators
-// that need an unbiased direct-lighting estimate refuse it in one line; `direct` takes it.
-TEST(CliBadInput, BiasedBmcDirectSamplerOnlyForDirect) {
-  const fs::path dir = test::scratch_dir("bmc-refused");
-  const std::string base = "render " + cornell() + " --width 8 --height 8 --spp 1 --quiet -o " +
-                           (dir / "o.exr").string() + " --direct-sampler bmc ";
-  expect_clean_failure(base + "--integrator pt", "--direct-sampler bmc is biased", dir / "o.exr");
-  expect_clean_failure(base + "--integrator mlt --direct separate --mpp 1",
-                       "mlt needs an unbiased direct-lighting estimate", dir / "o.exr");
-  expect_clean_failure(base + "--integrator direct --bmc-noise 0", "--bmc-noise", dir / "o.exr");
-  expect_clean_failure(base + "--integrator direct --direct-samples 2048", "up to 1024",
-                       dir / "o.exr");
-  std::string text;
-  EXPECT_EQ(test::run_command(emlt_cmd(base + "--integrator direct --direct-samples 4"), &text), 0)
-      << text;
-  EXPECT_TRUE(fs::exists(dir / "o.exr"));
 }
