@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "emlt/core/error.h"
+#include "emlt/core/gauss_legendre.h"
 #include "emlt/sampling/direct_sample.h"
 
 namespace emlt {
@@ -16,33 +17,8 @@ namespace {
 constexpr double kPiD = 3.14159265358979323846;
 constexpr int kPanelNodes = 16;
 
-// Gauss–Legendre nodes and weights on [-1, 1], by Newton's method on P_n.
-struct GaussLegendre {
-  double x[kPanelNodes], w[kPanelNodes];
-  GaussLegendre() {
-    const int n = kPanelNodes;
-    for (int i = 0; i < n; ++i) {
-      double z = std::cos(kPiD * (i + 0.75) / (n + 0.5)), dp = 1.0;
-      for (int iteration = 0; iteration < 100; ++iteration) {
-        double p0 = 1.0, p1 = z;
-        for (int k = 2; k <= n; ++k) {
-          const double p2 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p0) / k;
-          p0 = p1;
-          p1 = p2;
-        }
-        dp = n * (z * p1 - p0) / (z * z - 1.0);
-        const double step = p1 / dp;
-        z -= step;
-        if (std::abs(step) < 1e-16) break;
-      }
-      x[i] = z;
-      w[i] = 2.0 / ((1.0 - z * z) * dp * dp);
-    }
-  }
-};
-
-const GaussLegendre& gauss_legendre() {
-  static const GaussLegendre rule;
+const GaussLegendreRule& panel_rule() {
+  static const GaussLegendreRule rule = gauss_legendre(kPanelNodes);
   return rule;
 }
 
@@ -127,14 +103,14 @@ HemisphereMoments sg_hemisphere_moments(double cos_axis, double kappa) {
   if (s <= 0.0) return m;
   // The crossing circles, t = s sin v: the arc ends move smoothly in v (φ0 = atan2(cos v,
   // −c sin v)), and the exponential peaks at v = π/2, where panels halve towards the end.
-  const GaussLegendre& gl = gauss_legendre();
+  const GaussLegendreRule& gl = panel_rule();
   const double peak_width = std::sqrt(2.0 / std::max(kappa * s, 1e-300));
   const int halvings = std::clamp(int(std::ceil(std::log2(0.5 * kPiD / peak_width))) + 2, 1, 40);
   const auto panel = [&](double lo, double hi) {
     const double half = 0.5 * (hi - lo), mid = 0.5 * (hi + lo);
     for (int i = 0; i < kPanelNodes; ++i) {
-      const double v = mid + half * gl.x[i], sv = std::sin(v), cv = std::cos(v);
-      const double t = s * sv, weight = half * gl.w[i] * std::exp(kappa * (t - 1.0)) * s * cv;
+      const double v = mid + half * gl.x[size_t(i)], sv = std::sin(v), cv = std::cos(v);
+      const double t = s * sv, weight = half * gl.w[size_t(i)] * std::exp(kappa * (t - 1.0)) * s * cv;
       const double phi0 = std::atan2(cv, -c * sv);
       const double rho = std::sqrt(std::max(0.0, 1.0 - t * t));  // √(1 − t²)
       const double sin_phi0 = cv / std::sqrt(cv * cv + c * c * sv * sv);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <vector>
 
+#include "emlt/core/gauss_legendre.h"
 #include "emlt/integrators/direct_integrator.h"
 #include "emlt/sampling/bmc_direct_estimator.h"
 #include "emlt/sampling/direct_lighting.h"
@@ -36,22 +37,9 @@ double hemisphere_quadrature(F&& g, int phi_steps = 720) {
   static std::vector<double> x, w;
   if (x.empty()) {
     const int n = 32;
-    std::vector<double> gx(n), gw(n);
-    for (int i = 0; i < n; ++i) {  // Newton on P_n
-      double z = std::cos(kPiD * (i + 0.75) / (n + 0.5)), dp = 1.0;
-      for (int it = 0; it < 100; ++it) {
-        double p0 = 1.0, p1 = z;
-        for (int k = 2; k <= n; ++k) {
-          const double p2 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p0) / k;
-          p0 = p1;
-          p1 = p2;
-        }
-        dp = n * (z * p1 - p0) / (z * z - 1.0);
-        z -= p1 / dp;
-      }
-      gx[size_t(i)] = z;
-      gw[size_t(i)] = 2.0 / ((1.0 - z * z) * dp * dp);
-    }
+    const GaussLegendreRule rule = gauss_legendre(n);
+    const std::vector<double>& gx = rule.x;
+    const std::vector<double>& gw = rule.w;
     const double edges[] = {0.0, 0.5, 0.75, 0.875, 0.9375, 0.96875, 0.984375, 0.9921875, 1.0};
     for (int p = 0; p < 8; ++p)
       for (int i = 0; i < n; ++i) {

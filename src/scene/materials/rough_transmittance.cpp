@@ -5,6 +5,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "emlt/core/gauss_legendre.h"
 #include "src/scene/materials/fresnel.h"
 #include "src/scene/materials/microfacet.h"
 
@@ -25,30 +26,15 @@ struct GaussLegendre {
   std::vector<double> x, w;  // on [0, 1]
 };
 
-// Nodes and weights of the n-point Gauss-Legendre rule, by Newton's method on P_n.
-GaussLegendre gauss_legendre(int n) {
-  GaussLegendre rule{std::vector<double>(n), std::vector<double>(n)};
-  for (int i = 0; i < (n + 1) / 2; ++i) {
-    double z = std::cos(kPiDouble * (i + 0.75) / (n + 0.5));
-    double derivative = 1.0;
-    for (int iteration = 0; iteration < 100; ++iteration) {
-      double p0 = 1.0, p1 = 0.0;
-      for (int k = 1; k <= n; ++k) {  // P_k(z) by the three-term recurrence
-        const double p2 = p1;
-        p1 = p0;
-        p0 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p2) / k;
-      }
-      derivative = n * (z * p0 - p1) / (z * z - 1.0);
-      const double step = p0 / derivative;
-      z -= step;
-      if (std::abs(step) < 1e-15) break;
-    }
-    const double weight = 1.0 / ((1.0 - z * z) * derivative * derivative);  // on [-1, 1]: 2x
-    rule.x[i] = 0.5 * (1.0 - z);
-    rule.x[n - 1 - i] = 0.5 * (1.0 + z);
-    rule.w[i] = rule.w[n - 1 - i] = weight;
+// The n-point Gauss-Legendre rule moved onto [0, 1] (halving the weights is exact).
+GaussLegendre gauss_legendre_unit(int n) {
+  const GaussLegendreRule rule = gauss_legendre(n);
+  GaussLegendre unit{std::vector<double>(size_t(n)), std::vector<double>(size_t(n))};
+  for (size_t i = 0; i < size_t(n); ++i) {
+    unit.x[i] = 0.5 * (1.0 + rule.x[i]);
+    unit.w[i] = 0.5 * rule.w[i];
   }
-  return rule;
+  return unit;
 }
 
 // cos(theta_m) of the microfacet normal whose D(m) m.z-measure of steeper normals is s^2:
@@ -74,7 +60,7 @@ double cos_theta_of(const MicrofacetDistribution& dist, double s) {
 double RoughTransmittance::integrate(MicrofacetType type, float alpha, float eta, double mu,
                                      int nodes) {
   const MicrofacetDistribution dist(type, alpha);
-  const GaussLegendre rule = gauss_legendre(nodes);
+  const GaussLegendre rule = gauss_legendre_unit(nodes);
   mu = std::clamp(mu, kMinMu, 1.0);
   const double sin_i = std::sqrt(std::max(0.0, 1.0 - mu * mu));
   const Vec3 w(static_cast<float>(sin_i), 0.0f, static_cast<float>(mu));
@@ -119,7 +105,7 @@ double RoughTransmittance::integrate_diffuse(MicrofacetType type, float alpha, f
     const double critical = std::sqrt(1.0 - double(eta) * eta);
     pieces = {{0.0, critical}, {critical, 1.0}};
   }
-  const GaussLegendre rule = gauss_legendre(mu_nodes);
+  const GaussLegendre rule = gauss_legendre_unit(mu_nodes);
   double total = 0.0;
   for (const auto& [lo, hi] : pieces) {
     for (int i = 0; i < mu_nodes; ++i) {
