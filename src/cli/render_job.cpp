@@ -121,6 +121,22 @@ RenderJob::RenderJob(RenderRequest request, const Warn& warn)
     throw Error(
         "--direct-sampler bmc takes --direct-samples up to 1024 (its Gaussian-process "
         "system grows as the square of the directions)");
+  // The path tracer and the chains' direct pass draw one light sample per vertex: a face is
+  // chosen per sample there, whatever the option says.
+  if (given("--env-face-counts") && settings_.env_face_counts == EnvFaceCounts::Fractional &&
+      settings_.integrator != "direct")
+    throw Error(
+        "--env-face-counts fractional needs several light samples per point: only direct "
+        "draws them (" +
+        settings_.integrator +
+        " draws one per vertex and chooses the "
+        "face per sample)");
+  if (given("--env-face-counts") && settings_.env_sampler != EnvSampler::CubeBalanced)
+    warn("--env-face-counts is ignored without --env-sampler cube-balanced");
+  if (given("--env-face-counts") && settings_.mis == MisHeuristic::SecondOrder)
+    warn(
+        "--env-face-counts is ignored under --mis second-order (its directions come from the "
+        "light/BSDF mixture one by one)");
   if (settings_.integrator == "emlt" && given("--chains"))
     warn("--chains is ignored; the chains are the two ensembles (--ensemble-size)");
   if (given("--gamlt-cone-cell") && settings_.gamlt_cone_cells == 0.0)

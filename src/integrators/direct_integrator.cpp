@@ -31,6 +31,7 @@ Rgb DirectIntegrator::radiance(const Scene& scene, const RenderSettings& setting
   options.env_sampler = settings.env_sampler;
   options.env_face_balance = settings.env_face_balance;
   options.env_cube_resolution = settings.env_cube_resolution;
+  options.env_face_counts = settings.env_face_counts;
   options.alpha = settings.mis_alpha >= 0.0 ? settings.mis_alpha : pixel_alpha;
   options.alpha_pilot = settings.mis_alpha_pilot;
   options.alpha_clamp = settings.mis_alpha_clamp;

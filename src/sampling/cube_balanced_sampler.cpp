@@ -79,6 +79,21 @@ EnvironmentSampling environment_sampling(const Scene& scene, EnvSampler kind, co
   return sampling;
 }
 
+namespace {
+
+DirectLightSample environment_sample(const EnvironmentLight& environment, const Vec3& ref,
+                                     const Vec3& wi, float pdf) {
+  DirectLightSample sample;
+  sample.position = ref + wi;
+  sample.wi = wi;
+  sample.distance = kInfinity;
+  sample.radiance = environment.radiance(wi);
+  sample.pdf = pdf;
+  return sample;
+}
+
+}  // namespace
+
 std::optional<DirectLightSample> sample_environment_direct(const EnvironmentLight& environment,
                                                            const EnvironmentSampling& sampling,
                                                            const Vec3& ref, const Vec2& u) {
@@ -86,13 +101,16 @@ std::optional<DirectLightSample> sample_environment_direct(const EnvironmentLigh
   float pdf = 0.0f;
   const auto wi = sample_cube_balanced(*sampling.cube, sampling.receiver, u, &pdf);
   if (!wi) return std::nullopt;
-  DirectLightSample sample;
-  sample.position = ref + *wi;
-  sample.wi = *wi;
-  sample.distance = kInfinity;
-  sample.radiance = environment.radiance(*wi);
-  sample.pdf = pdf;
-  return sample;
+  return environment_sample(environment, ref, *wi, pdf);
+}
+
+std::optional<DirectLightSample> sample_environment_face(const EnvironmentLight& environment,
+                                                         const EnvironmentSampling& sampling,
+                                                         const Vec3& ref, int face, const Vec2& u) {
+  const Vec3 wi = sampling.cube->sample_in_face(face, u, nullptr);
+  const float pdf = cube_balanced_pdf(*sampling.cube, sampling.receiver, wi);
+  if (!(pdf > 0.0f) || !std::isfinite(pdf)) return std::nullopt;
+  return environment_sample(environment, ref, wi, pdf);
 }
 
 float environment_direct_pdf(const EnvironmentLight& environment,

@@ -3,6 +3,7 @@
 #include "emlt/core/spherical_fibonacci.h"
 #include "emlt/sampling/adaptive_direct_sampler.h"
 #include "emlt/sampling/direct_sample.h"
+#include "emlt/sampling/fractional_light_counts.h"
 #include "emlt/sampling/mixture_direct_estimator.h"
 #include "emlt/sampling/mis.h"
 
@@ -30,6 +31,12 @@ Rgb sample_light_contribution(const Scene& scene, const SurfaceHit& hit, const V
   const auto ls = env.cube && light == scene.environment()
                       ? sample_environment_direct(*scene.environment(), env, hit.position, u_light)
                       : light->sample_direct(hit.position, u_light);
+  return drawn_light_contribution(scene, hit, wo, mode, *light, selection, ls, heuristic);
+}
+
+Rgb drawn_light_contribution(const Scene& scene, const SurfaceHit& hit, const Vec3& wo,
+                             TransportMode mode, const Light& light, float selection,
+                             const std::optional<DirectLightSample>& ls, MisHeuristic heuristic) {
   if (!ls || ls->pdf <= 0.0f || is_black(ls->radiance)) return Rgb(0.0f);
 
   const Vec3 wo_local = hit.shading.to_local(wo), wi_local = hit.shading.to_local(ls->wi);
@@ -41,7 +48,7 @@ Rgb sample_light_contribution(const Scene& scene, const SurfaceHit& hit, const V
   if (is_black(f)) return Rgb(0.0f);
 
   const bool unoccluded =
-      light->at_infinity()
+      light.at_infinity()
           ? !scene.occluded(spawn_ray(hit.position, hit.geometric_normal, ls->wi))
           : scene.visible(hit.position, hit.geometric_normal, ls->position, ls->normal);
   if (!unoccluded) return Rgb(0.0f);
@@ -97,12 +104,19 @@ Rgb estimate_direct_lighting(const Scene& scene, const SurfaceHit& hit, const Ve
   };
 
   Rgb total(0.0f);
+  // Lu's fractional counts give each light and face its expected share of the light samples.
+  const bool fractional = env.cube && options.env_face_counts == EnvFaceCounts::Fractional;
+  if (fractional)
+    total = light_samples_by_fractional_counts(scene, hit, wo, n, options.heuristic, env,
+                                               options.point_set == DirectPointSet::Fibonacci, rng);
   const Vec3 wo_local = hit.shading.to_local(wo);
   const BsdfContext ctx{hit.uv, TransportMode::Radiance, hit.vertex_color};
   for (int i = 0; i < n; ++i) {
-    const float u_select = rng.uniform();
-    total += sample_light_contribution(scene, hit, wo, TransportMode::Radiance, u_select,
-                                       point(light_points, i), options.heuristic, env);
+    if (!fractional) {
+      const float u_select = rng.uniform();
+      total += sample_light_contribution(scene, hit, wo, TransportMode::Radiance, u_select,
+                                         point(light_points, i), options.heuristic, env);
+    }
 
     const float u_lobe = rng.uniform();
     const auto bs = hit.bsdf->sample(ctx, wo_local, u_lobe, point(bsdf_points, i));

@@ -91,6 +91,21 @@ const std::vector<RenderOption>& sampling_options() {
       return s.env_sampler == EnvSampler::CubeBalanced;
     };
     o.push_back(balance);
+    RenderOption counts;
+    counts.flag = "--env-face-counts";
+    counts.help =
+        "cube-balanced, direct: light samples per face: fractional (Lu's Eqs. 3.5-3.6, "
+        "expected counts) | sampled (a face chosen per sample; pt and the chains always)";
+    counts.values = {OptionValues::Kind::Word, 0, 0, false, {"fractional", "sampled"},
+                     "fractional or sampled"};
+    counts.assign = [](RenderSettings& s, const std::string& text) {
+      s.env_face_counts = text == "sampled" ? EnvFaceCounts::Sampled : EnvFaceCounts::Fractional;
+    };
+    counts.recorded = [](const RenderSettings& s) {
+      return std::string(s.env_face_counts == EnvFaceCounts::Sampled ? "sampled" : "fractional");
+    };
+    counts.applies = balance.applies;
+    o.push_back(counts);
     RenderOption resolution =
         whole_option("--env-cube-resolution", &RenderSettings::env_cube_resolution, 0, 2048,
                      "a whole number from 0 to 2048",

@@ -1,6 +1,7 @@
-// The biased direct-lighting estimators (--direct-sampler bmc and adaptive) from the command
-// line: only `direct` takes them; the integrators whose direct light must be unbiased refuse
-// them in one line, and their own options are range-checked.
+// The direct-lighting options only `direct` can honour, from the command line: the biased
+// estimators (--direct-sampler bmc and adaptive), which the integrators whose direct light must
+// be unbiased refuse in one line, and cube-balanced's fractional face counts, which need
+// several light samples per point; their own options are range-checked.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -51,6 +52,27 @@ TEST(CliBadInput, BiasedBmcDirectSamplerOnlyForDirect) {
                        dir / "o.exr");
   std::string text;
   EXPECT_EQ(test::run_command(emlt_cmd(base + "--integrator direct --direct-samples 4"), &text), 0)
+      << text;
+  EXPECT_TRUE(fs::exists(dir / "o.exr"));
+}
+
+// Fractional face counts share several light samples among the faces; the path tracer and
+// the chains' direct pass draw one light sample per vertex, so asking them for it is refused.
+TEST(CliBadInput, FractionalFaceCountsOnlyForDirect) {
+  const fs::path dir = test::scratch_dir("face-counts");
+  const std::string base = "render " + cornell() + " --width 8 --height 8 --spp 1 --quiet -o " +
+                           (dir / "o.exr").string() + " --env-sampler cube-balanced ";
+  expect_clean_failure(base + "--integrator pt --env-face-counts fractional",
+                       "--env-face-counts fractional needs several light samples", dir / "o.exr");
+  expect_clean_failure(base + "--integrator direct --env-face-counts halves", "--env-face-counts",
+                       dir / "o.exr");
+  std::string text;
+  EXPECT_EQ(test::run_command(emlt_cmd(base + "--integrator pt --env-face-counts sampled"), &text),
+            0)
+      << text;
+  EXPECT_EQ(
+      test::run_command(emlt_cmd(base + "--integrator direct --env-face-counts fractional"), &text),
+      0)
       << text;
   EXPECT_TRUE(fs::exists(dir / "o.exr"));
 }

@@ -14,16 +14,15 @@
 // corners of a face never all lie on a plane through the centre), so no face is ever
 // dropped there.
 //
-// Sample allocation: the engine's light sampling is one-sample (a light is chosen per
-// sample among all the scene's lights, and the path tracer and the chains' direct pass
-// draw one light sample per vertex), so the thesis's fractional per-face counts (Eqs.
-// 3.5-3.6: M_f = mu_f N samples per face, the last one weighted by frac(M_f)) become their
-// one-sample counterpart: the face is drawn with probability mu_f, then a direction from its
-// table. The density is mu_f(n) pdf(w | f) (Eq. 3.2's denominator: faces are disjoint, so
-// the mixture over faces has one term), which is what light sampling reports to MIS, so the
-// balance heuristic against BSDF sampling is exactly Eq. 3.7's. Both estimators are
-// unbiased with the same expected sample counts per face; the deterministic counts would
-// stratify the faces, which this does not.
+// Sample allocation: `direct`, which draws several light samples per point, gives each face
+// the thesis's fractional count (Eqs. 3.5-3.6, fractional_light_counts.h). The path tracer
+// and the chains' direct pass draw one light sample per vertex, so there (and under
+// --env-face-counts sampled) the counts become their one-sample counterpart: the face is
+// drawn with probability mu_f, then a direction from its table. The density is
+// mu_f(n) pdf(w | f) (Eq. 3.2's denominator: faces are disjoint, so the mixture over faces
+// has one term), which is what light sampling reports to MIS, so the balance heuristic
+// against BSDF sampling is exactly Eq. 3.7's. Both are unbiased with the same expected
+// counts per face; only the fractional counts stratify the faces.
 //
 // The receiver's normal is the shading normal turned to the side the light leaves towards
 // (wo), since a reflecting BSDF only sees the hemisphere on wo's side.
@@ -84,6 +83,13 @@ EnvironmentSampling environment_sampling(const Scene& scene, EnvSampler kind, co
 std::optional<DirectLightSample> sample_environment_direct(const EnvironmentLight& environment,
                                                            const EnvironmentSampling& sampling,
                                                            const Vec3& ref, const Vec2& u);
+// The environment's direct-light sample drawn from one face's table (Eq. 3.5's per-face
+// samples; `sampling` must be cube-balanced and the face must have mass). Its density is
+// reported as the cube-balanced one, mu_f pdf(w | f), so that its MIS weight is the one
+// Eq. 3.7 gives a face sample.
+std::optional<DirectLightSample> sample_environment_face(const EnvironmentLight& environment,
+                                                         const EnvironmentSampling& sampling,
+                                                         const Vec3& ref, int face, const Vec2& u);
 float environment_direct_pdf(const EnvironmentLight& environment,
                              const EnvironmentSampling& sampling, const Vec3& w);
 

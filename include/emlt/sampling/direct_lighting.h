@@ -20,6 +20,7 @@ struct DirectLightingOptions {
   EnvSampler env_sampler = EnvSampler::LatLong;  // how the environment is sampled
   CubeFaceBalance env_face_balance = CubeFaceBalance::Receiver;
   int env_cube_resolution = 0;
+  EnvFaceCounts env_face_counts = EnvFaceCounts::Sampled;  // the light half under cube-balanced
   // MisHeuristic::SecondOrder (mixture_direct_estimator.h): the 2 * samples directions come
   // from the light/BSDF mixture, its light share fixed by `alpha` in [0, 1] or, when alpha
   // is negative, chosen online by Lu's second-order rule (its pilot share and clamp here).
@@ -39,6 +40,12 @@ struct DirectLightingOptions {
 Rgb sample_light_contribution(const Scene& scene, const SurfaceHit& hit, const Vec3& wo,
                               TransportMode mode, float u_select, const Vec2& u_light,
                               MisHeuristic heuristic, const EnvironmentSampling& env = {});
+
+// The same estimate for a light sample already drawn: `ls` from `light`, chosen with
+// probability `selection` (ls->pdf is the density the sample was drawn with given the light).
+Rgb drawn_light_contribution(const Scene& scene, const SurfaceHit& hit, const Vec3& wo,
+                             TransportMode mode, const Light& light, float selection,
+                             const std::optional<DirectLightSample>& ls, MisHeuristic heuristic);
 
 // Emission found by a BSDF-sampled ray: radiance arriving at `from` along `direction`
 // from the emitter at `emitter_hit` (or from the environment when `emitter_hit` is null),

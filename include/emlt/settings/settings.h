@@ -40,6 +40,10 @@ enum class EnvSampler { LatLong, CubeBalanced };
 // equally among the faces with light (the thesis's Fig. 3.6 comparison), or by each face's
 // mass alone (a global luminance CDF over the cube).
 enum class CubeFaceBalance { Receiver, Uniform, Mass };
+// How `direct` shares its light samples among the faces (and lights) under cube-balanced:
+// each sample chooses one at random, or each gets its expected count outright, the last
+// sample weighted by the fraction (Lu's Eqs. 3.5-3.6, sampling/fractional_light_counts.h).
+enum class EnvFaceCounts { Sampled, Fractional };
 
 struct RenderSettings {
   std::string integrator = "pt";
@@ -85,6 +89,9 @@ struct RenderSettings {
   EnvSampler env_sampler = EnvSampler::LatLong;
   CubeFaceBalance env_face_balance = CubeFaceBalance::Receiver;
   int env_cube_resolution = 0;  // cube-balanced: texels per face edge; 0: from the map
+  // Only `direct` draws several light samples per point; the path tracer and the chains'
+  // direct pass draw one, so there the face is always chosen per sample.
+  EnvFaceCounts env_face_counts = EnvFaceCounts::Fractional;
   bool progress = true;
 
   // Metropolis light transport (integrator "mlt").

@@ -28,7 +28,10 @@ Methods (D directions per camera ray):
                            (mu_f = 1/6, the thesis's Fig. 3.6 comparison) or mass (mu_f ~ I_f,
                            a global luminance CDF over the cube)
   - lat-long + BSDF        --mis balance, D/2 of each
-  - cube-balanced + BSDF   --mis balance --env-sampler cube-balanced, D/2 of each (Eq. 3.7)
+  - cube-balanced + BSDF   --mis balance --env-sampler cube-balanced, D/2 of each (Eq. 3.7),
+                           the light half shared by fractional counts (Eqs. 3.5-3.6)
+  - the same, faces drawn per sample: --env-face-counts sampled (each light sample draws its
+                           face with probability mu_f)
   - cube, uniform faces, + BSDF: the same with uniform faces
   - cube-balanced only / + BSDF, 512 per face: with --env-cube-resolution 512 (the default
                            is a quarter of the map's width, 128 here)
@@ -61,6 +64,8 @@ METHODS = {
     "cube, faces by mass, only": LIGHT_ONLY + CUBE + ["--env-face-balance", "mass"],
     "lat-long + BSDF": ["--mis", "balance"],
     "cube-balanced + BSDF": ["--mis", "balance"] + CUBE,
+    "cube-balanced + BSDF, faces drawn per sample": ["--mis", "balance"] + CUBE +
+                                                    ["--env-face-counts", "sampled"],
     "cube, uniform faces, + BSDF": ["--mis", "balance"] + CUBE + ["--env-face-balance", "uniform"],
     # The default face resolution is a quarter of the map's width (128 for both maps here);
     # a sun of a few texels is drawn closer to its shape from finer faces.
