@@ -11,14 +11,13 @@ points it needs to match spherical Fibonacci's RMSE at 512, beside the papers' "
 Scenes (direct_scenes.py): balls and a floor, all diffuse or all glossy (normalised Phong,
 exponents 20-80), under a smooth lat-long map ("smooth", dynamic range about 30) or the
 engine's sun and sky ("sunsky": a 0.54-degree sun orders of magnitude brighter than the sky);
-and "box", a
-Cornell-like interior lit by a small area light under its ceiling (diffuse walls, a glossy
-ball), the papers' kind of scene.
+and "box", a Cornell-like interior lit by a small area light under its ceiling (diffuse walls,
+a glossy ball), the papers' kind of scene.
 
-Every method renders `direct`, one camera ray per pixel through its centre (a Gaussian
-filter of 1e-5 pixel), with N light
-samples and N BSDF samples per pixel (--direct-samples N: two sets of N points, one fed to
-light sampling, one to BSDF sampling; MIS by the power heuristic), --seeds times:
+Every method renders `direct`, one camera ray per pixel through its centre (a Gaussian filter
+of 1e-5 pixel), with N light samples and N BSDF samples per pixel (--direct-samples N: two
+sets of N points, one fed to light sampling, one to BSDF sampling; MIS by the power
+heuristic), --seeds times:
   - independent             i.i.d. uniform points
   - fibonacci               spherical Fibonacci in the square (Lambert's map), random rotation
                             and Cranley-Patterson shift
