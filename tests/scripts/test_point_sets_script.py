@@ -3,7 +3,7 @@
 
     /usr/bin/python3 tests/scripts/test_point_sets_script.py --emlt build/emlt
 
-Checks that every set is run at every N, that the reference is independent sampling, that the
+Checks that every set is run at every N, that the reference's renders take the low-discrepancy sets in turn, that the
 reported RMSE is that of the kept images against the kept references (less the references'
 own error), that the table compares each
 set with spherical Fibonacci, and that a second call renders nothing again.
@@ -44,12 +44,14 @@ class PointSets(unittest.TestCase):
             self.assertEqual({(r["method"], r["samples"]) for r in rows
                               if r["method"] != "reference"},
                              {(m, n) for m in SETS for n in ("4", "8")})
-            refs = np.stack([read_pfm(os.path.join(out, "runs", "box", f"reference-{k}.pfm"))
-                             .astype(np.float64) for k in range(2)])
+            names = ("reference-0-fibonacci", "reference-1-sobol")
+            refs = np.stack([read_pfm(os.path.join(out, "runs", "box", f"{n}.pfm"))
+                             .astype(np.float64) for n in names])
             reference = refs.mean(axis=0)
-            with open(os.path.join(out, "runs", "box", "reference-1.pfm.json")) as f:
-                command = " ".join(json.load(f)["command"])
-            self.assertIn("--direct-sampler independent --direct-samples 64", command)
+            for n, expected in zip(names, ("fibonacci", "sobol")):
+                with open(os.path.join(out, "runs", "box", f"{n}.pfm.json")) as f:
+                    command = " ".join(json.load(f)["command"])
+                self.assertIn(f"--direct-sampler {expected} --direct-samples 64", command)
             reference_mse = float(np.mean(refs.var(axis=0, ddof=1))) / 2
             images = [read_pfm(p).astype(np.float64) for p in sorted(glob.glob(
                 os.path.join(out, "runs", "box", "sobol", "n8-seed*.pfm")))]
