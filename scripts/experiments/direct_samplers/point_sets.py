@@ -204,7 +204,7 @@ def main():
                 se = float("nan")
             slope = local_slope(ns, e)
             needed = top * ratio ** (-1.0 / slope) if slope < 0 else float("inf")
-            paper = PAPER.get(m, ("", "", "", ""))
+            paper = PAPER.get(m, ("—", "—", "—", "—"))
             summary.append({"scene": s, "method": m, "ratio": ratio, "se": se, "needed": needed})
             lines.append(f"| {s} | {m} | {100 * (ratio - 1):+.1f} % ± {100 * se:.1f} | "
                          f"{needed:.0f} ({100 * (needed / top - 1):+.0f} %) | "
