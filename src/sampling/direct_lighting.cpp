@@ -1,5 +1,8 @@
 #include "emlt/sampling/direct_lighting.h"
 
+#include "emlt/core/blue_noise_points.h"
+#include "emlt/core/larcher_pillichshammer_points.h"
+#include "emlt/core/sobol_points.h"
 #include "emlt/core/spherical_fibonacci.h"
 #include "emlt/sampling/adaptive_direct_sampler.h"
 #include "emlt/sampling/direct_sample.h"
@@ -16,6 +19,20 @@ namespace {
 bool consistent_sides(const Scene& scene, const SurfaceHit& hit, const Vec3& w_world,
                       const Vec3& w_local) {
   return scene.sides_agree(hit.geometric_normal, w_world, w_local.z);
+}
+
+// One randomised set of n unit-square points (each point marginally uniform, so the
+// estimate stays unbiased); empty for independent points, which are drawn one at a time.
+std::vector<Vec2> draw_point_set(DirectPointSet set, uint32_t n, Rng& rng) {
+  switch (set) {
+    case DirectPointSet::Fibonacci:
+      return fibonacci_square_points(n, FibonacciRandomisation::draw(rng));
+    case DirectPointSet::Sobol: return sobol_square_points(n, DigitScramble::draw(rng));
+    case DirectPointSet::LarcherPillichshammer:
+      return larcher_pillichshammer_square_points(n, DigitScramble::draw(rng));
+    case DirectPointSet::BlueNoise: return blue_noise_square_points(n, rng.uniform2());
+    default: return {};
+  }
 }
 
 }  // namespace
@@ -94,11 +111,8 @@ Rgb estimate_direct_lighting(const Scene& scene, const SurfaceHit& hit, const Ve
                                         SecondOrderSplit{options.alpha_pilot, options.alpha_clamp},
                                         nullptr, env);
   }
-  std::vector<Vec2> light_points, bsdf_points;
-  if (options.point_set == DirectPointSet::Fibonacci) {
-    light_points = fibonacci_square_points(uint32_t(n), FibonacciRandomisation::draw(rng));
-    bsdf_points = fibonacci_square_points(uint32_t(n), FibonacciRandomisation::draw(rng));
-  }
+  std::vector<Vec2> light_points = draw_point_set(options.point_set, uint32_t(n), rng);
+  std::vector<Vec2> bsdf_points = draw_point_set(options.point_set, uint32_t(n), rng);
   const auto point = [&](std::vector<Vec2>& set, int i) {
     return set.empty() ? rng.uniform2() : set[size_t(i)];
   };

@@ -34,25 +34,22 @@ const std::vector<RenderOption>& sampling_options() {
     RenderOption points;
     points.flag = "--direct-sampler";
     points.help =
-        "Direct lighting: independent | fibonacci | bmc (Bayesian Monte Carlo) | adaptive "
+        "Direct lighting: independent | fibonacci | sobol | larcher-pillichshammer | "
+        "blue-noise (randomised point sets, unbiased) | bmc (Bayesian Monte Carlo) | adaptive "
         "(Szecsi et al.); bmc and adaptive are biased, direct only";
     points.values = {OptionValues::Kind::Word,
                      0,
                      0,
                      false,
-                     {"independent", "fibonacci", "bmc", "adaptive"},
-                     "independent, fibonacci, bmc or adaptive"};
+                     {"independent", "fibonacci", "sobol", "larcher-pillichshammer", "blue-noise",
+                      "bmc", "adaptive"},
+                     "independent, fibonacci, sobol, larcher-pillichshammer, blue-noise, bmc or "
+                     "adaptive"};
     points.assign = [](RenderSettings& s, const std::string& text) {
-      s.direct_point_set = text == "fibonacci"  ? DirectPointSet::Fibonacci
-                           : text == "bmc"      ? DirectPointSet::Bmc
-                           : text == "adaptive" ? DirectPointSet::Adaptive
-                                                : DirectPointSet::Independent;
+      s.direct_point_set = direct_point_set_from_name(text);
     };
     points.recorded = [](const RenderSettings& s) {
-      return std::string(s.direct_point_set == DirectPointSet::Fibonacci  ? "fibonacci"
-                         : s.direct_point_set == DirectPointSet::Bmc      ? "bmc"
-                         : s.direct_point_set == DirectPointSet::Adaptive ? "adaptive"
-                                                                          : "independent");
+      return std::string(direct_point_set_name(s.direct_point_set));
     };
     o.push_back(points);
     for (RenderOption& option : bmc_options()) o.push_back(std::move(option));

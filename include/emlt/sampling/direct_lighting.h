@@ -58,7 +58,9 @@ Rgb weighted_emission(const Scene& scene, const Vec3& from, const Vec3& directio
 
 // Full direct-lighting estimate at a camera-visible point: `options.samples` light samples
 // and as many BSDF samples, each set either independent or a randomised spherical
-// Fibonacci set (unbiased; see spherical_fibonacci.h); under SecondOrder, as many
+// Fibonacci set (unbiased; see spherical_fibonacci.h) or, likewise, from a randomised
+// Sobol, Larcher-Pillichshammer or blue-noise set (core/sobol_points.h,
+// core/larcher_pillichshammer_points.h, core/blue_noise_points.h); under SecondOrder, as many
 // directions in all from the mixture of the two. DirectPointSet::Bmc: 2 * samples directions
 // by Bayesian Monte Carlo (biased) where the BSDF allows it (bmc_direct_estimator.h), the
 // independent MIS estimate elsewhere. DirectPointSet::Adaptive: Szécsi et al.'s adaptive

@@ -29,7 +29,18 @@ enum class MisAlphaEstimate { Online, Preprocessed };
 // Bmc: not a point set but Bayesian Monte Carlo's own estimator (sampling/bmc_direct_estimator.h);
 // Adaptive: Szécsi et al.'s deterministic Halton-cell quadrature
 // (sampling/adaptive_direct_sampler.h). Both are biased; only `direct` accepts them.
-enum class DirectPointSet { Independent, Fibonacci, Bmc, Adaptive };
+// Sobol, LarcherPillichshammer, BlueNoise: randomised unit-square point sets like Fibonacci
+// (core/sobol_points.h, core/larcher_pillichshammer_points.h, core/blue_noise_points.h),
+// unbiased, accepted wherever Fibonacci is.
+enum class DirectPointSet {
+  Independent,
+  Fibonacci,
+  Bmc,
+  Adaptive,
+  Sobol,
+  LarcherPillichshammer,
+  BlueNoise
+};
 // The unit square's map onto directions under --direct-sampler adaptive: the diffuse BRDF's
 // (the hemisphere, seed 001 section 4.2) or the global spherical one (section 4.1).
 enum class AdaptiveParametrisation { Cosine, Global };
@@ -205,6 +216,28 @@ inline const char* to_string(MisHeuristic h) {
     case MisHeuristic::SecondOrder: return "second-order";
   }
   return "power";
+}
+
+// --direct-sampler's words, the command line's and checkpoints' names of each set.
+inline const char* direct_point_set_name(DirectPointSet p) {
+  switch (p) {
+    case DirectPointSet::Independent: return "independent";
+    case DirectPointSet::Fibonacci: return "fibonacci";
+    case DirectPointSet::Bmc: return "bmc";
+    case DirectPointSet::Adaptive: return "adaptive";
+    case DirectPointSet::Sobol: return "sobol";
+    case DirectPointSet::LarcherPillichshammer: return "larcher-pillichshammer";
+    case DirectPointSet::BlueNoise: return "blue-noise";
+  }
+  return "independent";
+}
+// The inverse; words it does not know (range-checked before) give Independent.
+inline DirectPointSet direct_point_set_from_name(const std::string& name) {
+  for (DirectPointSet p :
+       {DirectPointSet::Fibonacci, DirectPointSet::Bmc, DirectPointSet::Adaptive,
+        DirectPointSet::Sobol, DirectPointSet::LarcherPillichshammer, DirectPointSet::BlueNoise})
+    if (name == direct_point_set_name(p)) return p;
+  return DirectPointSet::Independent;
 }
 
 }  // namespace emlt

@@ -45,10 +45,12 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.abspath(os.path.join(HERE, "..", "..", ".."))
 sys.path.insert(0, REPO)
+sys.path.insert(0, HERE)
 
 import numpy as np  # noqa: E402
 
 from tools.images import read_pfm, write_pfm  # noqa: E402
+from direct_scenes import envmap, latlong_directions, sunsky  # noqa: E402
 
 METHODS = {
     "BSDF": ["--mis", "second-order", "--mis-alpha", "0"],
@@ -62,14 +64,9 @@ METHODS = {
 REFERENCE = ["--mis", "power"]
 REFERENCE_DIRECTIONS = 4096
 
-SUNSKY = """<emitter type="sunsky"><float name="latitude" value="48.2"/>
-    <float name="longitude" value="16.37"/><float name="timezone" value="1"/>
-    <integer name="year" value="2015"/><integer name="month" value="3"/>
-    <integer name="day" value="21"/><float name="hour" value="8"/><float name="minute" value="30"/>
-    <float name="turbidity" value="3"/><float name="scale" value="0.5"/>
-    <transform name="toWorld"><rotate y="1" angle="-40"/></transform></emitter>"""
+SUNSKY = sunsky(hour=8)
 
-LOBE = """<emitter type="envmap"><string name="filename" value="lobe.pfm"/></emitter>"""
+LOBE = envmap("lobe.pfm")
 
 DIFFUSE_BALLS = ['<bsdf type="diffuse"><rgb name="reflectance" value="0.75, 0.75, 0.75"/></bsdf>',
                  '<bsdf type="diffuse"><rgb name="reflectance" value="0.6, 0.1, 0.1"/></bsdf>',
@@ -113,11 +110,7 @@ SCENE = """<?xml version="1.0" encoding="utf-8"?>
 def lobe_map(width=512):
     """Section 4.5.1's sky, L_sky + L_sun max(0, w.s)^s with L_sky = 1, L_sun = 319, s = 8, in
     Mitsuba's envmap convention (row 0 at the zenith, +Y up, azimuth atan2(x, -z))."""
-    height = width // 2
-    v = (np.arange(height) + 0.5) / height
-    u = (np.arange(width) + 0.5) / width
-    theta, phi = np.meshgrid(np.pi * v, 2 * np.pi * u, indexing="ij")
-    d = np.stack([np.sin(theta) * np.sin(phi), np.cos(theta), -np.sin(theta) * np.cos(phi)], -1)
+    d, theta = latlong_directions(width)
     s = np.array([-0.5, 0.6, 0.4])
     s /= np.linalg.norm(s)
     lum = 1.0 + 319.0 * np.maximum(d @ s, 0.0) ** 8

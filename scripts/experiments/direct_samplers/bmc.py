@@ -33,18 +33,19 @@ resumes).
 """
 import argparse
 import csv
-import json
 import os
-import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.abspath(os.path.join(HERE, "..", "..", ".."))
 sys.path.insert(0, REPO)
+sys.path.insert(0, HERE)
 
 import numpy as np  # noqa: E402
 
-from tools.images import read_pfm, write_pfm  # noqa: E402
+from tools.images import write_pfm  # noqa: E402
+from direct_scenes import (DIFFUSE, GLOSSY, balls_scene, envmap, render_direct,  # noqa: E402
+                           smooth_map, sunsky)
 
 METHODS = {
     "MC BSDF": lambda d: ["--mis", "second-order", "--mis-alpha", "0", "--direct-samples", str(d // 2)],
@@ -54,83 +55,6 @@ METHODS = {
 }
 PAPER_SLOPES = {"MC BSDF": -0.50, "BMC": -0.72}
 
-SUNSKY = """<emitter type="sunsky"><float name="latitude" value="48.2"/>
-    <float name="longitude" value="16.37"/><float name="timezone" value="1"/>
-    <integer name="year" value="2015"/><integer name="month" value="3"/>
-    <integer name="day" value="21"/><float name="hour" value="10"/><float name="minute" value="30"/>
-    <float name="turbidity" value="3"/><float name="scale" value="0.5"/>
-    <transform name="toWorld"><rotate y="1" angle="-40"/></transform></emitter>"""
-
-SMOOTH = """<emitter type="envmap"><string name="filename" value="smooth.pfm"/></emitter>"""
-
-GLOSSY = {
-    "big": '<bsdf type="phong"><float name="exponent" value="50"/>'
-           '<rgb name="specularReflectance" value="0.8, 0.8, 0.8"/>'
-           '<rgb name="diffuseReflectance" value="0, 0, 0"/></bsdf>',
-    "left": '<bsdf type="phong"><float name="exponent" value="20"/>'
-            '<rgb name="specularReflectance" value="0.8, 0.6, 0.3"/>'
-            '<rgb name="diffuseReflectance" value="0, 0, 0"/></bsdf>',
-    "right": '<bsdf type="phong"><float name="exponent" value="80"/>'
-             '<rgb name="specularReflectance" value="0.3, 0.5, 0.8"/>'
-             '<rgb name="diffuseReflectance" value="0, 0, 0"/></bsdf>',
-    "floor": '<bsdf type="phong"><float name="exponent" value="20"/>'
-             '<rgb name="specularReflectance" value="0.5, 0.5, 0.5"/>'
-             '<rgb name="diffuseReflectance" value="0, 0, 0"/></bsdf>',
-}
-DIFFUSE = {
-    "big": '<bsdf type="diffuse"><rgb name="reflectance" value="0.75, 0.75, 0.75"/></bsdf>',
-    "left": '<bsdf type="diffuse"><rgb name="reflectance" value="0.8, 0.6, 0.3"/></bsdf>',
-    "right": '<bsdf type="diffuse"><rgb name="reflectance" value="0.3, 0.5, 0.8"/></bsdf>',
-    "floor": '<bsdf type="diffuse"><rgb name="reflectance" value="0.5, 0.5, 0.5"/></bsdf>',
-}
-
-SCENE = """<?xml version="1.0" encoding="utf-8"?>
-<!-- written by scripts/experiments/direct_samplers/bmc.py -->
-<scene version="0.6.0">
-  <integrator type="direct"/>
-  <sensor type="perspective">
-    <float name="fov" value="40"/>
-    <transform name="toWorld"><lookat origin="0, 1.6, 4.0" target="0, 0.5, 0" up="0, 1, 0"/></transform>
-    <sampler type="independent"><integer name="sampleCount" value="1"/></sampler>
-    <film type="hdrfilm">
-      <integer name="width" value="48"/><integer name="height" value="48"/>
-      <rfilter type="gaussian"><float name="stddev" value="0.003"/></rfilter>
-    </film>
-  </sensor>
-  {emitter}
-  <shape type="sphere"><point name="center" x="0" y="0.6" z="0"/><float name="radius" value="0.6"/>
-    {big}</shape>
-  <shape type="sphere"><point name="center" x="-1.2" y="0.35" z="0.4"/><float name="radius" value="0.35"/>
-    {left}</shape>
-  <shape type="sphere"><point name="center" x="1.2" y="0.35" z="0.4"/><float name="radius" value="0.35"/>
-    {right}</shape>
-  <shape type="rectangle">
-    <transform name="toWorld"><scale value="5"/><rotate x="1" angle="-90"/></transform>
-    {floor}
-  </shape>
-</scene>
-"""
-
-
-def smooth_map(width=256):
-    """A smooth lat-long map (Mitsuba's convention: row 0 at the zenith, +Y up)."""
-    height = width // 2
-    v = (np.arange(height) + 0.5) / height
-    u = (np.arange(width) + 0.5) / width
-    theta, phi = np.meshgrid(np.pi * v, 2 * np.pi * u, indexing="ij")
-    d = np.stack([np.sin(theta) * np.sin(phi), np.cos(theta), -np.sin(theta) * np.cos(phi)], -1)
-    up = np.clip(d[..., 1], -1, 1)
-    img = np.zeros((height, width, 3))
-    img += (0.3 + 0.5 * np.clip(up, 0, 1))[..., None] * np.array([0.6, 0.75, 1.0])
-    img[up < 0] = [0.15, 0.13, 0.1]
-    for centre, sharpness, radiance in (([-0.6, 0.7, 0.4], 6.0, [8.0, 7.5, 7.0]),
-                                        ([0.8, 0.3, 0.5], 4.0, [2.0, 2.5, 3.0]),
-                                        ([0.1, 0.4, -1.0], 10.0, [6.0, 5.0, 4.0])):
-        c = np.array(centre) / np.linalg.norm(centre)
-        img += np.exp(sharpness * (d @ c - 1.0))[..., None] * np.array(radiance)
-    return img.astype(np.float32)
-
-
 def write_scenes(out):
     folder = os.path.join(out, "scenes")
     os.makedirs(folder, exist_ok=True)
@@ -139,28 +63,16 @@ def write_scenes(out):
         write_pfm(smooth, smooth_map())
     paths = {}
     for material_name, materials in (("glossy", GLOSSY), ("diffuse", DIFFUSE)):
-        for light_name, emitter in (("sunsky", SUNSKY), ("smooth", SMOOTH)):
+        for light_name, emitter in (("sunsky", sunsky()), ("smooth", envmap("smooth.pfm"))):
             path = os.path.join(folder, f"{material_name}-{light_name}.xml")
-            text = SCENE.replace("{emitter}", emitter)
-            for key, bsdf in materials.items():
-                text = text.replace("{" + key + "}", bsdf)
             with open(path, "w") as f:
-                f.write(text)
+                f.write(balls_scene("bmc.py", emitter, materials))
             paths[f"{material_name}, {light_name}"] = path
     return paths
 
 
 def render(emlt, scene, args, seed, common, out):
-    if not os.path.exists(out):
-        os.makedirs(os.path.dirname(out), exist_ok=True)
-        cmd = [emlt, "render", scene, "--integrator", "direct", "--seed", str(seed), "-o", out,
-               "--quiet"] + common + args
-        run = subprocess.run(cmd, capture_output=True, text=True)
-        if run.returncode != 0:
-            sys.exit(f"bmc: {' '.join(cmd)} failed: {run.stderr.strip()[-400:]}")
-        with open(out + ".json", "w") as f:
-            json.dump({"command": cmd}, f)
-    return read_pfm(out).astype(np.float64)
+    return render_direct(emlt, scene, args, seed, common, out, "bmc")
 
 
 def slope(ns, errors):

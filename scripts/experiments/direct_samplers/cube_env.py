@@ -49,10 +49,12 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.abspath(os.path.join(HERE, "..", "..", ".."))
 sys.path.insert(0, REPO)
+sys.path.insert(0, HERE)
 
 import numpy as np  # noqa: E402
 
 from tools.images import read_pfm, write_pfm  # noqa: E402
+from direct_scenes import envmap, latlong_directions, sunsky  # noqa: E402
 
 CUBE = ["--env-sampler", "cube-balanced"]
 LIGHT_ONLY = ["--mis", "second-order", "--mis-alpha", "1"]
@@ -75,14 +77,9 @@ METHODS = {
 }
 BASELINE = "lat-long + BSDF"
 
-SUNSKY = """<emitter type="sunsky"><float name="latitude" value="48.2"/>
-    <float name="longitude" value="16.37"/><float name="timezone" value="1"/>
-    <integer name="year" value="2015"/><integer name="month" value="3"/>
-    <integer name="day" value="21"/><float name="hour" value="8"/><float name="minute" value="30"/>
-    <float name="turbidity" value="3"/><float name="scale" value="0.5"/>
-    <transform name="toWorld"><rotate y="1" angle="-40"/></transform></emitter>"""
+SUNSKY = sunsky(hour=8)
 
-STUDIO = """<emitter type="envmap"><string name="filename" value="studio.pfm"/></emitter>"""
+STUDIO = envmap("studio.pfm")
 
 SCENE = """<?xml version="1.0" encoding="utf-8"?>
 <!-- written by scripts/experiments/direct_samplers/cube_env.py -->
@@ -118,12 +115,8 @@ SCENE = """<?xml version="1.0" encoding="utf-8"?>
 def studio_map(width=512):
     """A studio-like lat-long map (Mitsuba's envmap convention: row 0 at the zenith, +Y up,
     azimuth atan2(x, -z) from the left edge)."""
-    height = width // 2
-    v = (np.arange(height) + 0.5) / height
-    u = (np.arange(width) + 0.5) / width
-    theta, phi = np.meshgrid(np.pi * v, 2 * np.pi * u, indexing="ij")
-    d = np.stack([np.sin(theta) * np.sin(phi), np.cos(theta), -np.sin(theta) * np.cos(phi)], -1)
-    img = np.zeros((height, width, 3))
+    d, theta = latlong_directions(width)
+    img = np.zeros(d.shape)
     img[...] = 0.03  # dark surround
     img[theta > 0.55 * np.pi] = [0.06, 0.055, 0.05]  # faint bounce from a grey floor
 
