@@ -21,9 +21,11 @@ bool consistent_sides(const Scene& scene, const SurfaceHit& hit, const Vec3& w_w
   return scene.sides_agree(hit.geometric_normal, w_world, w_local.z);
 }
 
+}  // namespace
+
 // One randomised set of n unit-square points (each point marginally uniform, so the
 // estimate stays unbiased); empty for independent points, which are drawn one at a time.
-std::vector<Vec2> draw_point_set(DirectPointSet set, uint32_t n, Rng& rng) {
+std::vector<Vec2> draw_direct_point_set(DirectPointSet set, uint32_t n, Rng& rng) {
   switch (set) {
     case DirectPointSet::Fibonacci:
       return fibonacci_square_points(n, FibonacciRandomisation::draw(rng));
@@ -34,8 +36,6 @@ std::vector<Vec2> draw_point_set(DirectPointSet set, uint32_t n, Rng& rng) {
     default: return {};
   }
 }
-
-}  // namespace
 
 Rgb sample_light_contribution(const Scene& scene, const SurfaceHit& hit, const Vec3& wo,
                               TransportMode mode, float u_select, const Vec2& u_light,
@@ -111,18 +111,20 @@ Rgb estimate_direct_lighting(const Scene& scene, const SurfaceHit& hit, const Ve
                                         SecondOrderSplit{options.alpha_pilot, options.alpha_clamp},
                                         nullptr, env);
   }
-  std::vector<Vec2> light_points = draw_point_set(options.point_set, uint32_t(n), rng);
-  std::vector<Vec2> bsdf_points = draw_point_set(options.point_set, uint32_t(n), rng);
+  // Lu's fractional counts give each light and face its expected share of the light samples
+  // (each technique its own point set).
+  const bool fractional = env.cube && options.env_face_counts == EnvFaceCounts::Fractional;
+  std::vector<Vec2> light_points =
+      fractional ? std::vector<Vec2>{} : draw_direct_point_set(options.point_set, uint32_t(n), rng);
+  std::vector<Vec2> bsdf_points = draw_direct_point_set(options.point_set, uint32_t(n), rng);
   const auto point = [&](std::vector<Vec2>& set, int i) {
     return set.empty() ? rng.uniform2() : set[size_t(i)];
   };
 
   Rgb total(0.0f);
-  // Lu's fractional counts give each light and face its expected share of the light samples.
-  const bool fractional = env.cube && options.env_face_counts == EnvFaceCounts::Fractional;
   if (fractional)
     total = light_samples_by_fractional_counts(scene, hit, wo, n, options.heuristic, env,
-                                               options.point_set == DirectPointSet::Fibonacci, rng);
+                                               options.point_set, rng);
   const Vec3 wo_local = hit.shading.to_local(wo);
   const BsdfContext ctx{hit.uv, TransportMode::Radiance, hit.vertex_color};
   for (int i = 0; i < n; ++i) {

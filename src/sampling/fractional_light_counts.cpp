@@ -2,7 +2,6 @@
 
 #include <cmath>
 
-#include "emlt/core/spherical_fibonacci.h"
 #include "emlt/sampling/direct_lighting.h"
 
 namespace emlt {
@@ -40,22 +39,19 @@ std::vector<LightTechnique> light_techniques(const Scene& scene, const Environme
 
 Rgb light_samples_by_fractional_counts(const Scene& scene, const SurfaceHit& hit, const Vec3& wo,
                                        int samples, MisHeuristic heuristic,
-                                       const EnvironmentSampling& env, bool fibonacci, Rng& rng,
-                                       FractionalCountFault fault) {
+                                       const EnvironmentSampling& env, DirectPointSet point_set,
+                                       Rng& rng, FractionalCountFault fault) {
   if (scene.lights().empty() || hit.bsdf->is_purely_delta()) return Rgb(0.0f);
   Rgb total(0.0f);
   for (const LightTechnique& t : light_techniques(scene, env, fault)) {
     const FractionalCount count = fractional_count(t.probability * double(samples), fault);
     if (count.samples == 0) continue;
-    const std::vector<Vec2> points =
-        fibonacci
-            ? fibonacci_square_points(uint32_t(count.samples), FibonacciRandomisation::draw(rng))
-            : std::vector<Vec2>{};
+    const std::vector<Vec2> points = draw_direct_point_set(point_set, uint32_t(count.samples), rng);
     // The selection probability the one-sample estimator would report: with the face's
     // table density mu_f pdf(w | f) (sample_environment_face) it is the light's density.
     const float selection = scene.lights().selection_probability(*t.light);
     for (int i = 0; i < count.samples; ++i) {
-      const Vec2 u = fibonacci ? points[size_t(i)] : rng.uniform2();
+      const Vec2 u = points.empty() ? rng.uniform2() : points[size_t(i)];
       const auto ls =
           t.face >= 0 ? sample_environment_face(*scene.environment(), env, hit.position, t.face, u)
                       : t.light->sample_direct(hit.position, u);

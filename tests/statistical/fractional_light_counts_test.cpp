@@ -62,13 +62,15 @@ enum class Estimator { OneSample, Fractional, FractionalWithFault };
 
 // `runs` direct estimates at the floor point, green channel.
 Mean direct_estimates(const Scene& scene, int samples, Estimator estimator, int runs,
-                      FractionalCountFault fault = FractionalCountFault::None) {
+                      FractionalCountFault fault = FractionalCountFault::None,
+                      DirectPointSet point_set = DirectPointSet::Independent) {
   const bool fractional = estimator != Estimator::OneSample;
   const SurfaceHit hit = floor_point(scene);
   const Vec3 wo(0, 1, 0);
   DirectLightingOptions options;
   options.samples = samples;
   options.heuristic = MisHeuristic::Balance;
+  options.point_set = point_set;
   options.env_sampler = EnvSampler::CubeBalanced;
   options.env_face_counts = fractional ? EnvFaceCounts::Fractional : EnvFaceCounts::Sampled;
   const EnvironmentSampling env = environment_sampling(scene, EnvSampler::CubeBalanced, hit, wo);
@@ -78,7 +80,7 @@ Mean direct_estimates(const Scene& scene, int samples, Estimator estimator, int 
     double value = 0.0;
     if (estimator == Estimator::FractionalWithFault) {
       Rgb total = light_samples_by_fractional_counts(scene, hit, wo, samples, options.heuristic,
-                                                     env, false, rng, fault);
+                                                     env, DirectPointSet::Independent, rng, fault);
       const BsdfContext ctx{hit.uv, TransportMode::Radiance, hit.vertex_color};
       const Vec3 wo_local = hit.shading.to_local(wo);
       for (int i = 0; i < samples; ++i) {
@@ -153,16 +155,20 @@ TEST(FractionalLightCounts, TechniquesShareTheLightSamples) {
   EXPECT_GT(wrong, 1.0 + 0.5 * (1.0 - selection)) << "faces counted without the selection";
 }
 
-// A constant sky of radiance 2 over a floor of albedo 0.5: radiance 1, whatever the count.
+// A constant sky of radiance 2 over a floor of albedo 0.5: radiance 1, whatever the count,
+// with independent points and with each technique's points a scrambled Sobol set.
 TEST(FractionalLightCounts, ConstantSkyGivesAlbedoTimesRadiance) {
   EnvironmentDesc sky;
   sky.kind = EnvironmentDesc::Kind::Constant;
   sky.radiance = Rgb(2.0f);
   const auto scene = floor_scene(sky, false);
-  for (const int samples : {1, 3}) {
-    const Mean m = direct_estimates(*scene, samples, Estimator::Fractional, 4000);
-    EXPECT_NEAR(m.mean, 1.0, 5.0 * m.standard_error + 1e-4) << samples << " samples";
-  }
+  for (const DirectPointSet set : {DirectPointSet::Independent, DirectPointSet::Sobol})
+    for (const int samples : {1, 3}) {
+      const Mean m = direct_estimates(*scene, samples, Estimator::Fractional, 4000,
+                                      FractionalCountFault::None, set);
+      EXPECT_NEAR(m.mean, 1.0, 5.0 * m.standard_error + 1e-4)
+          << samples << " samples, point set " << int(set);
+    }
 }
 
 // Sun, sky and a lamp: the fractional counts agree with the one-sample estimator (both

@@ -34,6 +34,11 @@ struct DirectLightingOptions {
   AdaptiveParametrisation adaptive_parametrisation = AdaptiveParametrisation::Cosine;
 };
 
+// One randomised set of n unit-square points of kind `set` (each point marginally uniform,
+// so an estimate built on it stays unbiased); empty for independent points (and for the
+// estimators that are not point sets), which are drawn one at a time.
+std::vector<Vec2> draw_direct_point_set(DirectPointSet set, uint32_t n, Rng& rng);
+
 // One light-sampling estimate of the radiance reflected at `hit` towards wo (world, unit),
 // MIS-weighted against BSDF sampling. `u_select` picks the light, `u_light` the point;
 // `env` says how the environment is sampled at this point (default: its own table).

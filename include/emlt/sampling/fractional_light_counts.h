@@ -56,11 +56,12 @@ std::vector<LightTechnique> light_techniques(
 
 // The light half of the direct estimate at `hit` with N = `samples` light samples shared
 // by fractional counts; the sum of the weighted contributions (the caller divides by N, as
-// it does the one-sample light samples). `fibonacci`: each technique's ceil(M) points are a
-// randomised spherical Fibonacci set of that size instead of independent points.
+// it does the one-sample light samples). Each technique's ceil(M) points are one set of
+// `point_set` of that size (independent points for the estimators that are not point sets).
 Rgb light_samples_by_fractional_counts(const Scene& scene, const SurfaceHit& hit, const Vec3& wo,
                                        int samples, MisHeuristic heuristic,
-                                       const EnvironmentSampling& env, bool fibonacci, Rng& rng,
+                                       const EnvironmentSampling& env, DirectPointSet point_set,
+                                       Rng& rng,
                                        FractionalCountFault fault = FractionalCountFault::None);
 
 }  // namespace emlt
