@@ -162,7 +162,8 @@ def write_table(results, path):
 
 CATEGORIES = {"orient": "orientation", "depth": "path depth", "bsdf": "BSDFs", "tex": "textures",
               "spectrum": "spectra", "camera": "camera", "film": "film filter", "shape": "shapes",
-              "light": "lights", "transform": "transforms", "normals": "shading normals"}
+              "light": "lights", "transform": "transforms", "normals": "shading normals",
+              "pbrt": "pbrt-v4 scenes (against Mitsuba's twins)"}
 
 
 def write_summary(results, path):
@@ -172,7 +173,7 @@ def write_summary(results, path):
         # The particle tracer's scenes (NAME-ptracer, checked against Mitsuba's ptracer
         # image) form their own group whatever convention they share with NAME, and so do
         # the comparisons with pbrt-v4's own images.
-        group = ("against pbrt-v4's images" if r["reference"] == "pbrt-v4"
+        group = ("pbrt-v4 scenes (against pbrt-v4's images)" if r["reference"] == "pbrt-v4"
                  else "particle tracer" if r["scene"].endswith("-ptracer")
                  else CATEGORIES.get(r["scene"].split("-")[0], r["scene"]))
         groups.setdefault(group, []).append(r)
