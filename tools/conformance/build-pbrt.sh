@@ -6,19 +6,20 @@
 #   SUBMODULE_MIRRORS_DIR  a folder holding the submodules' repositories as OWNER+NAME/repo (the search tool's
 #                          fetch layout); default: the folder two levels above PBRT_GIT. Without it (or with a
 #                          submodule missing there) the submodule is cloned from GitHub.
-# Run it as:     DEST/build/pbrt --nthreads 2 --outfile out.exr scene.pbrt
-# Notes: no CUDA/OptiX (pbrt's CMake only enables the GPU path when it finds both CUDA and PBRT_OPTIX_PATH, which is
-# never set here). GLFW is
-# built for its "null" platform only (no X11, no Wayland): pbrt links it for the --interactive viewer, which the
-# references never use. The RGB-to-spectrum tables are generated at build time by pbrt's own rgb2spec_opt
-# (pbrt's default). Two pinned submodule commits are missing from the fetched mirrors (double-conversion
-# 101e1ba, zlib 5a82f71): those are checked out at the mirror's newest commit, and pbrt's CMake commit check for
-# them is removed; zlib is Debian's anyway (pbrt only builds its copy when find_package(ZLIB) fails), and
-# double-conversion only parses numbers. The fetched snapshot of pbrt-v4 lacks its two largest files, the data
-# tables src/pbrt/util/bluenoise.cpp (blue-noise textures) and pmj02tables.cpp (PMJ02BN point sets); where a blob is
-# missing, the script writes a zero-filled table of the declared size instead. Only the "pmj02bn" sampler and the
-# dithering of 8-bit (PNG/TGA/PFM-less) outputs read them, so the "pmj02bn" sampler is made to refuse to run, and
-# the references use the "independent" sampler and EXR output. Nothing that changes such an image is patched.
+# Run it as:     DEST/build/pbrt --nthreads 2 --outfile out.pfm scene.pbrt   (EXR when the name ends in .exr)
+# Notes: no CUDA/OptiX (pbrt's CMake only enables the GPU path when it finds both CUDA and PBRT_OPTIX_PATH,
+# which is never set here). GLFW is built for its "null" platform only (no X11, no Wayland): pbrt links it for
+# the --interactive viewer, which the references never use. The RGB-to-spectrum tables are generated at build
+# time by pbrt's own rgb2spec_opt (pbrt's default). Only the pbrt executable is built (no tests, no tools).
+# Two pinned submodule commits are missing from the fetched mirrors (double-conversion 101e1ba, zlib 5a82f71):
+# those are checked out at the mirror's newest commit, and pbrt's CMake commit check for them is removed; zlib
+# is Debian's anyway (pbrt only builds its copy when find_package(ZLIB) fails), and double-conversion only
+# parses numbers. The fetched snapshot of pbrt-v4 lacks its two largest files, the data tables
+# src/pbrt/util/bluenoise.cpp (blue-noise textures) and pmj02tables.cpp (PMJ02BN point sets): the script
+# writes a zero-filled table of the declared size in place of each missing one. Only the "pmj02bn" sampler and
+# the dithering of 8-bit outputs (PNG, QOI) read them, so the "pmj02bn" sampler is made to refuse to run; the
+# references use the "independent" sampler and float PFM output, which read neither. Nothing that changes such
+# an image is patched.
 set -eu
 SRC=${1:?usage: build-pbrt.sh PBRT_GIT DEST [SUBMODULE_MIRRORS_DIR]}
 DEST=${2:?usage: build-pbrt.sh PBRT_GIT DEST [SUBMODULE_MIRRORS_DIR]}
@@ -27,7 +28,10 @@ MIRRORS=${3:-$(dirname "$(dirname "$SRC")")}
 JOBS=${JOBS:-2}
 SUDO=; [ "$(id -u)" -eq 0 ] || SUDO=sudo
 $SUDO apt-get update -qq
-DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq cmake g++ git zlib1g-dev libgl-dev >/dev/null
+# Debian's OpenEXR (3.1.5; pbrt wants 3.1.1 or newer) instead of the submodule, whose fetched mirror lacks
+# one of its files (OpenEXRCore/dwaLookups.h)
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq cmake g++ git zlib1g-dev libgl-dev libopenexr-dev \
+  >/dev/null
 [ -d "$DEST/.git" ] || git clone -q --no-checkout "$SRC" "$DEST"
 cd "$DEST"
 # checks out COMMIT in the repository DIR except the files whose blobs the snapshot lacks, listed in DIR/.missing-blobs
