@@ -37,7 +37,7 @@ def main():
         commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"],
                                 capture_output=True, text=True).stdout.strip()
         with open(os.path.join(ROOT, "docs", "conformance.md"), "w") as f:
-            f.write("# Conformance with Mitsuba 0.6, scene by scene\n\n"
+            f.write("# Conformance with Mitsuba 0.6 and pbrt-v4, scene by scene\n\n"
                     "Written by `python3 -m tools.conformance.update_docs` (engine at commit "
                     f"{commit}): every scene of `tests/conformance/`, rendered by emlt with each "
                     "integrator it lists (two seeds) and compared with Mitsuba 0.6's own image; "
