@@ -1,6 +1,8 @@
 """pbrt-v4 scenes: each written twice, in pbrt-v4's format (NAME.pbrt, which emlt renders)
-and as the same scene in Mitsuba 0.6 XML (NAME.xml, which Mitsuba renders as the
-reference). Each scene would fail if one of pbrt's conventions were read the Mitsuba way:
+and as the same scene in Mitsuba 0.6 XML (NAME.xml, which Mitsuba renders as a reference).
+pbrt-v4 itself renders NAME.pbrt as the second reference (suite.json's
+"pbrt_v4_reference_spp", tools/conformance/render_pbrt_references.sh). Each scene would fail
+if one of pbrt's conventions were read the Mitsuba way:
 
 - pbrt-handedness: pbrt-v4 is left-handed, its camera looks down +z and LookAt puts
   up x dir on the image's right: looking down -z here, world -x is on the right. The scene
