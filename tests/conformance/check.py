@@ -19,7 +19,11 @@ decide:
     flipped or wrongly coloured image gives far more (a box-filtered image against a
     Gaussian-filtered reference: 14).
 A scene whose entry names an `emlt_scene` (NAME.pbrt: the same scene in pbrt-v4's format)
-is rendered by emlt from that file; Mitsuba's reference is still of NAME.xml.
+is rendered by emlt from that file; Mitsuba's reference is still of NAME.xml. When the entry
+also sets `pbrt_v4_reference_spp`, the same two renders are compared, by the same two numbers,
+with pbrt-v4's own image of NAME.pbrt (references/pbrt-v4/NAME.pfm, rendered with that many
+samples by tools/conformance/render_pbrt_references.sh): a second result for the scene, whose
+reference is "pbrt-v4".
 A scene may list known differences ("known": {"reason": ..., "integrators": [...]}) in
 the manifest: those are reported as XFAIL and do not fail the run; one that passes is
 reported as XPASS so that the entry can be removed. Exit status 1 when any other check
@@ -96,13 +100,32 @@ def compare(first, second, reference, budget, reference_spp):
     return ratios, error / max(noise, 1e-30), standard_error, error
 
 
+def read_reference(name, kind):
+    """The reference image of scene `name`: Mitsuba 0.6's, or pbrt-v4's (kind "pbrt-v4")."""
+    folder, script, variable = (("references", "render_references.sh", "MITSUBA") if kind == "Mitsuba 0.6"
+                                else (os.path.join("references", "pbrt-v4"), "render_pbrt_references.sh", "PBRT"))
+    path = os.path.join(HERE, folder, name + ".pfm")
+    if not os.path.exists(path):
+        raise FileNotFoundError(f"{name}: no reference image {os.path.relpath(path, ROOT)}; "
+                                f"run tools/conformance/{script} with {variable}= set")
+    return read_pfm(path)
+
+
+def verdict(entry, integrator, ratios, error_ratio):
+    ok = all(abs(r - 1.0) <= MEAN_TOLERANCE for r in ratios) and error_ratio <= ERROR_RATIO_LIMIT
+    known = entry.get("known")
+    expected_to_fail = bool(known) and integrator in known.get("integrators", [integrator])
+    status = ("XPASS" if ok else "XFAIL") if expected_to_fail else ("PASS" if ok else "FAIL")
+    return status, known.get("reason", "") if expected_to_fail else ""
+
+
 def check_scene(emlt, entry, integrator, threads, workdir):
+    """The results for one scene and integrator: against Mitsuba's image, and against
+    pbrt-v4's too when the entry has one."""
     name = entry["name"]
-    reference_path = os.path.join(HERE, "references", name + ".pfm")
-    if not os.path.exists(reference_path):
-        raise FileNotFoundError(f"{name}: no reference image {os.path.relpath(reference_path, ROOT)}; "
-                                "run tools/conformance/render_references.sh with MITSUBA= set")
-    reference = read_pfm(reference_path)
+    references = [("Mitsuba 0.6", read_reference(name, "Mitsuba 0.6"), entry.get("reference_spp", 4096))]
+    if "pbrt_v4_reference_spp" in entry:
+        references.append(("pbrt-v4", read_reference(name, "pbrt-v4"), entry["pbrt_v4_reference_spp"]))
     budget = entry.get("spp", {}).get(integrator, DEFAULT_SPP[integrator])
     images, warnings = [], []
     for seed in (1, 2):
@@ -110,36 +133,37 @@ def check_scene(emlt, entry, integrator, threads, workdir):
         warnings = render(emlt, name, integrator, budget, seed, out, threads,
                           entry.get("emlt_scene"))
         images.append(read_pfm(out))
-    ratios, error_ratio, standard_error, mse = compare(images[0], images[1], reference, budget,
-                                                       entry.get("reference_spp", 4096))
-    mean_ok = all(abs(r - 1.0) <= MEAN_TOLERANCE for r in ratios)
-    ok = mean_ok and error_ratio <= ERROR_RATIO_LIMIT
-    known = entry.get("known")
-    expected_to_fail = bool(known) and integrator in known.get("integrators", [integrator])
-    status = ("XPASS" if ok else "XFAIL") if expected_to_fail else ("PASS" if ok else "FAIL")
-    return {
-        "scene": name, "integrator": integrator, "convention": entry["convention"],
-        "status": status, "mean_ratio": ratios, "error_ratio": error_ratio,
-        "mean_standard_error": standard_error, "mse": mse, "budget": budget,
-        "warnings": warnings, "reason": known.get("reason", "") if expected_to_fail else "",
-    }
+    results = []
+    for kind, reference, reference_spp in references:
+        ratios, error_ratio, standard_error, mse = compare(images[0], images[1], reference, budget,
+                                                           reference_spp)
+        status, reason = verdict(entry, integrator, ratios, error_ratio)
+        results.append({
+            "scene": name, "integrator": integrator, "convention": entry["convention"],
+            "reference": kind, "status": status, "mean_ratio": ratios, "error_ratio": error_ratio,
+            "mean_standard_error": standard_error, "mse": mse, "budget": budget,
+            "warnings": warnings, "reason": reason,
+        })
+    return results
 
 
 def write_table(results, path):
-    lines = ["| scene | convention | integrator | emlt mean / Mitsuba's (R, G, B) | error / noise | verdict |",
-             "|---|---|---|---|---|---|"]
+    lines = ["| scene | convention | integrator | reference | emlt mean / reference's (R, G, B) | "
+             "error / noise | verdict |",
+             "|---|---|---|---|---|---|---|"]
     for r in results:
         ratio = ", ".join(f"{v:.3f}" for v in r["mean_ratio"])
         verdict = r["status"] + (f": {r['reason']}" if r["reason"] else "")
-        lines.append(f"| `{r['scene']}` | {r['convention']} | {r['integrator']} | {ratio} | "
-                     f"{r['error_ratio']:.2f} | {verdict} |")
+        lines.append(f"| `{r['scene']}` | {r['convention']} | {r['integrator']} | {r['reference']} | "
+                     f"{ratio} | {r['error_ratio']:.2f} | {verdict} |")
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
 
 
 CATEGORIES = {"orient": "orientation", "depth": "path depth", "bsdf": "BSDFs", "tex": "textures",
               "spectrum": "spectra", "camera": "camera", "film": "film filter", "shape": "shapes",
-              "light": "lights", "transform": "transforms", "normals": "shading normals"}
+              "light": "lights", "transform": "transforms", "normals": "shading normals",
+              "pbrt": "pbrt-v4 scenes (against Mitsuba's twins)"}
 
 
 def write_summary(results, path):
@@ -147,8 +171,10 @@ def write_summary(results, path):
     groups = {}
     for r in results:
         # The particle tracer's scenes (NAME-ptracer, checked against Mitsuba's ptracer
-        # image) form their own group whatever convention they share with NAME.
-        group = ("particle tracer" if r["scene"].endswith("-ptracer")
+        # image) form their own group whatever convention they share with NAME, and so do
+        # the comparisons with pbrt-v4's own images.
+        group = ("pbrt-v4 scenes (against pbrt-v4's images)" if r["reference"] == "pbrt-v4"
+                 else "particle tracer" if r["scene"].endswith("-ptracer")
                  else CATEGORIES.get(r["scene"].split("-")[0], r["scene"]))
         groups.setdefault(group, []).append(r)
     lines = ["| conventions | scenes | renders | worst mean ratio | worst error / noise | verdict |",
@@ -191,22 +217,25 @@ def main():
                 if args.integrator and integrator not in args.integrator:
                     continue
                 try:
-                    r = check_scene(args.emlt, entry, integrator, args.threads, workdir)
+                    rows = check_scene(args.emlt, entry, integrator, args.threads, workdir)
                 except FileNotFoundError as e:
                     print(f"conformance: {e}", file=sys.stderr)
                     return 2
                 except RuntimeError as e:
-                    r = {"scene": entry["name"], "integrator": integrator, "convention": entry["convention"],
-                         "status": "FAIL", "mean_ratio": [float("nan")] * 3, "error_ratio": float("nan"),
-                         "mean_standard_error": float("nan"), "mse": float("nan"), "budget": 0,
-                         "warnings": [], "reason": str(e)}
-                results.append(r)
-                failures += r["status"] == "FAIL"
-                ratio = " ".join(f"{v:.4f}" for v in r["mean_ratio"])
-                print(f"{r['status']:5} {r['scene']} [{integrator}] mean ratio {ratio} "
-                      f"(se {r['mean_standard_error']:.4f}), error/noise {r['error_ratio']:.2f}"
-                      + (f" -- {r['reason']}" if r["reason"] else ""))
-                for w in r["warnings"]:
+                    rows = [{"scene": entry["name"], "integrator": integrator,
+                             "convention": entry["convention"], "reference": "Mitsuba 0.6",
+                             "status": "FAIL", "mean_ratio": [float("nan")] * 3, "error_ratio": float("nan"),
+                             "mean_standard_error": float("nan"), "mse": float("nan"), "budget": 0,
+                             "warnings": [], "reason": str(e)}]
+                for r in rows:
+                    results.append(r)
+                    failures += r["status"] == "FAIL"
+                    ratio = " ".join(f"{v:.4f}" for v in r["mean_ratio"])
+                    against = "" if r["reference"] == "Mitsuba 0.6" else f" vs {r['reference']}"
+                    print(f"{r['status']:5} {r['scene']} [{integrator}]{against} mean ratio {ratio} "
+                          f"(se {r['mean_standard_error']:.4f}), error/noise {r['error_ratio']:.2f}"
+                          + (f" -- {r['reason']}" if r["reason"] else ""))
+                for w in rows[0]["warnings"]:
                     print(f"      {w}")
     if args.table:
         write_table(results, args.table)

@@ -37,12 +37,15 @@ def main():
         commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"],
                                 capture_output=True, text=True).stdout.strip()
         with open(os.path.join(ROOT, "docs", "conformance.md"), "w") as f:
-            f.write("# Conformance with Mitsuba 0.6, scene by scene\n\n"
+            f.write("# Conformance with Mitsuba 0.6 and pbrt-v4, scene by scene\n\n"
                     "Written by `python3 -m tools.conformance.update_docs` (engine at commit "
                     f"{commit}): every scene of `tests/conformance/`, rendered by emlt with each "
-                    "integrator it lists (two seeds) and compared with Mitsuba 0.6's own image. "
-                    "*Mean / Mitsuba's* is per colour channel (within 1 % passes); *error / noise* "
-                    "is the mean squared difference from Mitsuba's image over what the renders' "
+                    "integrator it lists (two seeds) and compared with Mitsuba 0.6's own image; "
+                    "the `pbrt-*` scenes, which emlt reads in pbrt-v4's format, are compared with "
+                    "pbrt-v4's own image as well (reference *pbrt-v4*: rendered by pbrt-v4 built "
+                    "with `tools/conformance/build-pbrt.sh`, see `tests/conformance/references/pbrt-v4/`). "
+                    "*Mean / reference's* is per colour channel (within 1 % passes); *error / noise* "
+                    "is the mean squared difference from the reference image over what the renders' "
                     "own noise explains (about 1 when they agree; 2 fails). See "
                     "[compatibility.md](compatibility.md) for what the scenes cover.\n\n"
                     f"Result: {tally.replace('conformance: ', '')}.\n\n")

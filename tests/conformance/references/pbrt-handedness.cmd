@@ -1,2 +1,2 @@
-# Mitsuba 0.6 (version 0.6.0, RGB mode, single precision), run in tests/conformance/, 9 s
+# Mitsuba 0.6 (version 0.6.0, RGB mode, single precision), run in tests/conformance/, 11 s
 mitsuba -q -p 2 -Dspp=4096 scenes/pbrt-handedness.xml -o references/pbrt-handedness.pfm

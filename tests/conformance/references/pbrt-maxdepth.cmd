@@ -1,2 +1,2 @@
-# Mitsuba 0.6 (version 0.6.0, RGB mode, single precision), run in tests/conformance/, 6 s
+# Mitsuba 0.6 (version 0.6.0, RGB mode, single precision), run in tests/conformance/, 7 s
 mitsuba -q -p 2 -Dspp=4096 scenes/pbrt-maxdepth.xml -o references/pbrt-maxdepth.pfm
