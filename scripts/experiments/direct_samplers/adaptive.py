@@ -50,7 +50,7 @@ sys.path.insert(0, HERE)
 import numpy as np  # noqa: E402
 
 from tools.images import read_pfm, write_pfm  # noqa: E402
-from direct_scenes import envmap, latlong_directions, sunsky  # noqa: E402
+from direct_scenes import envmap, latlong_directions, pyplot, sunsky  # noqa: E402
 
 METHODS = {
     "BSDF": ["--mis", "second-order", "--mis-alpha", "0"],
@@ -251,12 +251,8 @@ def main():
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))
 
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("adaptive: matplotlib missing, no plots")
+    plt = pyplot("adaptive")
+    if plt is None:
         return
     fig, axes = plt.subplots(1, len(names), figsize=(4.2 * len(names), 3.8))
     for ax, name in zip(np.atleast_1d(axes), names):

@@ -44,7 +44,7 @@ sys.path.insert(0, HERE)
 import numpy as np  # noqa: E402
 
 from tools.images import write_pfm  # noqa: E402
-from direct_scenes import (DIFFUSE, GLOSSY, balls_scene, envmap, render_direct,  # noqa: E402
+from direct_scenes import (DIFFUSE, GLOSSY, balls_scene, envmap, pyplot, render_direct,  # noqa: E402
                            smooth_map, sunsky)
 
 METHODS = {
@@ -142,12 +142,8 @@ def main():
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))
 
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("bmc: matplotlib missing, no plot")
+    plt = pyplot("bmc")
+    if plt is None:
         return
     fig, axes = plt.subplots(1, len(names), figsize=(4.2 * len(names), 4))
     for ax, s in zip(axes, names):

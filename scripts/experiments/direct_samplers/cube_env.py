@@ -54,7 +54,7 @@ sys.path.insert(0, HERE)
 import numpy as np  # noqa: E402
 
 from tools.images import read_pfm, write_pfm  # noqa: E402
-from direct_scenes import envmap, latlong_directions, sunsky  # noqa: E402
+from direct_scenes import envmap, latlong_directions, pyplot, sunsky  # noqa: E402
 
 CUBE = ["--env-sampler", "cube-balanced"]
 LIGHT_ONLY = ["--mis", "second-order", "--mis-alpha", "1"]
@@ -250,12 +250,8 @@ def main():
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))
 
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("cube_env: matplotlib missing, no plots")
+    plt = pyplot("cube_env")
+    if plt is None:
         return
     fig, axes = plt.subplots(1, len(names) + 1, figsize=(5 * (len(names) + 1), 4.2))
     x = np.arange(len(METHODS))

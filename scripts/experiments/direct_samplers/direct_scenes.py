@@ -84,20 +84,25 @@ DIFFUSE = {
     "floor": '<bsdf type="diffuse"><rgb name="reflectance" value="0.5, 0.5, 0.5"/></bsdf>',
 }
 
-BALLS = """<?xml version="1.0" encoding="utf-8"?>
+# The head every scene of these scripts shares: the direct integrator and a 40-degree camera
+# at `{origin}` looking at `{target}`, one camera ray per pixel through a Gaussian filter of
+# `{stddev}` pixels (tiny: the variance across seeds is then the direct estimate's alone).
+HEAD = """<?xml version="1.0" encoding="utf-8"?>
 <!-- written by scripts/experiments/direct_samplers/{writer} -->
 <scene version="0.6.0">
   <integrator type="direct"/>
   <sensor type="perspective">
     <float name="fov" value="40"/>
-    <transform name="toWorld"><lookat origin="0, 1.6, 4.0" target="0, 0.5, 0" up="0, 1, 0"/></transform>
+    <transform name="toWorld"><lookat origin="{origin}" target="{target}" up="0, 1, 0"/></transform>
     <sampler type="independent"><integer name="sampleCount" value="1"/></sampler>
     <film type="hdrfilm">
       <integer name="width" value="48"/><integer name="height" value="48"/>
       <rfilter type="gaussian"><float name="stddev" value="{stddev}"/></rfilter>
     </film>
   </sensor>
-  {emitter}
+"""
+
+BALLS = HEAD.replace("{origin}", "0, 1.6, 4.0").replace("{target}", "0, 0.5, 0") + """  {emitter}
   <shape type="sphere"><point name="center" x="0" y="0.6" z="0"/><float name="radius" value="0.6"/>
     {big}</shape>
   <shape type="sphere"><point name="center" x="-1.2" y="0.35" z="0.4"/><float name="radius" value="0.35"/>
@@ -126,20 +131,7 @@ def balls_scene(writer, emitter, materials, stddev="0.003"):
 # unit square becomes a point on the light) and by BSDF sampling. The camera is a little off
 # the box's axis: centred, the pixel centres at 32 x 32 fell on the floor's corners with the
 # walls, whose shading then turned on the camera ray's last digits, seed by seed.
-BOX = """<?xml version="1.0" encoding="utf-8"?>
-<!-- written by scripts/experiments/direct_samplers/{writer} -->
-<scene version="0.6.0">
-  <integrator type="direct"/>
-  <sensor type="perspective">
-    <float name="fov" value="40"/>
-    <transform name="toWorld"><lookat origin="0.037, 1.013, 3.9" target="0.037, 1.013, 0" up="0, 1, 0"/></transform>
-    <sampler type="independent"><integer name="sampleCount" value="1"/></sampler>
-    <film type="hdrfilm">
-      <integer name="width" value="48"/><integer name="height" value="48"/>
-      <rfilter type="gaussian"><float name="stddev" value="{stddev}"/></rfilter>
-    </film>
-  </sensor>
-  <bsdf type="diffuse" id="white"><rgb name="reflectance" value="0.72, 0.71, 0.68"/></bsdf>
+BOX = HEAD.replace("{origin}", "0.037, 1.013, 3.9").replace("{target}", "0.037, 1.013, 0") + """  <bsdf type="diffuse" id="white"><rgb name="reflectance" value="0.72, 0.71, 0.68"/></bsdf>
   <shape type="rectangle"><transform name="toWorld"><rotate x="1" angle="-90"/><translate y="0"/></transform>
     <ref id="white"/></shape>
   <shape type="rectangle"><transform name="toWorld"><rotate x="1" angle="90"/><translate y="2"/></transform>
@@ -165,6 +157,18 @@ BOX = """<?xml version="1.0" encoding="utf-8"?>
 
 def box_scene(writer, stddev="0.003"):
     return BOX.replace("{writer}", writer).replace("{stddev}", stddev)
+
+
+def pyplot(script):
+    """matplotlib's pyplot on the Agg backend, or None (said once) where it is not installed."""
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print(f"{script}: matplotlib missing, no plots")
+        return None
+    return plt
 
 
 def render_direct(emlt, scene, args, seed, common, out, who):

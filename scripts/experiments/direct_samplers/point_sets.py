@@ -52,8 +52,8 @@ sys.path.insert(0, HERE)
 import numpy as np  # noqa: E402
 
 from tools.images import write_pfm  # noqa: E402
-from direct_scenes import (DIFFUSE, GLOSSY, balls_scene, box_scene, envmap, render_direct,  # noqa: E402
-                    smooth_map, sunsky)
+from direct_scenes import (DIFFUSE, GLOSSY, balls_scene, box_scene, envmap, pyplot,  # noqa: E402
+                           render_direct, smooth_map, sunsky)
 
 METHODS = ["independent", "fibonacci", "sobol", "larcher-pillichshammer", "blue-noise"]
 LABELS = {"independent": "independent", "fibonacci": "spherical Fibonacci", "sobol": "Sobol",
@@ -230,12 +230,8 @@ def main():
         w.writerows(summary)
     print("\n".join(lines))
 
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("point_sets: matplotlib missing, no plot")
+    plt = pyplot("point_sets")
+    if plt is None:
         return
     fig, axes = plt.subplots(1, len(names), figsize=(3.3 * len(names), 3.4), squeeze=False)
     for ax, s in zip(axes[0], names):
