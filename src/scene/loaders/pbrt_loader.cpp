@@ -9,6 +9,7 @@
 #include "emlt/scene/loaders/loader.h"
 #include "emlt/scene/materials.h"
 #include "emlt/scene/shape_builders.h"
+#include "src/scene/loaders/gzip_bytes.h"
 #include "src/scene/loaders/loader_common.h"
 #include "src/scene/loaders/pbrt_reader.h"
 
@@ -124,7 +125,8 @@ void Reader::read_file(const std::string& path, int depth) {
   if (depth > kMaxIncludeDepth)
     throw file_error(path, "Include nested more than " + std::to_string(kMaxIncludeDepth) +
                                " deep (does a file include itself?)");
-  Tokenizer tokens(path, loader::read_text_file(path));
+  // pbrt-v4 reads gzip-compressed scene texts (the public hair scenes' curves are).
+  Tokenizer tokens(path, loader::maybe_gunzip(path, loader::read_text_file(path)));
   while (std::optional<Token> word = tokens.next()) directive(tokens, *word, depth);
 }
 

@@ -14,6 +14,7 @@
 
 #include "emlt/core/error.h"
 #include "emlt/scene/shape_builders.h"
+#include "src/scene/loaders/gzip_bytes.h"
 
 namespace emlt {
 
@@ -292,6 +293,8 @@ MeshInFileSpace read_ply_file(const std::string& path) {
     in.seekg(0);
     if (!in.read(bytes.data(), size)) throw file_error(path, "cannot read file");
   }
+  // pbrt-v4 reads gzip-compressed PLY meshes (`.ply.gz`), as several public scenes ship.
+  bytes = loader::maybe_gunzip(path, std::move(bytes));
 
   // --- Header: lines up to "end_header" ---
   size_t pos = 0;
