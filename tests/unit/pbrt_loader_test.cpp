@@ -3,12 +3,9 @@
 // shorter image axis, one-sided area lights, maxdepth counting bounces), transforms,
 // includes, named materials, instancing and the verdict.
 #include <gtest/gtest.h>
-#include <zlib.h>
 
 #include <cmath>
-#include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
-#include <iterator>
 
 #include "emlt/core/warp.h"
 #include "emlt/image/image.h"
@@ -600,51 +597,4 @@ Shape "sphere"
   EXPECT_NEAR(reflectance(0.95f).z, 0.0f, 1e-5f);
   EXPECT_NEAR(reflectance(0.05f).z, 1.0f, 1e-5f);  // near t = 0: the bottom row
   EXPECT_TRUE(desc.materials[size_t(desc.spheres[0].material)].textured);
-}
-
-namespace {
-
-// Writes `text` gzip-compressed to dir/name (zlib's own gzip writer), and returns the path.
-std::string write_gzip(const std::filesystem::path& dir, const std::string& name,
-                       const std::string& text) {
-  const std::string path = (dir / name).string();
-  gzFile file = gzopen(path.c_str(), "wb");
-  EXPECT_NE(file, nullptr);
-  EXPECT_EQ(gzwrite(file, text.data(), unsigned(text.size())), int(text.size()));
-  gzclose(file);
-  return path;
-}
-
-}  // namespace
-
-// pbrt-v4 reads gzip-compressed scene texts and PLY meshes (the public hair, ganesha and
-// sssdragon scenes ship them); truncated data is a one-line error naming the file.
-TEST(PbrtReader, ReadsGzipCompressedTextsAndPlyMeshes) {
-  const auto dir = test::scratch_dir("pbrt-gzip");
-  write_gzip(dir, "tri.pbrt.gz", kTriangle);
-  const std::string ply =
-      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-      "0 0 7\n1 0 7\n0 1 7\n3 0 1 2\n";
-  const std::string ply_path = write_gzip(dir, "mesh.ply.gz", ply);
-  const SceneDescription desc = load_scene_description(write_file(dir, "scene.pbrt", pbrt_scene(R"(
-Include "tri.pbrt.gz"
-Shape "plymesh" "string filename" "mesh.ply.gz"
-)")));
-  ASSERT_EQ(desc.meshes.size(), 2u);
-  EXPECT_EQ(desc.meshes[0].positions[2], Vec3(0, 1, 5));
-  EXPECT_EQ(desc.meshes[1].positions[1], Vec3(1, 0, 7));
-
-  std::ifstream in(ply_path, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  ASSERT_GT(bytes.size(), 20u);
-  bytes.resize(bytes.size() / 2);
-  write_file(dir, "cut.ply.gz", bytes);
-  const std::string error = test::error_of([&] {
-    load_scene_description(write_file(dir, "cut.pbrt", pbrt_scene(R"(
-Shape "plymesh" "string filename" "cut.ply.gz"
-)")));
-  });
-  EXPECT_NE(error.find("cut.ply.gz: truncated gzip data"), std::string::npos) << error;
-  EXPECT_EQ(error.find('\n'), std::string::npos) << error;
 }
